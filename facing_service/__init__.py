@@ -1,0 +1,10 @@
+"""facing-service: which tracked bodies are oriented toward the robot, over zenoh."""
+
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("facing-service")
+except PackageNotFoundError:  # running from a source tree that was never installed
+    __version__ = "0.0.0+unknown"
+
+__all__ = ["__version__"]

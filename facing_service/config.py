@@ -1,0 +1,111 @@
+"""Settings of the service: command-line flags, ``FACING_*`` environment variables, defaults.
+
+Precedence: a flag beats its environment variable, which beats the default. The zenoh
+session is configured exactly like zenoh's own example programs (``-m -e -l -c
+--no-multicast-scouting --cfg``): the ``--config`` file first, then the flags over it,
+then each ``--cfg KEY:VALUE``.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Literal
+
+import zenoh
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+from . import keys
+from .schemas import DEFAULT_MAX_PAYLOAD_BYTES
+
+ENV_PREFIX = "FACING_"
+#: In environment variables, list settings are comma-separated, except ``FACING_CFG``
+#: whose JSON5 values may hold commas: its entries are separated by ``;``.
+_LIST_SEPARATORS = {"connect": ",", "listen": ",", "cfg": ";"}
+
+LogLevel = Literal["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"]
+
+
+class Settings(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    namespace: str = "hri"
+    base_frame: str = keys.ALL_FRAMES
+    threshold_deg: float = Field(default=20.0, gt=0.0, lt=180.0)
+    hysteresis_deg: float = Field(default=5.0, ge=0.0, lt=180.0)
+    stale_after_s: float = Field(default=2.0, gt=0.0, allow_inf_nan=False)
+    max_payload_bytes: int = Field(default=DEFAULT_MAX_PAYLOAD_BYTES, gt=0)
+    log_level: LogLevel = "INFO"
+    # zenoh session; None means "as the config file says, else zenoh's default (peer)".
+    mode: Literal["peer", "client", "router"] | None = None
+    connect: list[str] = []
+    listen: list[str] = []
+    config: Path | None = None
+    no_multicast_scouting: bool = False
+    cfg: list[str] = []
+
+    @field_validator("namespace")
+    @classmethod
+    def _namespace(cls, value: str) -> str:
+        return keys.validate_namespace(value)
+
+    @field_validator("base_frame")
+    @classmethod
+    def _base_frame(cls, value: str) -> str:
+        return keys.validate_frame_filter(value)
+
+    @field_validator("log_level", mode="before")
+    @classmethod
+    def _log_level(cls, value: Any) -> Any:
+        return value.upper() if isinstance(value, str) else value
+
+    @field_validator("cfg")
+    @classmethod
+    def _cfg(cls, value: list[str]) -> list[str]:
+        for entry in value:
+            key, sep, _ = entry.partition(":")
+            if not (sep and key):
+                raise ValueError(f"--cfg expects KEY:VALUE, got {entry!r}")
+        return value
+
+
+def env_name(field: str) -> str:
+    return ENV_PREFIX + field.upper()
+
+
+def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Settings:
+    """Merge flags (None or absent = not given) over ``FACING_*`` variables over defaults.
+
+    Raises pydantic's ValidationError, naming the offending setting, on a bad value.
+    """
+    values: dict[str, Any] = {}
+    for name in Settings.model_fields:
+        flag = flags.get(name)
+        if flag is not None and flag != [] and flag is not False:
+            values[name] = flag
+        elif (raw := environ.get(env_name(name))) is not None and raw != "":
+            separator = _LIST_SEPARATORS.get(name)
+            values[name] = (
+                [part.strip() for part in raw.split(separator) if part.strip()]
+                if separator
+                else raw
+            )
+    return Settings(**values)
+
+
+def zenoh_config(settings: Settings) -> zenoh.Config:
+    """The zenoh session config; raises zenoh.ZError on an unknown key or bad value."""
+    conf = zenoh.Config.from_file(str(settings.config)) if settings.config else zenoh.Config()
+    if settings.mode is not None:
+        conf.insert_json5("mode", json.dumps(settings.mode))
+    if settings.connect:
+        conf.insert_json5("connect/endpoints", json.dumps(settings.connect))
+    if settings.listen:
+        conf.insert_json5("listen/endpoints", json.dumps(settings.listen))
+    if settings.no_multicast_scouting:
+        conf.insert_json5("scouting/multicast/enabled", "false")
+    for entry in settings.cfg:
+        key, _, value = entry.partition(":")
+        conf.insert_json5(key, value)
+    return conf

@@ -1,0 +1,82 @@
+"""Which bodies are oriented toward the robot: pure, vectorized geometry (REP 155).
+
+The input is the pose of each ``body_<id>`` frame in the base frame (libhri's
+``Body::transform()``), as translations ``t`` (N, 3) and unit quaternions ``q`` (N, 4) in
+``(x, y, z, w)`` order. Inverting the pose puts the robot origin in the body frame,
+``r = -R(q)^T t``; with REP 155's body frame (x out of the chest, z up) the body faces the
+robot when ``r`` lies ahead (``r.x > 0``) within a horizontal cone around x.
+
+Everything here works on whole arrays so that one call classifies a batch of bodies; the
+service never loops over bodies in Python for the geometry.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
+
+#: Below this horizontal distance (metres) the direction to the robot is undefined: the
+#: robot is straight above or below the body, or the tracker published the origin.
+DEGENERATE_DISTANCE_M = 1e-9
+
+
+@dataclass(frozen=True)
+class Classification:
+    """Per-body results, index-aligned with the input arrays.
+
+    ``angle_deg`` and ``distance_m`` are NaN exactly where ``defined`` is False; callers
+    that leave the process turn those into ``null`` (no NaN ever goes on the wire).
+    """
+
+    robot_in_body: FloatArray  # (N, 3)
+    angle_deg: FloatArray  # (N,)
+    distance_m: FloatArray  # (N,)
+    defined: BoolArray  # (N,)
+    facing: BoolArray  # (N,)
+
+
+def robot_in_body(translations: FloatArray, quaternions: FloatArray) -> FloatArray:
+    """Robot origin in each body frame: ``r = -R(q)^T t``, for (N, 3) and (N, 4) arrays.
+
+    Rotating by ``R^T`` is rotating by the conjugate quaternion ``(-u, w)``; the
+    cross-product form avoids building N rotation matrices.
+    """
+    t = np.asarray(translations, dtype=np.float64)
+    q = np.asarray(quaternions, dtype=np.float64)
+    u = -q[:, :3]
+    w = q[:, 3:4]
+    uxt = np.cross(u, t)
+    rotated = t + 2.0 * w * uxt + 2.0 * np.cross(u, uxt)
+    return -rotated
+
+
+def classify(
+    translations: FloatArray,
+    quaternions: FloatArray,
+    threshold_deg: float | FloatArray,
+) -> Classification:
+    """Classify N bodies at once.
+
+    ``threshold_deg`` is a scalar or one value per body; the tracker passes a widened
+    threshold for bodies already facing, which is how hysteresis stays out of the geometry.
+    Quaternions must be unit length (the schemas normalize them at the boundary).
+    """
+    r = robot_in_body(translations, quaternions)
+    x = r[:, 0]
+    y = r[:, 1]
+    distance = np.hypot(x, y)
+    defined = distance >= DEGENERATE_DISTANCE_M
+    angle = np.degrees(np.arctan2(np.abs(y), x))
+    facing = defined & (x > 0.0) & (angle < np.asarray(threshold_deg, dtype=np.float64))
+    return Classification(
+        robot_in_body=r,
+        angle_deg=np.where(defined, angle, np.nan),
+        distance_m=np.where(defined, distance, np.nan),
+        defined=defined,
+        facing=facing,
+    )

@@ -1,0 +1,86 @@
+"""Zenoh key expressions of the wire contract: build, parse, validate.
+
+Layout (``NS`` is the namespace, one or more chunks such as ``hri`` or ``robot1/hri``)::
+
+    NS/bodies/<body_id>/pose/<base_frame>     input poses (PUT) and body lost (DELETE)
+    NS/bodies/<body_id>/facing/<base_frame>   per-body result (PUT) and lost/stale (DELETE)
+    NS/facing/<base_frame>                    per-frame aggregate
+
+Names are restricted to ``[A-Za-z0-9_.-]{1,64}`` so that a name can never smuggle a key
+separator or wildcard (``/ * $ # ?``) into a key.
+"""
+
+from __future__ import annotations
+
+import re
+
+ALL_FRAMES = "*"
+NAME_PATTERN = r"^[A-Za-z0-9_.-]{1,64}$"
+_NAME = re.compile(NAME_PATTERN)
+
+
+def is_name(name: str) -> bool:
+    """True when ``name`` is a valid body id or frame name."""
+    return _NAME.fullmatch(name) is not None
+
+
+def validate_name(name: str, what: str = "name") -> str:
+    if not is_name(name):
+        raise ValueError(f"invalid {what} {name!r}: must match {NAME_PATTERN}")
+    return name
+
+
+def validate_namespace(namespace: str) -> str:
+    """A namespace is one or more valid names joined by ``/``."""
+    for chunk in namespace.split("/"):
+        if not is_name(chunk):
+            raise ValueError(
+                f"invalid namespace {namespace!r}: each '/'-separated chunk must match "
+                f"{NAME_PATTERN}"
+            )
+    return namespace
+
+
+def validate_frame_filter(frame: str) -> str:
+    """The ``--base-frame`` setting: one frame name, or ``*`` for every frame."""
+    return frame if frame == ALL_FRAMES else validate_name(frame, "base frame")
+
+
+def pose_key(namespace: str, body_id: str, frame_id: str) -> str:
+    return f"{namespace}/bodies/{body_id}/pose/{frame_id}"
+
+
+def facing_key(namespace: str, body_id: str, frame_id: str) -> str:
+    return f"{namespace}/bodies/{body_id}/facing/{frame_id}"
+
+
+def frame_key(namespace: str, frame_id: str) -> str:
+    return f"{namespace}/facing/{frame_id}"
+
+
+def pose_subscription(namespace: str, frame: str) -> str:
+    """What the service subscribes to; ``frame`` may be ``*``."""
+    return pose_key(namespace, ALL_FRAMES, frame)
+
+
+def result_queryables(namespace: str, frame: str) -> tuple[str, str]:
+    """The two output key spaces the service answers queries on; ``frame`` may be ``*``."""
+    return facing_key(namespace, ALL_FRAMES, frame), frame_key(namespace, frame)
+
+
+def parse_pose_key(namespace: str, key: str) -> tuple[str, str] | None:
+    """``(body_id, base_frame)`` of an input key, or None when it is not a valid one.
+
+    The subscription already restricts the shape; this also rejects names outside the
+    allowed alphabet (zenoh accepts far more than we do).
+    """
+    prefix = f"{namespace}/bodies/"
+    if not key.startswith(prefix):
+        return None
+    parts = key[len(prefix) :].split("/")
+    if len(parts) != 3 or parts[1] != "pose":
+        return None
+    body_id, _, frame_id = parts
+    if not (is_name(body_id) and is_name(frame_id)):
+        return None
+    return body_id, frame_id

@@ -1,0 +1,215 @@
+"""The wire contract as pydantic models, and the decoding rules for input poses.
+
+Input poses are shaped like ROS 2 ``geometry_msgs/TransformStamped`` so that a bridge can
+forward tf messages unchanged. Every way a payload can be refused has a stable reason code
+(``Rejection``): the service counts rejections per reason, and the codes are part of the
+contract. The JSON Schemas in ``schemas/`` are generated from these models
+(``facing-service export-schemas schemas``), and a test fails when they drift.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+from typing import Annotated, Any
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+#: tf2's tolerance on a quaternion's squared norm before it refuses to normalize it.
+QUATERNION_TOLERANCE = 0.01
+#: Translations beyond this (metres) are refused: no tracker sees that far, and bounding
+#: them keeps ``-R^T t`` far from float overflow, so no inf/NaN can come out of the core.
+MAX_TRANSLATION_M = 1e9
+DEFAULT_MAX_PAYLOAD_BYTES = 65536
+
+_INPUT = ConfigDict(strict=True, allow_inf_nan=False)
+Coordinate = Annotated[float, Field(ge=-MAX_TRANSLATION_M, le=MAX_TRANSLATION_M)]
+QuaternionComponent = Annotated[float, Field(ge=-2.0, le=2.0)]
+
+
+class Stamp(BaseModel):
+    """``builtin_interfaces/Time``: ROS 2 keeps ``sec`` in an int32 and never negative."""
+
+    model_config = _INPUT
+    sec: int = Field(ge=0, le=2**31 - 1)
+    nanosec: int = Field(ge=0, le=999_999_999)
+
+
+class Header(BaseModel):
+    model_config = _INPUT
+    stamp: Stamp
+    frame_id: str
+
+
+class Vector3(BaseModel):
+    model_config = _INPUT
+    x: Coordinate
+    y: Coordinate
+    z: Coordinate
+
+
+class Quaternion(BaseModel):
+    model_config = _INPUT
+    x: QuaternionComponent
+    y: QuaternionComponent
+    z: QuaternionComponent
+    w: QuaternionComponent
+
+
+class Transform(BaseModel):
+    model_config = _INPUT
+    translation: Vector3
+    rotation: Quaternion
+
+
+class TransformStamped(BaseModel):
+    """Input: the pose of ``body_<id>`` in the base frame ``header.frame_id``."""
+
+    model_config = _INPUT
+    header: Header
+    child_frame_id: str = ""
+    transform: Transform
+
+
+class Point(BaseModel):
+    x: float
+    y: float
+    z: float
+
+
+class FacingState(BaseModel):
+    """Output per body: published for every accepted pose, and answered to queries."""
+
+    body_id: str
+    frame_id: str
+    stamp: Stamp = Field(description="Stamp of the pose this result was computed from.")
+    facing: bool
+    angle_deg: float | None = Field(
+        description="Horizontal angle between the body's x axis and the robot; null when "
+        "the robot is straight above or below the body."
+    )
+    distance_m: float | None = Field(
+        description="Horizontal distance from the body to the robot; null when degenerate."
+    )
+    robot_in_body: Point = Field(description="The robot origin in the body frame.")
+    threshold_deg: float = Field(description="Half-angle of the facing cone applied.")
+
+
+class FrameFacing(BaseModel):
+    """Output per base frame: published whenever either list changes."""
+
+    frame_id: str
+    stamp: Stamp | None = Field(
+        description="Stamp of the newest pose accepted in this frame; null before any."
+    )
+    bodies_facing: list[str]
+    bodies_tracked: list[str]
+
+
+class QueryError(BaseModel):
+    """Payload of an error reply to a query (a bad selector parameter)."""
+
+    error: str
+    detail: str
+
+
+class Rejection(str, Enum):
+    """Why an input sample was refused. Stable codes: they are counted and reported."""
+
+    INVALID_KEY = "invalid_key"
+    PAYLOAD_TOO_LARGE = "payload_too_large"
+    MALFORMED_JSON = "malformed_json"
+    SCHEMA = "schema"
+    NON_FINITE = "non_finite"
+    FRAME_MISMATCH = "frame_mismatch"
+    CHILD_FRAME_MISMATCH = "child_frame_mismatch"
+    QUATERNION_NOT_NORMALIZED = "quaternion_not_normalized"
+    OUT_OF_ORDER = "out_of_order"
+
+
+@dataclass(frozen=True, slots=True)
+class Pose:
+    """A validated pose: plain tuples the core can stack into arrays; unit quaternion."""
+
+    stamp: tuple[int, int]
+    translation: tuple[float, float, float]
+    rotation: tuple[float, float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Rejected:
+    reason: Rejection
+    detail: str
+
+
+def _reason(error: ValidationError) -> Rejection:
+    types = {e["type"] for e in error.errors(include_url=False)}
+    if "json_invalid" in types:
+        return Rejection.MALFORMED_JSON
+    if "finite_number" in types:
+        return Rejection.NON_FINITE
+    return Rejection.SCHEMA
+
+
+def _summary(error: ValidationError) -> str:
+    first = error.errors(include_url=False)[0]
+    where = ".".join(str(part) for part in first["loc"]) or "payload"
+    return f"{where}: {first['msg']}"
+
+
+def decode_pose(
+    payload: bytes,
+    body_id: str,
+    frame_id: str,
+    max_payload_bytes: int = DEFAULT_MAX_PAYLOAD_BYTES,
+) -> Pose | Rejected:
+    """Decode and validate one input payload for the key's ``(body_id, frame_id)``.
+
+    Never raises on any input: every refusal is a ``Rejected`` with a reason and a short
+    human-readable detail (for the rate-limited log, not per-sample logging).
+    """
+    if len(payload) > max_payload_bytes:
+        return Rejected(Rejection.PAYLOAD_TOO_LARGE, f"{len(payload)} bytes > {max_payload_bytes}")
+    try:
+        msg = TransformStamped.model_validate_json(payload)
+    except ValidationError as error:
+        return Rejected(_reason(error), _summary(error))
+    if msg.header.frame_id != frame_id:
+        return Rejected(
+            Rejection.FRAME_MISMATCH,
+            f"header.frame_id {msg.header.frame_id!r} != key frame {frame_id!r}",
+        )
+    if msg.child_frame_id not in ("", f"body_{body_id}"):
+        return Rejected(
+            Rejection.CHILD_FRAME_MISMATCH,
+            f"child_frame_id {msg.child_frame_id!r} != 'body_{body_id}'",
+        )
+    q = msg.transform.rotation
+    norm2 = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w
+    if abs(norm2 - 1.0) > QUATERNION_TOLERANCE:
+        return Rejected(Rejection.QUATERNION_NOT_NORMALIZED, f"|q|^2 = {norm2:.6g}, tolerance 0.01")
+    norm = math.sqrt(norm2)
+    t = msg.transform.translation
+    return Pose(
+        stamp=(msg.header.stamp.sec, msg.header.stamp.nanosec),
+        translation=(t.x, t.y, t.z),
+        rotation=(q.x / norm, q.y / norm, q.z / norm, q.w / norm),
+    )
+
+
+#: File name in ``schemas/`` -> model. Input models validate; output models serialize.
+SCHEMA_FILES: dict[str, tuple[type[BaseModel], str]] = {
+    "pose.schema.json": (TransformStamped, "validation"),
+    "facing_state.schema.json": (FacingState, "serialization"),
+    "frame_facing.schema.json": (FrameFacing, "serialization"),
+    "query_error.schema.json": (QueryError, "serialization"),
+}
+
+
+def json_schemas() -> dict[str, dict[str, Any]]:
+    """The JSON Schemas of the wire contract, keyed by their file name in ``schemas/``."""
+    return {
+        name: model.model_json_schema(mode=mode)  # type: ignore[arg-type]
+        for name, (model, mode) in SCHEMA_FILES.items()
+    }

@@ -1,0 +1,260 @@
+"""State over time: the latest pose and decision per (frame, body), and per-frame sets.
+
+Pure: no I/O, no threads, no clock of its own (``now`` is passed in, monotonic seconds),
+so every rule here — order, staleness, hysteresis, aggregate changes — is tested without
+a network. The service feeds it batches and publishes what each call returns.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import detector
+from .schemas import FacingState, FrameFacing, Point, Pose, Stamp
+
+BodyKey = tuple[str, str]  # (frame_id, body_id)
+
+
+@dataclass(frozen=True, slots=True)
+class PoseSample:
+    frame_id: str
+    body_id: str
+    pose: Pose
+
+
+@dataclass
+class Changes:
+    """What one tracker call changed, in the order it must be published."""
+
+    results: list[FacingState] = field(default_factory=list)
+    lost: list[BodyKey] = field(default_factory=list)
+    frames: list[FrameFacing] = field(default_factory=list)
+    out_of_order: list[PoseSample] = field(default_factory=list)
+
+
+@dataclass(slots=True)
+class _Track:
+    pose: Pose
+    last_seen: float
+    state: FacingState
+
+
+@dataclass
+class _Frame:
+    tracked: set[str] = field(default_factory=set)
+    facing: set[str] = field(default_factory=set)
+    stamp: tuple[int, int] | None = None
+    dirty: bool = False  # membership changed since the aggregate was last published
+
+
+def _frame_facing(
+    frame_id: str, stamp: tuple[int, int] | None, facing: Iterable[str], tracked: Iterable[str]
+) -> FrameFacing:
+    return FrameFacing(
+        frame_id=frame_id,
+        stamp=None if stamp is None else Stamp(sec=stamp[0], nanosec=stamp[1]),
+        bodies_facing=sorted(facing),
+        bodies_tracked=sorted(tracked),
+    )
+
+
+def _classify(
+    samples: Sequence[PoseSample], thresholds: float | np.ndarray, reported_threshold: float
+) -> list[FacingState]:
+    """Run the vectorized core over ``samples`` and wrap each row as a FacingState."""
+    result = detector.classify(
+        np.array([s.pose.translation for s in samples], dtype=np.float64),
+        np.array([s.pose.rotation for s in samples], dtype=np.float64),
+        thresholds,
+    )
+    states = []
+    for s, r, angle, distance, defined, facing in zip(
+        samples,
+        result.robot_in_body.tolist(),
+        result.angle_deg.tolist(),
+        result.distance_m.tolist(),
+        result.defined.tolist(),
+        result.facing.tolist(),
+        strict=True,
+    ):
+        states.append(
+            FacingState(
+                body_id=s.body_id,
+                frame_id=s.frame_id,
+                stamp=Stamp(sec=s.pose.stamp[0], nanosec=s.pose.stamp[1]),
+                facing=facing,
+                angle_deg=angle if defined else None,
+                distance_m=distance if defined else None,
+                robot_in_body=Point(x=r[0], y=r[1], z=r[2]),
+                threshold_deg=reported_threshold,
+            )
+        )
+    return states
+
+
+class Tracker:
+    """Latest pose and decision per (frame, body).
+
+    Rules: a sample whose stamp is older than the latest accepted one for its (frame, body)
+    is refused (equal stamps are accepted: re-sent poses still get an answer); a body
+    already facing stays facing while its angle is below ``threshold + hysteresis``; a body
+    with no accepted sample for ``stale_after_s`` of the caller's clock is lost.
+    """
+
+    def __init__(
+        self,
+        threshold_deg: float,
+        hysteresis_deg: float,
+        stale_after_s: float,
+        frames: Iterable[str] = (),
+    ) -> None:
+        self.threshold_deg = threshold_deg
+        self.hysteresis_deg = hysteresis_deg
+        self.stale_after_s = stale_after_s
+        # Ordered by last accepted sample, oldest first: expiry pops from the front.
+        self._tracks: OrderedDict[BodyKey, _Track] = OrderedDict()
+        self._frames: dict[str, _Frame] = {frame: _Frame() for frame in frames}
+
+    def __len__(self) -> int:
+        return len(self._tracks)
+
+    def ingest(self, samples: Sequence[PoseSample], now: float) -> Changes:
+        """Accept a batch of validated poses received at ``now``.
+
+        The batch is split into generations (the k-th sample of each body goes into
+        generation k) so that each generation is one vectorized call and a body seen twice
+        in a batch is still decided in stamp order, with its own hysteresis.
+        """
+        changes = Changes()
+        newest: dict[BodyKey, tuple[int, int]] = {}
+        count: dict[BodyKey, int] = {}
+        generations: list[list[PoseSample]] = []
+        for sample in samples:
+            key = (sample.frame_id, sample.body_id)
+            last = newest.get(key)
+            if last is None and (track := self._tracks.get(key)) is not None:
+                last = track.pose.stamp
+            if last is not None and sample.pose.stamp < last:
+                changes.out_of_order.append(sample)
+                continue
+            newest[key] = sample.pose.stamp
+            k = count.get(key, 0)
+            count[key] = k + 1
+            if k == len(generations):
+                generations.append([])
+            generations[k].append(sample)
+
+        touched: set[str] = set()
+        for generation in generations:
+            was_facing = np.array(
+                [self._was_facing((s.frame_id, s.body_id)) for s in generation], dtype=bool
+            )
+            thresholds = self.threshold_deg + self.hysteresis_deg * was_facing
+            states = _classify(generation, thresholds, self.threshold_deg)
+            for sample, state in zip(generation, states, strict=True):
+                self._store(sample, state, now)
+                touched.add(sample.frame_id)
+            changes.results.extend(states)
+        changes.frames = self._frame_changes(touched)
+        return changes
+
+    def lose(self, frame_id: str, body_id: str) -> Changes:
+        """The tracker said the body is gone (an input DELETE)."""
+        changes = Changes()
+        if (frame_id, body_id) in self._tracks:
+            self._remove((frame_id, body_id), changes)
+            changes.frames = self._frame_changes({frame_id})
+        return changes
+
+    def expire(self, now: float) -> Changes:
+        """Lose every body with no accepted sample for ``stale_after_s`` before ``now``."""
+        changes = Changes()
+        deadline = now - self.stale_after_s
+        while self._tracks:
+            key, track = next(iter(self._tracks.items()))
+            if track.last_seen > deadline:
+                break
+            self._remove(key, changes)
+        changes.frames = self._frame_changes({frame for frame, _ in changes.lost})
+        return changes
+
+    def next_expiry(self) -> float | None:
+        """When the oldest body goes stale (caller's clock), or None when none is tracked."""
+        if not self._tracks:
+            return None
+        return next(iter(self._tracks.values())).last_seen + self.stale_after_s
+
+    def states(self) -> list[FacingState]:
+        """The latest decision of every tracked body."""
+        return [track.state for track in self._tracks.values()]
+
+    def frames(self) -> list[FrameFacing]:
+        """The aggregate of every known frame, as it stands now."""
+        return [
+            _frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked)
+            for frame_id, frame in self._frames.items()
+        ]
+
+    def evaluate(self, threshold_deg: float) -> tuple[list[FacingState], list[FrameFacing]]:
+        """Re-decide the latest poses under another cone, without hysteresis.
+
+        For queries: a what-if that leaves the tracker's state untouched.
+        """
+        samples = [
+            PoseSample(frame_id, body_id, track.pose)
+            for (frame_id, body_id), track in self._tracks.items()
+        ]
+        states = _classify(samples, threshold_deg, threshold_deg) if samples else []
+        facing: dict[str, list[str]] = {frame_id: [] for frame_id in self._frames}
+        for state in states:
+            if state.facing:
+                facing[state.frame_id].append(state.body_id)
+        frames = [
+            _frame_facing(frame_id, frame.stamp, facing[frame_id], frame.tracked)
+            for frame_id, frame in self._frames.items()
+        ]
+        return states, frames
+
+    def _was_facing(self, key: BodyKey) -> bool:
+        track = self._tracks.get(key)
+        return track is not None and track.state.facing
+
+    def _store(self, sample: PoseSample, state: FacingState, now: float) -> None:
+        key = (sample.frame_id, sample.body_id)
+        self._tracks[key] = _Track(sample.pose, now, state)
+        self._tracks.move_to_end(key)
+        frame = self._frames.setdefault(sample.frame_id, _Frame())
+        if sample.body_id not in frame.tracked:
+            frame.tracked.add(sample.body_id)
+            frame.dirty = True
+        if state.facing and sample.body_id not in frame.facing:
+            frame.facing.add(sample.body_id)
+            frame.dirty = True
+        elif not state.facing and sample.body_id in frame.facing:
+            frame.facing.remove(sample.body_id)
+            frame.dirty = True
+        if frame.stamp is None or sample.pose.stamp > frame.stamp:
+            frame.stamp = sample.pose.stamp
+
+    def _remove(self, key: BodyKey, changes: Changes) -> None:
+        del self._tracks[key]
+        frame_id, body_id = key
+        frame = self._frames[frame_id]
+        frame.tracked.discard(body_id)
+        frame.facing.discard(body_id)
+        frame.dirty = True
+        changes.lost.append(key)
+
+    def _frame_changes(self, frame_ids: Iterable[str]) -> list[FrameFacing]:
+        """Aggregates of the given frames whose lists changed since last published."""
+        changed = []
+        for frame_id in sorted(frame_ids):
+            frame = self._frames[frame_id]
+            if frame.dirty:
+                frame.dirty = False
+                changed.append(_frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked))
+        return changed
