@@ -1,0 +1,51 @@
+import pytest
+
+from facing_service import keys
+
+
+def test_build_and_parse_round_trip():
+    key = keys.pose_key("robot1/hri", "b-1.x_2", "camera_link")
+    assert key == "robot1/hri/bodies/b-1.x_2/pose/camera_link"
+    assert keys.parse_pose_key("robot1/hri", key) == ("b-1.x_2", "camera_link")
+
+
+@pytest.mark.parametrize(
+    "key",
+    [
+        "hri/bodies/a/facing/cam",
+        "hri/bodies/a/pose",
+        "hri/bodies/a/pose/cam/extra",
+        "other/bodies/a/pose/cam",
+        "hri/bodies/" + "a" * 65 + "/pose/cam",
+        "hri/bodies/a b/pose/cam",
+        "hri/bodies/a/pose/c@m",
+        "hri/bodies/é/pose/cam",
+    ],
+)
+def test_invalid_input_keys(key):
+    assert keys.parse_pose_key("hri", key) is None
+
+
+@pytest.mark.parametrize("name", ["", "a/b", "a*", "$x", "a#", "a?", "x" * 65, "sp ace"])
+def test_invalid_names(name):
+    assert not keys.is_name(name)
+    with pytest.raises(ValueError):
+        keys.validate_name(name)
+
+
+@pytest.mark.parametrize("ns", ["", "a//b", "/a", "a/", "a/*", "ro bot/hri"])
+def test_invalid_namespaces(ns):
+    with pytest.raises(ValueError):
+        keys.validate_namespace(ns)
+
+
+def test_frame_filter_accepts_star_or_a_name():
+    assert keys.validate_frame_filter("*") == "*"
+    assert keys.validate_frame_filter("map") == "map"
+    with pytest.raises(ValueError):
+        keys.validate_frame_filter("**")
+
+
+def test_output_key_spaces():
+    assert keys.result_queryables("hri", "*") == ("hri/bodies/*/facing/*", "hri/facing/*")
+    assert keys.pose_subscription("hri", "cam") == "hri/bodies/*/pose/cam"

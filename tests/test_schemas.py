@@ -1,0 +1,178 @@
+"""Decoding rules: every rejection reason, the accepted edge cases, and schema drift."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from facing_service.schemas import (
+    FacingState,
+    Point,
+    Pose,
+    Rejected,
+    Rejection,
+    Stamp,
+    decode_pose,
+    json_schemas,
+)
+
+from poses import pose_dict
+
+SCHEMAS_DIR = Path(__file__).resolve().parent.parent / "schemas"
+
+
+def encode(d) -> bytes:
+    return json.dumps(d).encode()
+
+
+def good(**kw):
+    return pose_dict("a", "cam", **kw)
+
+
+def reason_of(payload: bytes, body="a", frame="cam", limit=65536) -> Rejection | None:
+    result = decode_pose(payload, body, frame, limit)
+    if isinstance(result, Rejected):
+        assert result.detail  # every rejection explains itself
+        return result.reason
+    return None
+
+
+def with_(d, path, value):
+    node = d
+    for part in path[:-1]:
+        node = node[part]
+    if value is ...:
+        del node[path[-1]]
+    else:
+        node[path[-1]] = value
+    return d
+
+
+def test_valid_pose_is_decoded():
+    result = decode_pose(encode(good(x=2.0, y=1.0, yaw_deg=90.0, sec=7, nanosec=5)), "a", "cam")
+    assert isinstance(result, Pose)
+    assert result.stamp == (7, 5)
+    assert result.translation == (2.0, 1.0, 0.0)
+    assert result.rotation == pytest.approx((0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5)))
+
+
+def test_quaternion_within_tf2_tolerance_is_normalized():
+    d = with_(good(yaw_deg=0.0), ["transform", "rotation", "w"], 1.004)  # |q|^2 = 1.008
+    result = decode_pose(encode(d), "a", "cam")
+    assert isinstance(result, Pose)
+    assert result.rotation == pytest.approx((0.0, 0.0, 0.0, 1.0))
+
+
+@pytest.mark.parametrize("child", ["", "body_a"])
+def test_child_frame_may_be_empty_or_the_body(child):
+    assert reason_of(encode(with_(good(), ["child_frame_id"], child))) is None
+
+
+def test_child_frame_may_be_absent():
+    assert reason_of(encode(with_(good(), ["child_frame_id"], ...))) is None
+
+
+def test_unknown_extra_fields_are_ignored():
+    """Bridges that forward full ROS messages may add fields; they do not matter here."""
+    assert reason_of(encode({**good(), "extra": {"anything": [1, 2]}})) is None
+
+
+def test_integer_coordinates_are_accepted():
+    d = with_(good(), ["transform", "translation", "x"], 3)
+    assert reason_of(encode(d)) is None
+
+
+CASES = {
+    Rejection.PAYLOAD_TOO_LARGE: [encode({**good(), "pad": "x" * 70_000})],
+    Rejection.MALFORMED_JSON: [
+        b"",
+        b"not json",
+        b'{"header": ',
+        b"\xff\xfe\x00garbage",
+        b"[" * 10_000 + b"]" * 10_000,
+        encode(good())[:-5],
+    ],
+    Rejection.SCHEMA: [
+        b"[]",
+        b"42",
+        b"null",
+        encode(with_(good(), ["header"], ...)),
+        encode(with_(good(), ["transform", "rotation", "w"], ...)),
+        encode(with_(good(), ["transform", "translation", "x"], "1.0")),
+        encode(with_(good(), ["transform", "translation", "x"], True)),
+        encode(with_(good(), ["transform", "translation", "x"], 1e10)),
+        encode(with_(good(), ["header", "stamp", "sec"], -1)),
+        encode(with_(good(), ["header", "stamp", "sec"], 1.5)),
+        encode(with_(good(), ["header", "stamp", "sec"], 2**63)),
+        encode(with_(good(), ["header", "stamp", "nanosec"], 1_000_000_000)),
+        encode(with_(good(), ["header", "frame_id"], 5)),
+        encode(with_(good(), ["transform"], [1, 2, 3])),
+    ],
+    Rejection.NON_FINITE: [
+        encode(good()).replace(b'"x": 2.0', b'"x": NaN'),
+        encode(good()).replace(b'"x": 2.0', b'"x": Infinity'),
+        encode(good()).replace(b'"x": 2.0', b'"x": -Infinity'),
+        encode(good()).replace(b'"x": 2.0', b'"x": 1e400'),
+    ],
+    Rejection.FRAME_MISMATCH: [encode(pose_dict("a", "base_link"))],
+    Rejection.CHILD_FRAME_MISMATCH: [
+        encode(with_(good(), ["child_frame_id"], "body_b")),
+        encode(with_(good(), ["child_frame_id"], "a")),
+    ],
+    Rejection.QUATERNION_NOT_NORMALIZED: [
+        encode(with_(good(yaw_deg=0.0), ["transform", "rotation", "w"], 1.006)),
+        encode(with_(good(yaw_deg=0.0), ["transform", "rotation", "w"], 0.0)),
+        encode(with_(good(yaw_deg=0.0), ["transform", "rotation", "w"], 2.0)),
+    ],
+}
+
+
+@pytest.mark.parametrize(
+    ("reason", "payload"),
+    [(reason, p) for reason, payloads in CASES.items() for p in payloads],
+    ids=lambda v: v.value if isinstance(v, Rejection) else None,
+)
+def test_rejection_reasons(reason, payload):
+    assert reason_of(payload) is reason
+
+
+def test_every_decoder_reason_is_exercised():
+    """Reasons not produced by the decoder are produced by the key parser and tracker."""
+    decoder_reasons = set(Rejection) - {Rejection.INVALID_KEY, Rejection.OUT_OF_ORDER}
+    assert decoder_reasons == set(CASES)
+
+
+def test_payload_limit_is_configurable():
+    payload = encode(good())
+    assert reason_of(payload, limit=len(payload)) is None
+    assert reason_of(payload, limit=len(payload) - 1) is Rejection.PAYLOAD_TOO_LARGE
+
+
+def test_degenerate_result_serializes_null_never_nan():
+    state = FacingState(
+        body_id="a",
+        frame_id="cam",
+        stamp=Stamp(sec=1, nanosec=0),
+        facing=False,
+        angle_deg=None,
+        distance_m=None,
+        robot_in_body=Point(x=0.0, y=0.0, z=1.5),
+        threshold_deg=20.0,
+    )
+    text = state.model_dump_json()
+    assert '"angle_deg":null' in text and '"distance_m":null' in text
+    assert "NaN" not in text
+
+
+@pytest.mark.parametrize("name", sorted(json_schemas()))
+def test_committed_json_schemas_match_the_models(name):
+    """Regenerate with: facing-service export-schemas schemas"""
+    committed = json.loads((SCHEMAS_DIR / name).read_text())
+    assert committed == json_schemas()[name], f"schemas/{name} drifted from the models"
+
+
+def test_no_stray_schema_files():
+    assert {p.name for p in SCHEMAS_DIR.glob("*.json")} == set(json_schemas())

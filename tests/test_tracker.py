@@ -1,0 +1,152 @@
+"""Decisions over time, with an injected clock and no network."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from facing_service.schemas import Pose
+from facing_service.tracker import PoseSample, Tracker
+
+from poses import toward_origin_deg, yaw_quaternion
+
+
+def sample(body="a", frame="cam", off_deg=0.0, sec=1, nanosec=0, x=2.0, y=0.0) -> PoseSample:
+    yaw = toward_origin_deg(x, y) + off_deg
+    return PoseSample(frame, body, Pose((sec, nanosec), (x, y, 0.0), yaw_quaternion(yaw)))
+
+
+def tracker(**kw) -> Tracker:
+    params = {"threshold_deg": 20.0, "hysteresis_deg": 5.0, "stale_after_s": 2.0} | kw
+    return Tracker(**params)
+
+
+def test_first_pose_yields_a_result_and_a_frame_change():
+    t = tracker()
+    changes = t.ingest([sample(off_deg=10.0)], now=0.0)
+    (state,) = changes.results
+    assert state.facing and state.angle_deg == pytest.approx(10.0)
+    assert state.distance_m == pytest.approx(2.0) and state.threshold_deg == 20.0
+    (frame,) = changes.frames
+    assert frame.bodies_facing == ["a"] and frame.bodies_tracked == ["a"]
+    assert frame.stamp is not None and frame.stamp.sec == 1
+
+
+def test_frame_aggregate_only_when_a_list_changes():
+    t = tracker()
+    t.ingest([sample(off_deg=10.0, sec=1)], now=0.0)
+    assert t.ingest([sample(off_deg=12.0, sec=2)], now=0.1).frames == []
+    changes = t.ingest([sample(off_deg=40.0, sec=3)], now=0.2)
+    assert [f.bodies_facing for f in changes.frames] == [[]]
+    assert changes.frames[0].bodies_tracked == ["a"]
+
+
+def test_older_stamp_is_refused_and_equal_stamp_accepted():
+    t = tracker()
+    t.ingest([sample(sec=5, off_deg=10.0)], now=0.0)
+    changes = t.ingest([sample(sec=4, nanosec=999_999_999, off_deg=50.0)], now=0.1)
+    assert changes.results == [] and len(changes.out_of_order) == 1
+    assert t.states()[0].facing  # the refused pose changed nothing
+    assert len(t.ingest([sample(sec=5, off_deg=11.0)], now=0.2).results) == 1
+
+
+def test_out_of_order_inside_one_batch():
+    t = tracker()
+    changes = t.ingest([sample(sec=3), sample(sec=2), sample(sec=4)], now=0.0)
+    assert [s.stamp.sec for s in changes.results] == [3, 4]
+    assert [s.pose.stamp for s in changes.out_of_order] == [(2, 0)]
+
+
+@pytest.mark.parametrize(
+    ("hysteresis", "angles", "expected"),
+    [
+        (5.0, [18, 23, 24.9, 26, 23, 19.9], [True, True, True, False, False, True]),
+        (0.0, [18, 23, 19, 20, 19.99], [True, False, True, False, True]),
+    ],
+)
+def test_hysteresis(hysteresis, angles, expected):
+    t = tracker(hysteresis_deg=hysteresis)
+    decided = [
+        t.ingest([sample(off_deg=a, sec=i + 1)], now=i * 0.1).results[0].facing
+        for i, a in enumerate(angles)
+    ]
+    assert decided == expected
+
+
+def test_one_body_twice_in_a_batch_is_decided_in_order_with_hysteresis():
+    t = tracker()
+    changes = t.ingest([sample(off_deg=18, sec=1), sample(off_deg=23, sec=2)], now=0.0)
+    assert [(s.stamp.sec, s.facing) for s in changes.results] == [(1, True), (2, True)]
+    t2 = tracker()
+    changes = t2.ingest([sample(off_deg=23, sec=1), sample(off_deg=18, sec=2)], now=0.0)
+    assert [s.facing for s in changes.results] == [False, True]
+
+
+def test_bodies_are_independent_per_frame():
+    t = tracker()
+    changes = t.ingest(
+        [sample("a", "cam", off_deg=5), sample("a", "map", off_deg=60), sample("b", "cam")],
+        now=0.0,
+    )
+    assert len(changes.results) == 3
+    frames = {f.frame_id: f for f in changes.frames}
+    assert frames["cam"].bodies_facing == ["a", "b"]
+    assert frames["map"].bodies_facing == [] and frames["map"].bodies_tracked == ["a"]
+    assert len(t) == 3
+
+
+def test_lose_removes_the_body_and_updates_the_frame():
+    t = tracker()
+    t.ingest([sample("a"), sample("b", off_deg=90)], now=0.0)
+    changes = t.lose("cam", "a")
+    assert changes.lost == [("cam", "a")]
+    assert changes.frames[0].bodies_facing == [] and changes.frames[0].bodies_tracked == ["b"]
+    assert t.lose("cam", "a").lost == []  # already gone: nothing to publish
+    assert t.lose("nowhere", "zzz").lost == []
+
+
+def test_staleness_on_the_injected_clock():
+    t = tracker(stale_after_s=2.0)
+    t.ingest([sample("a", sec=1)], now=10.0)
+    t.ingest([sample("b", sec=1)], now=11.0)
+    assert t.next_expiry() == 12.0
+    assert t.expire(11.99).lost == []
+    t.ingest([sample("a", sec=2)], now=11.5)  # a refreshed: b is now the oldest
+    assert t.next_expiry() == 13.0
+    changes = t.expire(13.0)
+    assert changes.lost == [("cam", "b")]
+    assert changes.frames[0].bodies_tracked == ["a"]
+    assert t.expire(13.5).lost == [("cam", "a")]
+    assert t.next_expiry() is None
+
+
+def test_evaluate_is_a_what_if_without_hysteresis():
+    t = tracker()
+    t.ingest([sample("a", off_deg=18, sec=1)], now=0.0)
+    t.ingest([sample("a", off_deg=23, sec=2)], now=0.1)  # facing by hysteresis
+    t.ingest([sample("b", off_deg=30, sec=1)], now=0.1)
+    states, frames = t.evaluate(35.0)
+    assert {s.body_id: s.facing for s in states} == {"a": True, "b": True}
+    assert all(s.threshold_deg == 35.0 for s in states)
+    assert frames[0].bodies_facing == ["a", "b"]
+    states, frames = t.evaluate(20.0)
+    assert {s.body_id: s.facing for s in states} == {"a": False, "b": False}
+    # the service's own state is untouched
+    assert {s.body_id: s.facing for s in t.states()} == {"a": True, "b": False}
+    assert t.frames()[0].bodies_facing == ["a"]
+
+
+def test_declared_frame_is_known_before_any_pose():
+    t = Tracker(20.0, 5.0, 2.0, frames=["cam"])
+    (frame,) = t.frames()
+    assert frame.stamp is None and frame.bodies_tracked == []
+    assert t.evaluate(30.0) == ([], t.frames())
+
+
+def test_degenerate_pose_is_tracked_not_facing():
+    t = tracker()
+    pose = Pose((1, 0), (0.0, 0.0, -1.0), (0.0, 0.0, 0.0, 1.0))
+    (state,) = t.ingest([PoseSample("cam", "a", pose)], now=0.0).results
+    assert not state.facing and state.angle_deg is None and state.distance_m is None
+    assert math.isfinite(state.robot_in_body.z)
