@@ -1,0 +1,55 @@
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+import zenoh
+
+from facing_service.config import Settings
+from facing_service.service import FacingService
+
+from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, session_config
+
+
+class Network:
+    """Starts services and client sessions on loopback and closes all of them afterwards."""
+
+    def __init__(self) -> None:
+        self._closers: list[Any] = []
+
+    def service(self, **settings: Any) -> tuple[FacingService, str]:
+        ep = endpoint(free_port())
+        params = {
+            "listen": [ep],
+            "no_multicast_scouting": True,
+            "cfg": LOOPBACK_CFG,
+            "base_frame": "cam",
+        } | settings
+        service = FacingService(Settings(**params)).start()
+        self._closers.append(service.close)
+        return service, ep
+
+    def client(self, connect: str) -> zenoh.Session:
+        session = zenoh.open(session_config(connect=[connect]))
+        self._closers.append(session.close)
+        return session
+
+    def recorder(self, session: zenoh.Session, key_expr: str) -> Recorder:
+        recorder = Recorder(session, key_expr)
+        self._closers.append(recorder.close)
+        return recorder
+
+    def close(self) -> None:
+        for close in reversed(self._closers):
+            close()
+        self._closers.clear()
+
+
+@pytest.fixture
+def net() -> Iterator[Network]:
+    network = Network()
+    try:
+        yield network
+    finally:
+        network.close()

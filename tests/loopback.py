@@ -1,0 +1,111 @@
+"""Real zenoh networks on loopback for tests: configs, readiness, recording subscribers."""
+
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import zenoh
+
+LOOPBACK_CFG = ["scouting/delay:0"]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def endpoint(port: int) -> str:
+    return f"tcp/127.0.0.1:{port}"
+
+
+def session_config(
+    listen: list[str] | None = None, connect: list[str] | None = None, mode: str = "peer"
+) -> zenoh.Config:
+    conf = zenoh.Config()
+    conf.insert_json5("mode", json.dumps(mode))
+    conf.insert_json5("scouting/multicast/enabled", "false")
+    conf.insert_json5("scouting/delay", "0")
+    conf.insert_json5("listen/endpoints", json.dumps(listen or []))
+    conf.insert_json5("connect/endpoints", json.dumps(connect or []))
+    return conf
+
+
+@dataclass(frozen=True)
+class Received:
+    key: str
+    kind: str  # "put" or "delete"
+    value: Any  # decoded JSON for a put, None for a delete
+
+
+class Recorder:
+    """Everything a subscriber receives, with waiting helpers. Close it (or its session)."""
+
+    def __init__(self, session: zenoh.Session, key_expr: str) -> None:
+        self._cond = threading.Condition()
+        self.items: list[Received] = []
+        self._sub = session.declare_subscriber(key_expr, self._on_sample)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        put = sample.kind == zenoh.SampleKind.PUT
+        item = Received(
+            str(sample.key_expr),
+            "put" if put else "delete",
+            json.loads(sample.payload.to_bytes()) if put else None,
+        )
+        with self._cond:
+            self.items.append(item)
+            self._cond.notify_all()
+
+    def wait_for(
+        self, predicate: Callable[[Received], bool], count: int = 1, timeout: float = 5.0
+    ) -> list[Received]:
+        """The first ``count`` received items matching ``predicate``; AssertionError on time-out."""
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            while True:
+                matching = [i for i in self.items if predicate(i)]
+                if len(matching) >= count:
+                    return matching[:count]
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise AssertionError(
+                        f"waited {timeout} s for {count} matching samples, got {len(matching)}; "
+                        f"all received: {self.items[-20:]}"
+                    )
+                self._cond.wait(left)
+
+    def on(self, key: str) -> list[Received]:
+        with self._cond:
+            return [i for i in self.items if i.key == key]
+
+    def close(self) -> None:
+        self._sub.undeclare()
+
+
+def get(session: zenoh.Session, selector: str, timeout: float = 5.0) -> list[tuple[str, Any]]:
+    """All replies to a query: ``(key, json)`` for data, ``("error", json)`` for errors."""
+    replies = []
+    for reply in session.get(selector, timeout=timeout):
+        if reply.ok is not None:
+            replies.append((str(reply.ok.key_expr), json.loads(reply.ok.payload.to_bytes())))
+        else:
+            replies.append(("error", json.loads(reply.err.payload.to_bytes())))
+    return replies
+
+
+def wait_until_answered(session: zenoh.Session, selector: str, timeout: float = 10.0) -> None:
+    """Block until a queryable answers ``selector``: the service is connected and declared
+    (its subscriber was declared before its queryables, on the same ordered link)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if get(session, selector, timeout=0.5):
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"nothing answered {selector} within {timeout} s")

@@ -1,0 +1,101 @@
+"""The real CLI process: configured by flags and FACING_* variables, stopped by signals."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from facing_service import __version__
+
+from loopback import endpoint, free_port, get, wait_until_answered
+from poses import pose_json
+
+
+def start_cli(port: int, *flags: str, env: dict[str, str] | None = None) -> subprocess.Popen:
+    return subprocess.Popen(
+        [sys.executable, "-m", "facing_service", "run", *flags],
+        env={**os.environ, **(env or {})},
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_signal_stops_the_real_process_cleanly(net, signum):
+    port = free_port()
+    proc = start_cli(
+        port,
+        "-l",
+        endpoint(port),
+        "--no-multicast-scouting",
+        env={
+            "FACING_BASE_FRAME": "cam",
+            "FACING_THRESHOLD_DEG": "33",
+            "FACING_CFG": "scouting/delay:0",
+        },
+    )
+    try:
+        client = net.client(endpoint(port))
+        wait_until_answered(client, "hri/facing/cam")
+        client.put("hri/bodies/a/pose/cam", pose_json("a", "cam", off_deg=30.0))
+        deadline = time.monotonic() + 5
+        while not (replies := get(client, "hri/bodies/a/facing/cam")):
+            assert time.monotonic() < deadline, "the CLI never published a result"
+            time.sleep(0.05)
+        assert replies[0][1]["facing"] and replies[0][1]["threshold_deg"] == 33.0  # env used
+        started = time.monotonic()
+        proc.send_signal(signum)
+        code = proc.wait(timeout=5)
+        elapsed = time.monotonic() - started
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    output = proc.stdout.read()
+    assert code == 0, output
+    assert elapsed < 2.0, f"took {elapsed:.2f} s to stop"
+    first_line = output.splitlines()[0]
+    assert f"facing-service {__version__} started: zenoh id " in first_line
+    assert "hri/bodies/*/pose/cam" in first_line
+
+
+def test_invalid_setting_exits_2_with_a_message():
+    proc = subprocess.run(
+        [sys.executable, "-m", "facing_service", "run", "--threshold-deg", "500"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
+    assert proc.returncode == 2
+    assert "threshold_deg" in proc.stderr
+
+
+def test_bad_zenoh_config_exits_1_with_a_message():
+    proc = subprocess.run(
+        [sys.executable, "-m", "facing_service", "run", "--cfg", "no/such/key:1"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
+    assert proc.returncode == 1
+    assert "cannot start zenoh" in proc.stderr
+
+
+def test_export_schemas_writes_every_file(tmp_path):
+    subprocess.run(
+        [sys.executable, "-m", "facing_service", "export-schemas", str(tmp_path)],
+        check=True,
+        timeout=30,
+    )
+    assert {p.name for p in tmp_path.iterdir()} == {
+        "pose.schema.json",
+        "facing_state.schema.json",
+        "frame_facing.schema.json",
+        "query_error.schema.json",
+    }
