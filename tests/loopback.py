@@ -109,3 +109,18 @@ def wait_until_answered(session: zenoh.Session, selector: str, timeout: float = 
             return
         time.sleep(0.05)
     raise AssertionError(f"nothing answered {selector} within {timeout} s")
+
+
+def send(session: zenoh.Session, key: str, payload: bytes) -> None:
+    """Publish a pose as a tracker should: BLOCK, since zenoh's default (DROP) silently
+    loses samples on the sending side under a burst."""
+    session.put(
+        key,
+        payload,
+        encoding=zenoh.Encoding.APPLICATION_JSON,
+        congestion_control=zenoh.CongestionControl.BLOCK,
+    )
+
+
+def send_delete(session: zenoh.Session, key: str) -> None:
+    session.delete(key, congestion_control=zenoh.CongestionControl.BLOCK)

@@ -12,7 +12,7 @@ import pytest
 
 from facing_service import __version__
 
-from loopback import endpoint, free_port, get, wait_until_answered
+from loopback import endpoint, free_port, get, send, wait_until_answered
 from poses import pose_json
 
 
@@ -43,7 +43,7 @@ def test_signal_stops_the_real_process_cleanly(net, signum):
     try:
         client = net.client(endpoint(port))
         wait_until_answered(client, "hri/facing/cam")
-        client.put("hri/bodies/a/pose/cam", pose_json("a", "cam", off_deg=30.0))
+        send(client, "hri/bodies/a/pose/cam", pose_json("a", "cam", off_deg=30.0))
         deadline = time.monotonic() + 5
         while not (replies := get(client, "hri/bodies/a/facing/cam")):
             assert time.monotonic() < deadline, "the CLI never published a result"
