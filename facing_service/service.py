@@ -43,6 +43,16 @@ REJECTION_LOG_PERIOD_S = 5.0
 #: Selector parameters the queryable understands; zenoh reserves names starting with "_".
 QUERY_PARAMETERS = frozenset({"threshold_deg"})
 
+#: Every counter the service reports, present from the start (at 0).
+COUNTERS = (
+    "samples_accepted",
+    "results_published",
+    "deletes_published",
+    "frames_published",
+    "queries_answered",
+    "queries_refused",
+)
+
 _STOP = object()
 
 
@@ -106,7 +116,7 @@ class FacingService:
         )
         self._inbox: queue.SimpleQueue[object] = queue.SimpleQueue()
         self._counts_lock = threading.Lock()
-        self._counts: Counter[str] = Counter()
+        self._counts: Counter[str] = Counter(dict.fromkeys(COUNTERS, 0))
         self._rejections: Counter[Rejection] = Counter()
         self._rejection_log = _RejectionLog(clock)
         self._session: zenoh.Session | None = None
@@ -159,7 +169,9 @@ class FacingService:
         self._entities = []
         if self._worker is not None:
             self._inbox.put(_STOP)
-            self._worker.join(timeout=2.0)
+            # Bounded so SIGTERM exits within 2 s even if the worker is blocked in a BLOCK
+            # put to a stuck consumer: closing the session below releases that put.
+            self._worker.join(timeout=1.0)
             self._worker = None
         if self._session is not None:
             self._session.close()
