@@ -9,6 +9,9 @@ then each ``--cfg KEY:VALUE``.
 from __future__ import annotations
 
 import json
+import os
+import re
+import socket
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal
@@ -27,6 +30,12 @@ _LIST_SEPARATORS = {"connect": ",", "listen": ",", "cfg": ";"}
 LogLevel = Literal["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"]
 
 
+def default_instance() -> str:
+    """``<host name>-<pid>``, made a valid key chunk: unique per process on a network."""
+    name = re.sub(r"[^A-Za-z0-9_.-]", "_", f"{socket.gethostname()}-{os.getpid()}")
+    return name[-64:]
+
+
 class Settings(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -36,6 +45,8 @@ class Settings(BaseModel):
     hysteresis_deg: float = Field(default=5.0, ge=0.0, lt=180.0)
     stale_after_s: float = Field(default=2.0, gt=0.0, allow_inf_nan=False)
     max_payload_bytes: int = Field(default=DEFAULT_MAX_PAYLOAD_BYTES, gt=0)
+    max_bodies: int = Field(default=10_000, gt=0)
+    instance: str = Field(default_factory=default_instance)
     log_level: LogLevel = "INFO"
     # zenoh session; None means "as the config file says, else zenoh's default (peer)".
     mode: Literal["peer", "client", "router"] | None = None
@@ -49,6 +60,11 @@ class Settings(BaseModel):
     @classmethod
     def _namespace(cls, value: str) -> str:
         return keys.validate_namespace(value)
+
+    @field_validator("instance")
+    @classmethod
+    def _instance(cls, value: str) -> str:
+        return keys.validate_name(value, "instance")
 
     @field_validator("base_frame")
     @classmethod

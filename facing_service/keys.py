@@ -5,6 +5,8 @@ Layout (``NS`` is the namespace, one or more chunks such as ``hri`` or ``robot1/
     NS/bodies/<body_id>/pose/<base_frame>     input poses (PUT) and body lost (DELETE)
     NS/bodies/<body_id>/facing/<base_frame>   per-body result (PUT) and lost/stale (DELETE)
     NS/facing/<base_frame>                    per-frame aggregate
+    NS/services/facing/<instance>             liveliness token while a service runs
+    NS/services/facing/<instance>/status      status queryable
 
 Names are restricted to ``[A-Za-z0-9_.-]{1,64}`` so that a name can never smuggle a key
 separator or wildcard (``/ * $ # ?``) into a key.
@@ -56,6 +58,15 @@ def facing_key(namespace: str, body_id: str, frame_id: str) -> str:
 
 def frame_key(namespace: str, frame_id: str) -> str:
     return f"{namespace}/facing/{frame_id}"
+
+
+def service_token(namespace: str, instance: str) -> str:
+    return f"{namespace}/services/facing/{instance}"
+
+
+def status_key(namespace: str, instance: str) -> str:
+    """``instance`` may be ``*`` to ask every running service."""
+    return f"{service_token(namespace, instance)}/status"
 
 
 def pose_subscription(namespace: str, frame: str) -> str:

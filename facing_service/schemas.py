@@ -107,6 +107,26 @@ class FrameFacing(BaseModel):
     bodies_tracked: list[str]
 
 
+class ServiceStatus(BaseModel):
+    """Reply of ``NS/services/facing/<instance>/status``: health, counters, config."""
+
+    status: str = Field(description='"ok", or "failed" when an internal thread died.')
+    instance: str
+    version: str
+    zenoh_id: str
+    uptime_s: float
+    config: dict[str, Any] = Field(description="The settings in force.")
+    bodies_tracked: dict[str, int] = Field(description="Bodies tracked, per base frame.")
+    bodies_tracked_total: int
+    counters: dict[str, int] = Field(
+        description="samples_accepted, results_published, results_superseded, "
+        "deletes_published, frames_published, queries_answered, queries_refused."
+    )
+    rejected: dict[str, int] = Field(description="Rejected samples per reason (all reasons).")
+    inbox_depth: int = Field(description="Samples and queries received, not yet handled.")
+    outbox_depth: int = Field(description="Publications decided, not yet sent.")
+
+
 class QueryError(BaseModel):
     """Payload of an error reply to a query (a bad selector parameter)."""
 
@@ -126,6 +146,7 @@ class Rejection(str, Enum):
     CHILD_FRAME_MISMATCH = "child_frame_mismatch"
     QUATERNION_NOT_NORMALIZED = "quaternion_not_normalized"
     OUT_OF_ORDER = "out_of_order"
+    CAPACITY = "capacity"
 
 
 @dataclass(frozen=True, slots=True)
@@ -204,6 +225,7 @@ SCHEMA_FILES: dict[str, tuple[type[BaseModel], str]] = {
     "facing_state.schema.json": (FacingState, "serialization"),
     "frame_facing.schema.json": (FrameFacing, "serialization"),
     "query_error.schema.json": (QueryError, "serialization"),
+    "status.schema.json": (ServiceStatus, "serialization"),
 }
 
 

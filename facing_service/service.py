@@ -1,22 +1,28 @@
 """The zenoh shell: subscribe to poses, run the core, publish results, answer queries.
 
-Threading: zenoh runs each Python callback on its own thread fed by a small queue, and a
-slow callback stalls every subscriber of the session. So the callbacks here only append
-the sample or query to an inbox; a single worker thread owns the tracker, drains the inbox
-in batches (one vectorized core call per batch), publishes, and answers queries. Queries
-therefore see exactly the state left by every sample received before them, with no lock
-around the state.
+Threads, and why:
+- zenoh callbacks (its own threads): only stamp the arrival time and put the sample or
+  query in the inbox. A slow callback would stall every subscriber of the session. The
+  inbox is bounded; when it is full the callback waits, which pushes back through zenoh to
+  the senders (trackers publishing with BLOCK slow down; nothing is dropped here).
+- the worker: owns the tracker. Drains the inbox in batches (one vectorized core call per
+  batch), hands publications to the outbox, answers queries in order with the samples.
+- the publisher: sends what the outbox holds. A consumer that stops reading can block a
+  BLOCK put (up to zenoh's ``wait_before_close``); only this thread waits, while the
+  worker keeps ingesting, deciding and answering (see ``outbox``).
+- the status queryable answers from a snapshot in its callback, so a health check gets an
+  answer even when the worker is behind a backlog.
 
 Congestion control per key (see the README):
-- per-body results ``NS/bodies/<id>/facing/<frame>`` (PUT): DROP. Each result supersedes
-  the previous one for that body; a consumer too slow to read them must not stall the
-  service. What it would miss is never a membership change: those travel on
-- per-frame aggregates ``NS/facing/<frame>`` and per-body DELETEs: BLOCK, so state
-  changes are never silently dropped under load.
+- per-body results ``NS/bodies/<id>/facing/<frame>`` (PUT): DROP, and conflated in the
+  outbox: each result supersedes the previous one for that body.
+- per-frame aggregates ``NS/facing/<frame>`` and per-body DELETEs: BLOCK, never conflated,
+  so state changes are never silently dropped under load.
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import queue
@@ -30,23 +36,26 @@ import zenoh
 
 from . import __version__, keys
 from .config import Settings, zenoh_config
-from .schemas import QueryError, Rejected, Rejection, decode_pose
+from .outbox import Outbox
+from .schemas import QueryError, Rejected, Rejection, ServiceStatus, decode_pose
 from .tracker import Changes, PoseSample, Tracker
 
 log = logging.getLogger("facing_service")
 
 JSON = zenoh.Encoding.APPLICATION_JSON
-#: Most inbox items handled per batch: bounds the latency a huge backlog adds to a query.
+#: Most inbox items handled per batch: bounds the latency a backlog adds to a query.
 MAX_BATCH = 1024
+#: Inbox bound: about 10 MB of pending samples before the callbacks push back.
+INBOX_SIZE = 8192
 #: Rejections are summarized in the log at most this often, never one line per sample.
 REJECTION_LOG_PERIOD_S = 5.0
 #: Selector parameters the queryable understands; zenoh reserves names starting with "_".
 QUERY_PARAMETERS = frozenset({"threshold_deg"})
-
 #: Every counter the service reports, present from the start (at 0).
 COUNTERS = (
     "samples_accepted",
     "results_published",
+    "results_superseded",
     "deletes_published",
     "frames_published",
     "queries_answered",
@@ -63,8 +72,8 @@ class _QueryItem:
 
 
 class _RejectionLog:
-    """Counts rejections per reason; logs a summary at most every period, with the first
-    offending key and detail of each reason seen since the last summary."""
+    """Summarizes rejections in the log at most every period, with the first offending key
+    and detail of each reason seen since the last summary."""
 
     def __init__(self, clock: Callable[[], float]) -> None:
         self._clock = clock
@@ -110,69 +119,99 @@ class FacingService:
     def __init__(self, settings: Settings, clock: Callable[[], float] = time.monotonic) -> None:
         self.settings = settings
         self._clock = clock
+        self._started_at = clock()
         fixed = [] if settings.base_frame == keys.ALL_FRAMES else [settings.base_frame]
         self._tracker = Tracker(
-            settings.threshold_deg, settings.hysteresis_deg, settings.stale_after_s, fixed
+            settings.threshold_deg,
+            settings.hysteresis_deg,
+            settings.stale_after_s,
+            frames=fixed,
+            max_bodies=settings.max_bodies,
         )
-        self._inbox: queue.SimpleQueue[object] = queue.SimpleQueue()
+        self._inbox: queue.Queue[tuple[float, object]] = queue.Queue(maxsize=INBOX_SIZE)
+        self._outbox = Outbox()
+        self._closing = threading.Event()
+        # Guards what other threads read: counters, rejections, the per-frame snapshot.
         self._counts_lock = threading.Lock()
         self._counts: Counter[str] = Counter(dict.fromkeys(COUNTERS, 0))
-        self._rejections: Counter[Rejection] = Counter()
+        self._rejections: Counter[Rejection] = Counter(dict.fromkeys(Rejection, 0))
+        self._tracked: dict[str, int] = self._tracker.tracked_per_frame()
         self._rejection_log = _RejectionLog(clock)
+        self._horizon = clock()  # arrival time of the newest item the worker has handled
         self._session: zenoh.Session | None = None
         self._entities: list[zenoh.Subscriber[None] | zenoh.Queryable[None]] = []
-        self._worker: threading.Thread | None = None
+        self._token: zenoh.LivelinessToken | None = None
+        self._threads: list[threading.Thread] = []
 
     # -- lifecycle -------------------------------------------------------------------
 
     def start(self) -> FacingService:
-        ns, frame = self.settings.namespace, self.settings.base_frame
-        self._session = session = zenoh.open(zenoh_config(self.settings))
+        s = self.settings
+        ns, frame = s.namespace, s.base_frame
+        self._session = session = zenoh.open(zenoh_config(s))
         try:
             self._publish(Changes(frames=self._tracker.frames()))
-            self._worker = threading.Thread(
-                target=self._run, name="facing-service-worker", daemon=True
-            )
-            self._worker.start()
+            self._threads = [
+                threading.Thread(target=self._run, name="facing-worker", daemon=True),
+                threading.Thread(target=self._send, name="facing-publisher", daemon=True),
+            ]
+            for thread in self._threads:
+                thread.start()
             subscription = keys.pose_subscription(ns, frame)
             body_space, frame_space = keys.result_queryables(ns, frame)
             self._entities = [
-                session.declare_subscriber(subscription, self._inbox.put),
+                session.declare_subscriber(subscription, self._enqueue),
                 session.declare_queryable(
-                    body_space, lambda q: self._inbox.put(_QueryItem(q, per_body=True))
+                    body_space, lambda q: self._enqueue(_QueryItem(q, per_body=True))
                 ),
                 session.declare_queryable(
-                    frame_space, lambda q: self._inbox.put(_QueryItem(q, per_body=False))
+                    frame_space, lambda q: self._enqueue(_QueryItem(q, per_body=False))
                 ),
+                session.declare_queryable(keys.status_key(ns, s.instance), self._on_status),
             ]
+            self._token = session.liveliness().declare_token(keys.service_token(ns, s.instance))
         except BaseException:
             self.close()
             raise
         log.info(
-            "facing-service %s started: zenoh id %s; poses from %s; results on %s and %s "
-            "(queryable); threshold %.1f deg, hysteresis %.1f deg, stale after %.1f s",
+            "facing-service %s started: instance %s, zenoh id %s; poses from %s; results on "
+            "%s and %s (queryable); status on %s; threshold %.1f deg, hysteresis %.1f deg, "
+            "stale after %.1f s, at most %d bodies",
             __version__,
+            s.instance,
             session.zid(),
             subscription,
             body_space,
             frame_space,
-            self.settings.threshold_deg,
-            self.settings.hysteresis_deg,
-            self.settings.stale_after_s,
+            keys.status_key(ns, s.instance),
+            s.threshold_deg,
+            s.hysteresis_deg,
+            s.stale_after_s,
+            s.max_bodies,
         )
         return self
 
     def close(self) -> None:
-        """Stop taking input, stop the worker, close the session. Idempotent."""
+        """Stop taking input, stop the threads, close the session. Idempotent.
+
+        Bounded so that SIGTERM exits within 2 s even during a flood (the backlog is
+        abandoned) or with a publisher blocked on a stuck consumer (closing the session
+        releases it).
+        """
+        self._closing.set()
+        if self._token is not None:
+            self._token.undeclare()
+            self._token = None
         for entity in self._entities:
             entity.undeclare()
         self._entities = []
-        if self._worker is not None:
-            self._inbox.put(_STOP)
-            # Bounded so SIGTERM exits within 2 s even if the worker is blocked in a BLOCK
-            # put to a stuck consumer: closing the session below releases that put.
-            self._worker.join(timeout=1.0)
-            self._worker = None
+        # Wake an idle worker; a busy one (full inbox) sees the closing flag after its batch.
+        with contextlib.suppress(queue.Full):
+            self._inbox.put_nowait((0.0, _STOP))
+        self._outbox.close()
+        for thread in self._threads:
+            thread.join(timeout=0.7)
+        self._threads = []
         if self._session is not None:
             self._session.close()
             self._session = None
@@ -188,30 +227,61 @@ class FacingService:
         assert self._session is not None, "service not started"
         return str(self._session.zid())
 
-    def counters(self) -> dict[str, object]:
-        """A consistent snapshot of what the service has done so far."""
+    def status(self) -> ServiceStatus:
+        """A consistent snapshot of health, counters and state sizes; thread-safe."""
         with self._counts_lock:
-            return {
-                **self._counts,
-                "rejected": {r.value: n for r, n in self._rejections.items()},
-            }
+            counts = dict(self._counts)
+            rejected = {reason.value: n for reason, n in self._rejections.items()}
+            tracked = dict(self._tracked)
+        counts["results_superseded"] = self._outbox.superseded
+        alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
+        return ServiceStatus(
+            status="ok" if alive else "failed",
+            instance=self.settings.instance,
+            version=__version__,
+            zenoh_id=str(self._session.zid()) if self._session is not None else "",
+            uptime_s=round(self._clock() - self._started_at, 3),
+            config=self.settings.model_dump(mode="json"),
+            bodies_tracked=tracked,
+            bodies_tracked_total=sum(tracked.values()),
+            counters=counts,
+            rejected=rejected,
+            inbox_depth=self._inbox.qsize(),
+            outbox_depth=len(self._outbox),
+        )
+
+    # -- zenoh callbacks: hand off, nothing else ---------------------------------------
+
+    def _enqueue(self, item: object) -> None:
+        entry = (self._clock(), item)
+        while not self._closing.is_set():
+            try:
+                self._inbox.put(entry, timeout=0.1)
+                return
+            except queue.Full:
+                continue  # push back on zenoh until the worker makes room
+
+    def _on_status(self, query: zenoh.Query) -> None:
+        key = keys.status_key(self.settings.namespace, self.settings.instance)
+        query.reply(key, self.status().model_dump_json(), encoding=JSON)
+        query.drop()
 
     # -- worker ----------------------------------------------------------------------
 
     def _run(self) -> None:
-        while True:
+        while not self._closing.is_set():
             batch = self._next_batch()
             try:
-                if self._handle(batch):
-                    return
-                self._publish(self._tracker.expire(self._clock()))
+                self._handle(batch)
+                self._expire()
                 self._rejection_log.maybe_log()
+                with self._counts_lock:
+                    self._tracked = self._tracker.tracked_per_frame()
             except Exception:  # the worker must outlive any single bug
                 log.exception("worker: unexpected error in a batch of %d items", len(batch))
-                if any(item is _STOP for item in batch):
-                    return
+        self._rejection_log.maybe_log(force=True)
 
-    def _next_batch(self) -> list[object]:
+    def _next_batch(self) -> list[tuple[float, object]]:
         """Wait for the first item (or the next deadline), then take what is queued."""
         try:
             batch = [self._inbox.get(timeout=self._idle_timeout())]
@@ -234,11 +304,22 @@ class FacingService:
             return None
         return max(0.0, min(deadlines) - self._clock())
 
-    def _handle(self, batch: list[object]) -> bool:
+    def _expire(self) -> None:
+        """Lose bodies with no sample for ``stale_after_s`` — by arrival time.
+
+        While a backlog waits in the inbox, "now" is the arrival time of the newest item
+        handled: a body whose next sample is already queued is not stale, however long
+        the worker took to get to it.
+        """
+        now = self._clock() if self._inbox.empty() else self._horizon
+        self._publish(self._tracker.expire(now))
+
+    def _handle(self, batch: list[tuple[float, object]]) -> None:
         """Handle inbox items in order; consecutive poses go to the core together."""
         poses: list[PoseSample] = []
-        for item in batch:
+        for arrival, item in batch:
             if isinstance(item, zenoh.Sample):
+                self._horizon = arrival
                 if item.kind == zenoh.SampleKind.PUT:
                     pose = self._decode(item)
                     if pose is not None:
@@ -249,12 +330,7 @@ class FacingService:
             elif isinstance(item, _QueryItem):
                 self._flush(poses)
                 self._answer(item)
-            elif item is _STOP:
-                self._flush(poses)
-                self._rejection_log.maybe_log(force=True)
-                return True
         self._flush(poses)
-        return False
 
     def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
         key = str(sample.key_expr)
@@ -277,12 +353,19 @@ class FacingService:
         """Run the pending poses through the tracker, publish, and empty the list."""
         if not poses:
             return
-        changes = self._tracker.ingest(poses, self._clock())
+        changes = self._tracker.ingest(poses, self._horizon)
+        ns = self.settings.namespace
         for sample in changes.out_of_order:
             self._reject(
                 Rejection.OUT_OF_ORDER,
-                keys.pose_key(self.settings.namespace, sample.body_id, sample.frame_id),
+                keys.pose_key(ns, sample.body_id, sample.frame_id),
                 f"stamp {sample.pose.stamp} older than the latest accepted",
+            )
+        for sample in changes.over_capacity:
+            self._reject(
+                Rejection.CAPACITY,
+                keys.pose_key(ns, sample.body_id, sample.frame_id),
+                f"already tracking max_bodies={self.settings.max_bodies}",
             )
         poses.clear()
         self._count("samples_accepted", len(changes.results))
@@ -306,34 +389,20 @@ class FacingService:
             with self._counts_lock:
                 self._counts[name] += n
 
-    # -- output ----------------------------------------------------------------------
-
     def _publish(self, changes: Changes) -> None:
-        session = self._session
-        assert session is not None
+        """Hand the publications to the outbox, in the order they must be sent."""
         ns = self.settings.namespace
         for state in changes.results:
-            session.put(
+            self._outbox.add_result(
                 keys.facing_key(ns, state.body_id, state.frame_id),
-                state.model_dump_json(),
-                encoding=JSON,
-                congestion_control=zenoh.CongestionControl.DROP,
+                state.model_dump_json().encode(),
             )
         for frame_id, body_id in changes.lost:
-            session.delete(
-                keys.facing_key(ns, body_id, frame_id),
-                congestion_control=zenoh.CongestionControl.BLOCK,
-            )
+            self._outbox.add_change(keys.facing_key(ns, body_id, frame_id), None)
         for frame in changes.frames:
-            session.put(
-                keys.frame_key(ns, frame.frame_id),
-                frame.model_dump_json(),
-                encoding=JSON,
-                congestion_control=zenoh.CongestionControl.BLOCK,
+            self._outbox.add_change(
+                keys.frame_key(ns, frame.frame_id), frame.model_dump_json().encode()
             )
-        self._count("results_published", len(changes.results))
-        self._count("deletes_published", len(changes.lost))
-        self._count("frames_published", len(changes.frames))
 
     def _answer(self, item: _QueryItem) -> None:
         """Reply with the current state of every matching key, one reply per key."""
@@ -364,6 +433,44 @@ class FacingService:
                 query.reply(key, payload, encoding=JSON)
         query.drop()
         self._count("queries_answered")
+
+    # -- publisher -------------------------------------------------------------------
+
+    def _send(self) -> None:
+        session = self._session
+        assert session is not None
+        while True:
+            publications = self._outbox.take()
+            if not publications and self._outbox.closed:
+                return
+            sent: Counter[str] = Counter()
+            for p in publications:
+                try:
+                    if p.payload is None:
+                        session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
+                        sent["deletes_published"] += 1
+                    elif p.reliable:
+                        session.put(
+                            p.key,
+                            p.payload,
+                            encoding=JSON,
+                            congestion_control=zenoh.CongestionControl.BLOCK,
+                        )
+                        sent["frames_published"] += 1
+                    else:
+                        session.put(
+                            p.key,
+                            p.payload,
+                            encoding=JSON,
+                            congestion_control=zenoh.CongestionControl.DROP,
+                        )
+                        sent["results_published"] += 1
+                except zenoh.ZError:
+                    if self._closing.is_set():
+                        return  # the session closed under a blocked put: shutting down
+                    log.exception("publisher: could not publish on %s", p.key)
+            with self._counts_lock:
+                self._counts.update(sent)
 
 
 def _threshold_parameter(parameters: zenoh.Parameters) -> float | None:

@@ -34,6 +34,7 @@ class Changes:
     lost: list[BodyKey] = field(default_factory=list)
     frames: list[FrameFacing] = field(default_factory=list)
     out_of_order: list[PoseSample] = field(default_factory=list)
+    over_capacity: list[PoseSample] = field(default_factory=list)
 
 
 @dataclass(slots=True)
@@ -102,7 +103,11 @@ class Tracker:
     Rules: a sample whose stamp is older than the latest accepted one for its (frame, body)
     is refused (equal stamps are accepted: re-sent poses still get an answer); a body
     already facing stays facing while its angle is below ``threshold + hysteresis``; a body
-    with no accepted sample for ``stale_after_s`` of the caller's clock is lost.
+    with no accepted sample for ``stale_after_s`` of the caller's clock is lost; a new body
+    beyond ``max_bodies`` (all frames together) is refused until others are lost.
+
+    Memory is bounded by ``max_bodies``: frames other than the declared ones are forgotten
+    as soon as their last body is lost (after their empty aggregate is published).
     """
 
     def __init__(
@@ -111,13 +116,16 @@ class Tracker:
         hysteresis_deg: float,
         stale_after_s: float,
         frames: Iterable[str] = (),
+        max_bodies: int = 10_000,
     ) -> None:
         self.threshold_deg = threshold_deg
         self.hysteresis_deg = hysteresis_deg
         self.stale_after_s = stale_after_s
+        self.max_bodies = max_bodies
         # Ordered by last accepted sample, oldest first: expiry pops from the front.
         self._tracks: OrderedDict[BodyKey, _Track] = OrderedDict()
-        self._frames: dict[str, _Frame] = {frame: _Frame() for frame in frames}
+        self._declared = frozenset(frames)
+        self._frames: dict[str, _Frame] = {frame: _Frame() for frame in self._declared}
 
     def __len__(self) -> int:
         return len(self._tracks)
@@ -133,12 +141,18 @@ class Tracker:
         newest: dict[BodyKey, tuple[int, int]] = {}
         count: dict[BodyKey, int] = {}
         generations: list[list[PoseSample]] = []
+        room = self.max_bodies - len(self._tracks)
         for sample in samples:
             key = (sample.frame_id, sample.body_id)
             last = newest.get(key)
             if last is None and (track := self._tracks.get(key)) is not None:
                 last = track.pose.stamp
-            if last is not None and sample.pose.stamp < last:
+            if last is None:  # a new body
+                if room <= 0:
+                    changes.over_capacity.append(sample)
+                    continue
+                room -= 1
+            elif sample.pose.stamp < last:
                 changes.out_of_order.append(sample)
                 continue
             newest[key] = sample.pose.stamp
@@ -187,6 +201,10 @@ class Tracker:
         if not self._tracks:
             return None
         return next(iter(self._tracks.values())).last_seen + self.stale_after_s
+
+    def tracked_per_frame(self) -> dict[str, int]:
+        """How many bodies each known frame tracks (for the status report)."""
+        return {frame_id: len(frame.tracked) for frame_id, frame in self._frames.items()}
 
     def states(self) -> list[FacingState]:
         """The latest decision of every tracked body."""
@@ -257,4 +275,6 @@ class Tracker:
             if frame.dirty:
                 frame.dirty = False
                 changed.append(_frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked))
+            if not frame.tracked and frame_id not in self._declared:
+                del self._frames[frame_id]
         return changed

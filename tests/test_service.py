@@ -39,6 +39,10 @@ def rig(net):
     return make
 
 
+def nonzero(counts: dict[str, int]) -> dict[str, int]:
+    return {name: n for name, n in counts.items() if n}
+
+
 def is_put(key):
     return lambda item: item.key == key and item.kind == "put"
 
@@ -77,7 +81,7 @@ def test_pose_yields_the_exact_result_and_the_frame_aggregate(rig):
     last = rec.on(FRAME_KEY)[-1].value
     assert last["bodies_facing"] == ["alice"] and last["stamp"] == {"sec": 10, "nanosec": 500}
     wait_until_answered(client, FRAME_KEY)
-    assert service.counters()["samples_accepted"] == 2
+    assert service.status().counters["samples_accepted"] == 2
 
 
 def test_degenerate_pose_publishes_nulls(rig):
@@ -105,7 +109,7 @@ def test_stale_body_is_deleted(rig):
     rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete", timeout=3)
     rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == [], timeout=3)
     wait_until_answered(client, FRAME_KEY)  # the worker finished the batch that published
-    assert service.counters()["deletes_published"] == 1
+    assert service.status().counters["deletes_published"] == 1
 
 
 def test_out_of_order_stamps_are_dropped_and_counted(rig):
@@ -117,7 +121,7 @@ def test_out_of_order_stamps_are_dropped_and_counted(rig):
     assert all(r.value["facing"] for r in results)
     wait_until_answered(client, FRAME_KEY)  # the worker has handled everything before
     assert len(rec.on(body_key("a"))) == 2
-    assert service.counters()["rejected"] == {"out_of_order": 1}
+    assert nonzero(service.status().rejected) == {"out_of_order": 1}
 
 
 def test_hysteresis_keeps_a_facing_body_facing(rig):
@@ -146,7 +150,8 @@ def test_queries_answer_current_state_and_what_if_thresholds(rig):
     assert frame == (FRAME_KEY, rec.on(FRAME_KEY)[-1].value)
 
     everything = dict(get(client, f"{NS}/**"))
-    assert set(everything) == {body_key("a"), body_key("b"), FRAME_KEY}
+    status = f"{NS}/services/facing/{service.settings.instance}/status"
+    assert set(everything) == {body_key("a"), body_key("b"), FRAME_KEY, status}
 
     what_if = dict(get(client, f"{NS}/bodies/*/facing/cam?threshold_deg=35"))
     assert what_if[body_key("b")]["facing"] and what_if[body_key("b")]["threshold_deg"] == 35.0
@@ -159,7 +164,7 @@ def test_queries_answer_current_state_and_what_if_thresholds(rig):
     assert dict(get(client, f"{NS}/bodies/*/facing/cam")) == replies
     assert get(client, FRAME_KEY)[0][1]["bodies_facing"] == ["a"]
     assert get(client, f"{NS}/facing/map") == []  # not served: no reply, not an error
-    assert service.counters()["queries_refused"] == 0
+    assert service.status().counters["queries_refused"] == 0
 
 
 @pytest.mark.parametrize(
@@ -223,7 +228,7 @@ def test_bad_samples_are_counted_and_good_ones_all_processed(rig):
     results = rec.wait_for(is_put(body_key("a")), count=5)
     assert [r.value["stamp"]["sec"] for r in results] == [1, 2, 3, 4, 5]
     wait_until_answered(client, FRAME_KEY)
-    assert service.counters()["rejected"] == {
+    assert nonzero(service.status().rejected) == {
         "malformed_json": 5,
         "schema": 5,
         "non_finite": 5,

@@ -150,3 +150,39 @@ def test_degenerate_pose_is_tracked_not_facing():
     (state,) = t.ingest([PoseSample("cam", "a", pose)], now=0.0).results
     assert not state.facing and state.angle_deg is None and state.distance_m is None
     assert math.isfinite(state.robot_in_body.z)
+
+
+def test_capacity_refuses_new_bodies_but_keeps_updating_known_ones():
+    t = tracker(max_bodies=2)
+    changes = t.ingest([sample("a"), sample("b"), sample("c"), sample("a", "map")], now=0.0)
+    assert [(s.frame_id, s.body_id) for s in changes.results] == [("cam", "a"), ("cam", "b")]
+    assert [(s.frame_id, s.body_id) for s in changes.over_capacity] == [
+        ("cam", "c"),
+        ("map", "a"),
+    ]
+    assert len(t.ingest([sample("a", sec=2), sample("b", sec=2)], now=0.1).results) == 2
+    t.lose("cam", "a")
+    changes = t.ingest([sample("c"), sample("d")], now=0.2)
+    assert [s.body_id for s in changes.results] == ["c"]
+    assert [s.body_id for s in changes.over_capacity] == ["d"]
+    assert len(t) == 2
+
+
+def test_a_flood_of_unique_ids_stays_at_the_bound():
+    t = tracker(max_bodies=1000)
+    refused = 0
+    for start in range(0, 20_000, 500):
+        batch = [sample(f"id{i}", f"frame{i % 7}") for i in range(start, start + 500)]
+        refused += len(t.ingest(batch, now=start / 1e4).over_capacity)
+    assert len(t) == 1000 and refused == 19_000
+    assert sum(t.tracked_per_frame().values()) == 1000
+
+
+def test_undeclared_frames_are_forgotten_when_empty_declared_ones_are_kept():
+    t = Tracker(20.0, 5.0, 2.0, frames=["cam"])
+    t.ingest([sample("a", "cam"), sample("a", "tmp")], now=0.0)
+    assert t.tracked_per_frame() == {"cam": 1, "tmp": 1}
+    changes = t.expire(10.0)
+    assert {f.frame_id: f.bodies_tracked for f in changes.frames} == {"cam": [], "tmp": []}
+    assert t.tracked_per_frame() == {"cam": 0}
+    assert [f.frame_id for f in t.frames()] == ["cam"]

@@ -1,0 +1,85 @@
+"""Publications waiting between the worker (which decides) and the publisher (which sends).
+
+Sending can block: a consumer that stops reading fills zenoh's queue, and a BLOCK put then
+waits (up to zenoh's ``wait_before_close``, 5 s by default, before zenoh drops that link).
+Keeping that wait off the worker means one stuck consumer never stalls ingestion, state or
+queries.
+
+Everything is sent, in order, while the publisher keeps up. Only once ``limit``
+publications are pending (the publisher is stuck or far behind) do per-body results
+*conflate*: a newer result for a key replaces the pending one (it supersedes it, as a DROP
+publisher would have), so memory stays bounded by ``limit`` plus the number of bodies.
+Deletes and frame aggregates never conflate and are never dropped.
+"""
+
+from __future__ import annotations
+
+import itertools
+import threading
+from collections import OrderedDict
+from dataclasses import dataclass
+
+DEFAULT_LIMIT = 10_000
+
+
+@dataclass(frozen=True, slots=True)
+class Publication:
+    key: str
+    payload: bytes | None  # None: a DELETE
+    reliable: bool  # BLOCK (state changes) rather than DROP (superseded results)
+
+
+class Outbox:
+    def __init__(self, limit: int = DEFAULT_LIMIT) -> None:
+        self.limit = limit
+        self._cond = threading.Condition()
+        self._pending: OrderedDict[int, Publication] = OrderedDict()
+        self._latest_result: dict[str, int] = {}  # key -> slot of its newest pending result
+        self._slots = itertools.count()
+        self._closed = False
+        self.superseded = 0  # results replaced before they could be sent
+
+    def add_result(self, key: str, payload: bytes) -> None:
+        """A per-body result; past ``limit`` it replaces the pending result for ``key``."""
+        with self._cond:
+            if len(self._pending) >= self.limit:
+                slot = self._latest_result.get(key)
+                if slot is not None and self._pending.pop(slot, None) is not None:
+                    self.superseded += 1
+            self._append(Publication(key, payload, reliable=False))
+            self._latest_result[key] = next(reversed(self._pending))
+
+    def add_change(self, key: str, payload: bytes | None) -> None:
+        """A state change (aggregate or DELETE): kept, in order, never conflated."""
+        with self._cond:
+            self._append(Publication(key, payload, reliable=True))
+
+    def _append(self, publication: Publication) -> None:
+        self._pending[next(self._slots)] = publication
+        self._cond.notify()
+
+    def take(self, timeout: float | None = None) -> list[Publication]:
+        """Everything pending, oldest first; waits up to ``timeout`` for something.
+
+        Returns an empty list on time-out or once closed and empty.
+        """
+        with self._cond:
+            if not self._pending and not self._closed:
+                self._cond.wait(timeout)
+            taken = list(self._pending.values())
+            self._pending.clear()
+            self._latest_result.clear()
+            return taken
+
+    def close(self) -> None:
+        with self._cond:
+            self._closed = True
+            self._cond.notify_all()
+
+    @property
+    def closed(self) -> bool:
+        return self._closed
+
+    def __len__(self) -> int:
+        with self._cond:
+            return len(self._pending)
