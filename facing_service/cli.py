@@ -21,9 +21,9 @@ from types import FrameType
 import zenoh
 from pydantic import ValidationError
 
-from . import __version__
-from .config import Settings, env_name, load_settings
-from .schemas import json_schemas
+from . import __version__, keys
+from .config import Settings, env_name, load_settings, probe_config
+from .schemas import ServiceStatus, json_schemas
 from .service import FacingService
 
 log = logging.getLogger("facing_service")
@@ -114,8 +114,37 @@ def _build_parser() -> argparse.ArgumentParser:
         type=int,
         help=f"larger pose payloads are rejected ({_default('max_payload_bytes')})",
     )
+    run.add_argument(
+        "--max-bodies",
+        type=int,
+        help=f"most bodies tracked over all frames; new ones beyond are rejected "
+        f"({_default('max_bodies')})",
+    )
+    run.add_argument(
+        "--instance",
+        help=f"this service's name in NS/services/facing/<instance> "
+        f"(env {env_name('instance')}; default <host name>-<pid>)",
+    )
     run.add_argument("--log-level", help=f"log level ({_default('log_level')})")
     add_zenoh_arguments(run)
+
+    health = commands.add_parser(
+        "health",
+        help="exit 0 when a running service answers its status query, 1 otherwise",
+        description="Query NS/services/facing/<instance>/status and print each answer as "
+        "JSON. Reads the same FACING_* variables as 'run' (so a container's health check "
+        "needs no flags); it never listens, and connects to the service's listen "
+        "endpoints on loopback when no connect endpoint is set.",
+    )
+    health.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
+    health.add_argument(
+        "--instance",
+        help=f"the instance to check, or '*' for any (env {env_name('instance')}; default *)",
+    )
+    health.add_argument(
+        "--timeout", type=float, default=3.0, help="seconds to wait for answers (default 3)"
+    )
+    add_zenoh_arguments(health)
 
     export = commands.add_parser(
         "export-schemas", help="write the wire contract's JSON Schemas to a folder"
@@ -155,6 +184,41 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
+def query_status(
+    session: zenoh.Session, namespace: str, instance: str, timeout: float
+) -> list[ServiceStatus]:
+    """The status of every running service matching ``instance`` (``*`` for all)."""
+    selector = keys.status_key(namespace, instance)
+    return [
+        ServiceStatus.model_validate_json(reply.ok.payload.to_bytes())
+        for reply in session.get(selector, timeout=timeout)
+        if reply.ok is not None
+    ]
+
+
+def _health(args: argparse.Namespace) -> int:
+    instance = args.instance or os.environ.get(env_name("instance")) or "*"
+    try:
+        settings = load_settings({**vars(args), "instance": None}, os.environ)
+        if instance != "*":
+            keys.validate_name(instance, "instance")
+    except (ValidationError, ValueError) as error:
+        print(f"facing-service health: invalid setting: {error}", file=sys.stderr)
+        return 2
+    try:
+        with zenoh.open(probe_config(settings)) as session:
+            answers = query_status(session, settings.namespace, instance, args.timeout)
+    except zenoh.ZError as error:
+        print(f"facing-service health: cannot reach zenoh: {error}", file=sys.stderr)
+        return 1
+    for status in answers:
+        print(status.model_dump_json())
+    if not answers:
+        selector = keys.status_key(settings.namespace, instance)
+        print(f"facing-service health: no answer on {selector}", file=sys.stderr)
+    return 0 if any(status.status == "ok" for status in answers) else 1
+
+
 def _export_schemas(args: argparse.Namespace) -> int:
     args.directory.mkdir(parents=True, exist_ok=True)
     for name, schema in json_schemas().items():
@@ -164,6 +228,5 @@ def _export_schemas(args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = _build_parser().parse_args(argv)
-    if args.command == "run":
-        return _run(args)
-    return _export_schemas(args)
+    command = {"run": _run, "health": _health, "export-schemas": _export_schemas}
+    return command[args.command](args)

@@ -110,6 +110,28 @@ def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Setti
     return Settings(**values)
 
 
+def _loopback(endpoint: str) -> str:
+    """The address a process on the same host reaches a wildcard listener at."""
+    return endpoint.replace("/0.0.0.0:", "/127.0.0.1:").replace("/[::]:", "/[::1]:")
+
+
+def probe_config(settings: Settings) -> zenoh.Config:
+    """Zenoh config of a short-lived helper session (``health``) beside a running service,
+    configured from the same flags and ``FACING_*`` variables as the service.
+
+    It must not take the service's ports, so it listens nowhere (even if the config file
+    says otherwise); when the service is only configured to listen, the helper connects to
+    those endpoints on loopback.
+    """
+    connect = settings.connect or [_loopback(e) for e in settings.listen]
+    helper = settings.model_copy(
+        update={"listen": [], "connect": connect, "mode": "client" if connect else "peer"}
+    )
+    conf = zenoh_config(helper)
+    conf.insert_json5("listen/endpoints", "[]")
+    return conf
+
+
 def zenoh_config(settings: Settings) -> zenoh.Config:
     """The zenoh session config; raises zenoh.ZError on an unknown key or bad value."""
     conf = zenoh.Config.from_file(str(settings.config)) if settings.config else zenoh.Config()

@@ -1,0 +1,89 @@
+"""Status queryable, liveliness token, and the 'health' command against a real service."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import threading
+
+import zenoh
+
+from facing_service import __version__
+from facing_service.schemas import Rejection, ServiceStatus
+
+from loopback import endpoint, free_port, get, send, wait_until_answered
+from poses import pose_json
+
+
+def test_status_reports_identity_config_counts_and_every_rejection_reason(net):
+    service, ep = net.service(instance="robot-7", max_bodies=50)
+    client = net.client(ep)
+    wait_until_answered(client, "hri/facing/cam")
+    for body in ("a", "b"):
+        send(client, f"hri/bodies/{body}/pose/cam", pose_json(body, "cam"))
+    send(client, "hri/bodies/a/pose/cam", b"garbage")
+    wait_until_answered(client, "hri/facing/cam")  # the worker is past those samples
+    ((key, raw),) = get(client, "hri/services/facing/*/status")
+    assert key == "hri/services/facing/robot-7/status"
+    status = ServiceStatus.model_validate(raw)
+    assert status.status == "ok" and status.instance == "robot-7"
+    assert status.version == __version__ and status.zenoh_id == service.zid
+    assert status.uptime_s >= 0
+    assert status.config["max_bodies"] == 50 and status.config["base_frame"] == "cam"
+    assert status.bodies_tracked == {"cam": 2} and status.bodies_tracked_total == 2
+    assert status.counters["samples_accepted"] == 2
+    assert set(status.rejected) == {r.value for r in Rejection}
+    assert status.rejected["malformed_json"] == 1 and sum(status.rejected.values()) == 1
+
+
+def test_liveliness_token_lives_exactly_as_long_as_the_service(net):
+    service, ep = net.service(instance="robot-8")
+    watcher = net.client(ep)
+    wait_until_answered(watcher, "hri/facing/cam")
+    tokens = [str(r.ok.key_expr) for r in watcher.liveliness().get("hri/services/facing/*")]
+    assert tokens == ["hri/services/facing/robot-8"]
+    gone = threading.Event()
+    sub = watcher.liveliness().declare_subscriber(
+        "hri/services/facing/*",
+        lambda s: gone.set() if s.kind == zenoh.SampleKind.DELETE else None,
+    )
+    try:
+        service.close()
+        assert gone.wait(5), "no liveliness DELETE when the service stopped"
+    finally:
+        sub.undeclare()
+
+
+def health(*flags: str, env: dict[str, str]) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "facing_service", "health", "--timeout", "2", *flags],
+        env={**os.environ, **env},
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
+
+
+def test_health_command_configured_like_a_container(net):
+    """Only FACING_* variables, the same as the service's: health must not take the
+    service's listen port, and finds the service through it on loopback."""
+    port = free_port()
+    net.service(listen=[endpoint(port)], instance="robot-9")
+    env = {
+        "FACING_LISTEN": f"tcp/0.0.0.0:{port}",
+        "FACING_NO_MULTICAST_SCOUTING": "true",
+        "FACING_CFG": "scouting/delay:0",
+    }
+    ok = health(env=env)
+    assert ok.returncode == 0, ok.stderr
+    assert json.loads(ok.stdout.splitlines()[0])["instance"] == "robot-9"
+    assert health(env={**env, "FACING_INSTANCE": "robot-9"}).returncode == 0
+    other = health(env={**env, "FACING_INSTANCE": "someone-else"})
+    assert other.returncode == 1 and "no answer" in other.stderr
+
+
+def test_health_fails_when_nothing_runs():
+    proc = health("-e", endpoint(free_port()), env={"FACING_NO_MULTICAST_SCOUTING": "1"})
+    assert proc.returncode == 1 and proc.stderr
