@@ -37,6 +37,7 @@ class Outbox:
         self._latest_result: dict[str, int] = {}  # key -> slot of its newest pending result
         self._slots = itertools.count()
         self._closed = False
+        self._in_flight = 0  # taken by the publisher, not yet reported sent
         self.superseded = 0  # results replaced before they could be sent
 
     def add_result(self, key: str, payload: bytes) -> None:
@@ -61,7 +62,9 @@ class Outbox:
     def take(self, timeout: float | None = None) -> list[Publication]:
         """Everything pending, oldest first; waits up to ``timeout`` for something.
 
-        Returns an empty list on time-out or once closed and empty.
+        What is taken stays counted in ``len()`` until ``sent()`` reports it, so the depth
+        never reads 0 while publications are on their way. Returns an empty list on
+        time-out or once closed and empty.
         """
         with self._cond:
             if not self._pending and not self._closed:
@@ -69,7 +72,13 @@ class Outbox:
             taken = list(self._pending.values())
             self._pending.clear()
             self._latest_result.clear()
+            self._in_flight += len(taken)
             return taken
+
+    def sent(self, n: int = 1) -> None:
+        """The publisher is done with ``n`` taken publications."""
+        with self._cond:
+            self._in_flight -= n
 
     def close(self) -> None:
         with self._cond:
@@ -81,5 +90,6 @@ class Outbox:
         return self._closed
 
     def __len__(self) -> int:
+        """Publications not yet sent: pending, plus taken and still in flight."""
         with self._cond:
-            return len(self._pending)
+            return len(self._pending) + self._in_flight

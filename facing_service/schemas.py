@@ -120,7 +120,8 @@ class ServiceStatus(BaseModel):
     bodies_tracked_total: int
     counters: dict[str, int] = Field(
         description="samples_accepted, results_published, results_superseded, "
-        "deletes_published, frames_published, queries_answered, queries_refused."
+        "deletes_published, frames_published, queries_answered, queries_refused, "
+        "publish_errors."
     )
     rejected: dict[str, int] = Field(description="Rejected samples per reason (all reasons).")
     inbox_depth: int = Field(description="Samples and queries received, not yet handled.")

@@ -36,7 +36,7 @@ import zenoh
 
 from . import __version__, keys
 from .config import Settings, zenoh_config
-from .outbox import Outbox
+from .outbox import Outbox, Publication
 from .schemas import QueryError, Rejected, Rejection, ServiceStatus, decode_pose
 from .tracker import Changes, PoseSample, Tracker
 
@@ -60,6 +60,7 @@ COUNTERS = (
     "frames_published",
     "queries_answered",
     "queries_refused",
+    "publish_errors",
 )
 
 _STOP = object()
@@ -443,34 +444,33 @@ class FacingService:
             publications = self._outbox.take()
             if not publications and self._outbox.closed:
                 return
-            sent: Counter[str] = Counter()
             for p in publications:
                 try:
-                    if p.payload is None:
-                        session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
-                        sent["deletes_published"] += 1
-                    elif p.reliable:
-                        session.put(
-                            p.key,
-                            p.payload,
-                            encoding=JSON,
-                            congestion_control=zenoh.CongestionControl.BLOCK,
-                        )
-                        sent["frames_published"] += 1
-                    else:
-                        session.put(
-                            p.key,
-                            p.payload,
-                            encoding=JSON,
-                            congestion_control=zenoh.CongestionControl.DROP,
-                        )
-                        sent["results_published"] += 1
+                    counter = self._send_one(session, p)
                 except zenoh.ZError:
                     if self._closing.is_set():
                         return  # the session closed under a blocked put: shutting down
                     log.exception("publisher: could not publish on %s", p.key)
-            with self._counts_lock:
-                self._counts.update(sent)
+                    counter = "publish_errors"
+                with self._counts_lock:
+                    self._counts[counter] += 1
+                self._outbox.sent()  # after counting: depth 0 means every count is in
+
+    @staticmethod
+    def _send_one(session: zenoh.Session, p: Publication) -> str:
+        """Send one publication; returns the name of the counter it counts under."""
+        if p.payload is None:
+            session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
+            return "deletes_published"
+        if p.reliable:
+            session.put(
+                p.key, p.payload, encoding=JSON, congestion_control=zenoh.CongestionControl.BLOCK
+            )
+            return "frames_published"
+        session.put(
+            p.key, p.payload, encoding=JSON, congestion_control=zenoh.CongestionControl.DROP
+        )
+        return "results_published"
 
 
 def _threshold_parameter(parameters: zenoh.Parameters) -> float | None:

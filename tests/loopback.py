@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import socket
 import threading
@@ -37,11 +38,16 @@ def session_config(
     return conf
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Received:
     key: str
     kind: str  # "put" or "delete"
-    value: Any  # decoded JSON for a put, None for a delete
+    payload: bytes
+
+    @functools.cached_property
+    def value(self) -> Any:
+        """The decoded JSON of a put (decoded on first use: floods stay cheap to record)."""
+        return json.loads(self.payload) if self.kind == "put" else None
 
 
 class Recorder:
@@ -54,11 +60,7 @@ class Recorder:
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         put = sample.kind == zenoh.SampleKind.PUT
-        item = Received(
-            str(sample.key_expr),
-            "put" if put else "delete",
-            json.loads(sample.payload.to_bytes()) if put else None,
-        )
+        item = Received(str(sample.key_expr), "put" if put else "delete", sample.payload.to_bytes())
         with self._cond:
             self.items.append(item)
             self._cond.notify_all()

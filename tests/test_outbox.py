@@ -55,3 +55,15 @@ def test_take_wakes_on_close_and_on_new_items():
     box.close()
     reader.join(timeout=5)
     assert not reader.is_alive() and results[1] == [] and box.closed
+
+
+def test_depth_counts_taken_publications_until_sent():
+    box = Outbox()
+    box.add_change("f", b"1")
+    box.add_result("r", b"2")
+    taken = box.take()
+    assert len(taken) == 2 and len(box) == 2
+    box.sent()
+    assert len(box) == 1
+    box.sent()
+    assert len(box) == 0
