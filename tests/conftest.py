@@ -5,6 +5,7 @@ from typing import Any
 
 import pytest
 import zenoh
+from routers import Router
 
 from facing_service.config import Settings
 from facing_service.service import FacingService
@@ -30,10 +31,21 @@ class Network:
         self._closers.append(service.close)
         return service, ep
 
-    def client(self, connect: str) -> zenoh.Session:
-        session = zenoh.open(session_config(connect=[connect]))
+    def client(self, connect: str, mode: str = "peer") -> zenoh.Session:
+        session = zenoh.open(session_config(connect=[connect], mode=mode))
         self._closers.append(session.close)
         return session
+
+    def router(self, config_json5: str | None = None, port: int | None = None) -> Router:
+        """A router process: plain on a free loopback port, or as ``config_json5`` says
+        (which then listens on ``port``)."""
+        if config_json5 is None:
+            port = free_port()
+            config_json5 = str(session_config(listen=[endpoint(port)], mode="router"))
+        assert port is not None
+        router = Router(config_json5, port).start()
+        self._closers.append(router.stop)
+        return router
 
     def recorder(self, session: zenoh.Session, key_expr: str) -> Recorder:
         recorder = Recorder(session, key_expr)

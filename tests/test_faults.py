@@ -1,0 +1,124 @@
+"""Faults: a router that crashes and comes back, a restarted service, SIGTERM in a flood."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+from loopback import endpoint, free_port, get, send, wait_until_answered
+from poses import pose_json
+
+FRAME_KEY = "hri/facing/cam"
+
+
+def resume_time(tracker, recorder, first_sec: int, timeout: float = 30.0) -> float:
+    """Send a new pose every 50 ms until its result comes back; seconds it took."""
+    started = time.monotonic()
+    sec = first_sec
+    while time.monotonic() - started < timeout:
+        send(tracker, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=sec))
+        time.sleep(0.05)
+        if any(i.value["stamp"]["sec"] >= first_sec for i in recorder.items if i.kind == "put"):
+            return time.monotonic() - started
+        sec += 1
+    raise AssertionError(f"no result for a new pose within {timeout} s")
+
+
+def test_service_in_client_mode_resumes_after_the_router_restarts(net):
+    router = net.router()
+    ep = endpoint(router.port)
+    service, _ = net.service(mode="client", connect=[ep], listen=[])
+    tracker = net.client(ep, mode="client")
+    consumer = net.client(ep, mode="client")
+    results = net.recorder(consumer, "hri/bodies/*/facing/cam")
+    wait_until_answered(consumer, FRAME_KEY)
+    send(tracker, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=1))
+    results.wait_for(lambda i: i.kind == "put")
+
+    router.kill()  # a crash, not a clean stop
+    time.sleep(0.5)
+    router.start()  # same port
+    took = resume_time(tracker, results, first_sec=100)
+    print(f"\nrouter restart: results for new poses resumed {took:.2f} s after the restart")
+    assert service.status().status == "ok"
+    assert dict(get(consumer, "hri/bodies/*/facing/cam"))  # and queries are answered again
+
+
+def test_a_restarted_service_rebuilds_its_state_from_incoming_samples(net):
+    port = free_port()
+    first, _ = net.service(listen=[endpoint(port)])
+    tracker = net.client(endpoint(port))
+    wait_until_answered(tracker, FRAME_KEY)
+    send(tracker, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=1))
+    send(tracker, "hri/bodies/b/pose/cam", pose_json("b", "cam", sec=1, off_deg=90))
+    first.close()
+
+    net.service(listen=[endpoint(port)])  # same endpoint, fresh state
+    wait_until_answered(tracker, FRAME_KEY, timeout=20)  # the tracker peer reconnects
+    assert get(tracker, FRAME_KEY)[0][1]["bodies_tracked"] == []
+    for sec in (2, 3):
+        send(tracker, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=sec))
+        send(tracker, "hri/bodies/b/pose/cam", pose_json("b", "cam", sec=sec, off_deg=90))
+    deadline = time.monotonic() + 10
+    while get(tracker, FRAME_KEY)[0][1]["bodies_tracked"] != ["a", "b"]:
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    assert get(tracker, FRAME_KEY)[0][1]["bodies_facing"] == ["a"]
+
+
+def test_sigterm_during_a_flood_exits_cleanly_within_two_seconds(net):
+    port = free_port()
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "facing_service",
+            "run",
+            "-l",
+            endpoint(port),
+            "--no-multicast-scouting",
+            "--cfg",
+            "scouting/delay:0",
+            "--base-frame",
+            "cam",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
+    try:
+        tracker = net.client(endpoint(port))
+        wait_until_answered(tracker, FRAME_KEY)
+        stop = threading.Event()
+        payloads = [pose_json(f"b{b}", "cam", sec=1) for b in range(100)]
+
+        def flood() -> None:
+            i = 0
+            while not stop.is_set():
+                send(tracker, f"hri/bodies/b{i % 100}/pose/cam", payloads[i % 100])
+                i += 1
+
+        flooder = threading.Thread(target=flood)
+        flooder.start()
+        try:
+            time.sleep(1.5)
+            started = time.monotonic()
+            proc.send_signal(signal.SIGTERM)
+            code = proc.wait(timeout=10)
+            elapsed = time.monotonic() - started
+        finally:
+            stop.set()
+            flooder.join(timeout=10)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    output = proc.stdout.read()
+    print(f"\nSIGTERM during a flood: exit {code} after {elapsed:.2f} s")
+    assert code == 0, output
+    # The contract's deadline, not a performance measurement.
+    assert elapsed < 2.0, f"took {elapsed:.2f} s; output:\n{output[-2000:]}"
+    assert "stopped" in output
