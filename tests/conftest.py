@@ -5,12 +5,12 @@ from typing import Any
 
 import pytest
 import zenoh
-from routers import Router
 
 from facing_service.config import Settings
 from facing_service.service import FacingService
 
 from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, session_config
+from routers import Router
 
 
 class Network:
