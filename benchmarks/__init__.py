@@ -1,0 +1,1 @@
+"""Measurement scripts for facing-service: they print numbers, they assert nothing."""
