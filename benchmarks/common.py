@@ -4,34 +4,17 @@ from __future__ import annotations
 
 import json
 import math
-import signal
-import socket
 import subprocess
-import sys
 import time
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import AbstractContextManager
 from pathlib import Path
 
 import zenoh
 
 from facing_service.schemas import ServiceStatus
+from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
 
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def loopback_config(connect: Sequence[str] = (), listen: Sequence[str] = ()) -> zenoh.Config:
-    conf = zenoh.Config()
-    conf.insert_json5("mode", '"peer"')
-    conf.insert_json5("scouting/multicast/enabled", "false")
-    conf.insert_json5("scouting/delay", "0")
-    conf.insert_json5("connect/endpoints", json.dumps(list(connect)))
-    conf.insert_json5("listen/endpoints", json.dumps(list(listen)))
-    return conf
+__all__ = ["free_port", "loopback_config"]  # re-exported for the scripts
 
 
 def rss_mb(pid: int) -> float:
@@ -67,34 +50,18 @@ def status(session: zenoh.Session, timeout: float = 2.0) -> ServiceStatus | None
     return None
 
 
-@contextmanager
-def running_service(port: int, *flags: str) -> Iterator[subprocess.Popen]:
-    """The real CLI, as users run it, listening on a loopback port; SIGTERM at the end."""
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "facing_service",
-            "run",
-            "-l",
-            f"tcp/127.0.0.1:{port}",
-            "--no-multicast-scouting",
-            "--cfg",
-            "scouting/delay:0",
-            "--log-level",
-            "ERROR",
-            *flags,
-        ],
+def running_service(port: int, *flags: str) -> AbstractContextManager[subprocess.Popen[str]]:
+    """The real CLI, as users run it, listening on a loopback port; quiet logs."""
+    return running_cli(
+        "run",
+        "-l",
+        endpoint(port),
+        *LOOPBACK_FLAGS,
+        "--log-level",
+        "ERROR",
+        *flags,
+        capture=False,
     )
-    try:
-        yield proc
-    finally:
-        proc.send_signal(signal.SIGTERM)
-        try:
-            proc.wait(timeout=5)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
 
 
 def wait_for_status(session: zenoh.Session, timeout: float = 20.0) -> ServiceStatus:

@@ -9,7 +9,7 @@ import zenoh
 from facing_service.config import Settings
 from facing_service.service import FacingService
 
-from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, session_config
+from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, loopback_config
 from routers import Router
 
 
@@ -32,7 +32,7 @@ class Network:
         return service, ep
 
     def client(self, connect: str, mode: str = "peer") -> zenoh.Session:
-        session = zenoh.open(session_config(connect=[connect], mode=mode))
+        session = zenoh.open(loopback_config(connect=[connect], mode=mode))
         self._closers.append(session.close)
         return session
 
@@ -41,7 +41,7 @@ class Network:
         (which then listens on ``port``)."""
         if config_json5 is None:
             port = free_port()
-            config_json5 = str(session_config(listen=[endpoint(port)], mode="router"))
+            config_json5 = str(loopback_config(listen=[endpoint(port)], mode="router"))
         assert port is not None
         router = Router(config_json5, port).start()
         self._closers.append(router.stop)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import functools
 import json
-import socket
 import threading
 import time
 from collections.abc import Callable
@@ -13,29 +12,11 @@ from typing import Any
 
 import zenoh
 
+from facing_service.testing import endpoint, free_port, loopback_config
+
 LOOPBACK_CFG = ["scouting/delay:0"]
 
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def endpoint(port: int) -> str:
-    return f"tcp/127.0.0.1:{port}"
-
-
-def session_config(
-    listen: list[str] | None = None, connect: list[str] | None = None, mode: str = "peer"
-) -> zenoh.Config:
-    conf = zenoh.Config()
-    conf.insert_json5("mode", json.dumps(mode))
-    conf.insert_json5("scouting/multicast/enabled", "false")
-    conf.insert_json5("scouting/delay", "0")
-    conf.insert_json5("listen/endpoints", json.dumps(listen or []))
-    conf.insert_json5("connect/endpoints", json.dumps(connect or []))
-    return conf
+__all__ = ["endpoint", "free_port", "loopback_config"]  # re-exported for the tests
 
 
 @dataclass(frozen=True, eq=False)

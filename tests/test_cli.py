@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -13,36 +12,17 @@ import pytest
 
 from facing_service import __version__
 from facing_service.schemas import json_schemas
+from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint, free_port, get, send, wait_until_answered
 from poses import pose_json
 
 
-def start_cli(port: int, *flags: str, env: dict[str, str] | None = None) -> subprocess.Popen:
-    return subprocess.Popen(
-        [sys.executable, "-m", "facing_service", "run", *flags],
-        env={**os.environ, **(env or {})},
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-
-
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
 def test_signal_stops_the_real_process_cleanly(net, signum):
     port = free_port()
-    proc = start_cli(
-        port,
-        "-l",
-        endpoint(port),
-        "--no-multicast-scouting",
-        env={
-            "FACING_BASE_FRAME": "cam",
-            "FACING_THRESHOLD_DEG": "33",
-            "FACING_CFG": "scouting/delay:0",
-        },
-    )
-    try:
+    env = {"FACING_BASE_FRAME": "cam", "FACING_THRESHOLD_DEG": "33"}
+    with running_cli("run", "-l", endpoint(port), *LOOPBACK_FLAGS, env=env) as proc:
         client = net.client(endpoint(port))
         wait_until_answered(client, "hri/facing/cam")
         send(client, "hri/bodies/a/pose/cam", pose_json("a", "cam", off_deg=30.0))
@@ -55,11 +35,7 @@ def test_signal_stops_the_real_process_cleanly(net, signum):
         proc.send_signal(signum)
         code = proc.wait(timeout=5)
         elapsed = time.monotonic() - started
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-    output = proc.stdout.read()
+        output = proc.stdout.read()
     assert code == 0, output
     # The contract's deadline (typically ~0.1 s here), not a performance measurement.
     assert elapsed < 2.0, f"took {elapsed:.2f} s to stop"

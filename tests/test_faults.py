@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import signal
-import subprocess
-import sys
 import threading
 import time
+
+from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint, free_port, get, send, wait_until_answered
 from poses import pose_json
@@ -71,25 +71,8 @@ def test_a_restarted_service_rebuilds_its_state_from_incoming_samples(net):
 
 def test_sigterm_during_a_flood_exits_cleanly_within_two_seconds(net):
     port = free_port()
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "facing_service",
-            "run",
-            "-l",
-            endpoint(port),
-            "--no-multicast-scouting",
-            "--cfg",
-            "scouting/delay:0",
-            "--base-frame",
-            "cam",
-        ],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-    try:
+    flags = ("-l", endpoint(port), "--base-frame", "cam", *LOOPBACK_FLAGS)
+    with running_cli("run", *flags) as proc:
         tracker = net.client(endpoint(port))
         wait_until_answered(tracker, FRAME_KEY)
         stop = threading.Event()
@@ -112,11 +95,7 @@ def test_sigterm_during_a_flood_exits_cleanly_within_two_seconds(net):
         finally:
             stop.set()
             flooder.join(timeout=10)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-    output = proc.stdout.read()
+        output = proc.stdout.read()
     print(f"\nSIGTERM during a flood: exit {code} after {elapsed:.2f} s")
     assert code == 0, output
     # The contract's deadline, not a performance measurement.

@@ -4,15 +4,14 @@ authentication and access control on a router, with the real service CLI behind 
 from __future__ import annotations
 
 import json
-import signal
-import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
 import trustme
 import zenoh
+
+from facing_service.testing import running_cli
 
 from loopback import Recorder, free_port, get, send, wait_until_answered
 from poses import pose_json
@@ -59,42 +58,32 @@ def session(folder: Path, endpoint: str, role: str, **overrides: str) -> zenoh.S
 
 @pytest.fixture
 def service(deployment):
+    """The real service CLI, configured by examples/secure/service.json5."""
     folder, endpoint = deployment
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "facing_service",
-            "run",
-            "-c",
-            str(folder / "service.json5"),
-            "-e",
-            endpoint,
-            "--base-frame",
-            "cam",
-            "--instance",
-            "secure",
-        ],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-    yield proc
-    proc.send_signal(signal.SIGTERM)
-    try:
-        proc.wait(timeout=5)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        proc.wait()
+    config = str(folder / "service.json5")
+    flags = ("-c", config, "-e", endpoint, "--base-frame", "cam", "--instance", "secure")
+    with running_cli("run", *flags) as proc:
+        yield proc
 
 
-def test_the_authorised_flow_works_end_to_end(deployment, service):
+@pytest.fixture
+def tracker_and_consumer(deployment, service):
+    """Sessions of a tracker and a consumer, once the service answers the consumer."""
     folder, endpoint = deployment
     tracker = session(folder, endpoint, "tracker")
     consumer = session(folder, endpoint, "consumer")
-    results = Recorder(consumer, "hri/bodies/*/facing/**")
     try:
         wait_until_answered(consumer, "hri/facing/cam", timeout=20)
+        yield tracker, consumer
+    finally:
+        tracker.close()
+        consumer.close()
+
+
+def test_the_authorised_flow_works_end_to_end(tracker_and_consumer):
+    tracker, consumer = tracker_and_consumer
+    results = Recorder(consumer, "hri/bodies/*/facing/**")
+    try:
         send(tracker, "hri/bodies/alice/pose/cam", pose_json("alice", "cam", off_deg=5.0))
         (result,) = results.wait_for(lambda i: i.kind == "put")
         assert result.value["body_id"] == "alice" and result.value["facing"]
@@ -106,8 +95,6 @@ def test_the_authorised_flow_works_end_to_end(deployment, service):
         assert tokens == ["hri/services/facing/secure"]
     finally:
         results.close()
-        tracker.close()
-        consumer.close()
 
 
 @pytest.mark.parametrize(
@@ -147,25 +134,18 @@ def test_a_certificate_for_another_name_gets_no_rights(deployment, service):
         consumer.close()
 
 
-def test_authenticated_consumers_cannot_inject_and_trackers_cannot_forge(deployment, service):
-    folder, endpoint = deployment
-    tracker = session(folder, endpoint, "tracker")
-    consumer = session(folder, endpoint, "consumer")
+def test_authenticated_consumers_cannot_inject_and_trackers_cannot_forge(tracker_and_consumer):
+    tracker, consumer = tracker_and_consumer
     frames = Recorder(consumer, "hri/facing/**")
     try:
-        wait_until_answered(consumer, "hri/facing/cam", timeout=20)
         send(consumer, "hri/bodies/mallory/pose/cam", pose_json("mallory", "cam"))
-        tracker.put(
-            "hri/facing/cam",
-            json.dumps(
-                {
-                    "frame_id": "cam",
-                    "stamp": None,
-                    "bodies_facing": ["forged"],
-                    "bodies_tracked": ["forged"],
-                }
-            ),
-        )
+        forged = {
+            "frame_id": "cam",
+            "stamp": None,
+            "bodies_facing": ["forged"],
+            "bodies_tracked": ["forged"],
+        }
+        tracker.put("hri/facing/cam", json.dumps(forged))
         send(tracker, "hri/bodies/alice/pose/cam", pose_json("alice", "cam"))
         frames.wait_for(lambda i: i.value["bodies_tracked"] == ["alice"])
         time.sleep(0.5)  # leave time for anything the policy failed to stop
@@ -176,8 +156,6 @@ def test_authenticated_consumers_cannot_inject_and_trackers_cannot_forge(deploym
         assert status[1]["counters"]["samples_accepted"] == 1
     finally:
         frames.close()
-        tracker.close()
-        consumer.close()
 
 
 def test_examples_are_valid_zenoh_configs():
