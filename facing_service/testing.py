@@ -48,12 +48,15 @@ def loopback_config(
 
 @contextmanager
 def running_cli(
-    *args: str, env: Mapping[str, str] | None = None, capture: bool = True
+    *args: str,
+    env: Mapping[str, str] | None = None,
+    capture: bool = True,
+    module: str = "facing_service",
 ) -> Iterator[subprocess.Popen[str]]:
-    """``python -m facing_service <args>`` as a real process; SIGTERM (then SIGKILL after
-    5 s) when the block ends. With ``capture``, stdout and stderr go to ``proc.stdout``."""
+    """``python -m <module> <args>`` as a real process; SIGTERM (then SIGKILL after 5 s)
+    when the block ends. With ``capture``, stdout and stderr go to ``proc.stdout``."""
     proc = subprocess.Popen(
-        [sys.executable, "-m", "facing_service", *args],
+        [sys.executable, "-m", module, *args],
         env={**os.environ, **(env or {})},
         stdout=subprocess.PIPE if capture else None,
         stderr=subprocess.STDOUT if capture else None,

@@ -1,0 +1,217 @@
+"""One benchmark run: the bare relay and the real service, fed by the same driver.
+
+    python -m benchmarks                  # full sizes (about 4 minutes)
+    python -m benchmarks --quick          # seconds; what CI runs so this never rots
+
+Prints a table in which every service figure is also a ratio to the relay measured in
+the same run (this machine is shared and noisy: ratios, not absolute numbers, are the
+comparison), and writes benchmarks/results/latest.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+from contextlib import AbstractContextManager
+from pathlib import Path
+
+import zenoh
+
+from facing_service import __version__
+from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
+
+from . import core
+from .driver import Driver
+
+RESULTS = Path(__file__).resolve().parent / "results" / "latest.json"
+TARGETS = {
+    "latency_p50_ratio_max": 1.3,
+    "latency_p99_ratio_max": 2.0,
+    "burst_throughput_ratio_min": 0.7,
+    "soak_cpu_percent_max": 15.0,
+    "core_speedup_min": 20.0,
+}
+
+
+def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]:
+    if kind == "service":  # through its CLI, as users run it
+        return running_cli(
+            "run", "-l", endpoint(port), *LOOPBACK_FLAGS, "--log-level", "WARNING", capture=False
+        )
+    return running_cli("-l", endpoint(port), module="benchmarks.relay", capture=False)
+
+
+def wait_ready(session: zenoh.Session, timeout: float = 20.0) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if any(r.ok for r in session.get("hri/services/**", timeout=0.5)):
+            return
+        time.sleep(0.05)
+    raise SystemExit("the target never became ready")
+
+
+def measure(kind: str, args: argparse.Namespace) -> dict:
+    port = free_port()
+    with (
+        start(kind, port) as proc,
+        zenoh.open(loopback_config(connect=[endpoint(port)])) as session,
+    ):
+        driver = Driver(session)
+        try:
+            wait_ready(session)
+            driver.latency(args.warmup, first_sec=1)  # warm-up: imports, caches, links
+            result = {"latency": driver.latency(args.latency_n, first_sec=1_000_000)}
+            result["burst"] = driver.burst(args.burst_n, args.burst_bodies, first_sec=2_000_000)
+            result["soak"] = driver.soak(
+                proc.pid, args.soak_bodies, args.soak_hz, args.soak_s, first_sec=3_000_000
+            )
+        finally:
+            driver.close()
+    return result
+
+
+def ratios(relay: dict, service: dict) -> dict[str, float]:
+    def r(section: str, key: str) -> float:
+        return service[section][key] / relay[section][key]
+
+    return {
+        "latency_p50": r("latency", "p50_ms"),
+        "latency_p90": r("latency", "p90_ms"),
+        "latency_p99": r("latency", "p99_ms"),
+        "burst_throughput": r("burst", "results_per_s"),
+        "soak_cpu": r("soak", "cpu_percent"),
+        "soak_p99": r("soak", "p99_ms"),
+    }
+
+
+def verdicts(report: dict) -> dict[str, bool]:
+    rat, service = report["ratios"], report["service"]
+    big = [row for row in report["core"] if row["n"] >= 10_000]
+    return {
+        "latency_p50": rat["latency_p50"] <= TARGETS["latency_p50_ratio_max"],
+        "latency_p99": rat["latency_p99"] <= TARGETS["latency_p99_ratio_max"],
+        "burst_throughput": rat["burst_throughput"] >= TARGETS["burst_throughput_ratio_min"],
+        "burst_zero_loss": service["burst"]["lost"] == 0,
+        "soak_cpu": service["soak"]["cpu_percent"] <= TARGETS["soak_cpu_percent_max"],
+        "core_speedup": bool(big)
+        and all(row["speedup"] >= TARGETS["core_speedup_min"] for row in big),
+    }
+
+
+def table(report: dict) -> str:
+    relay, service, rat = report["relay"], report["service"], report["ratios"]
+    rows = [
+        (
+            "latency p50 (ms)",
+            relay["latency"]["p50_ms"],
+            service["latency"]["p50_ms"],
+            rat["latency_p50"],
+        ),
+        (
+            "latency p90 (ms)",
+            relay["latency"]["p90_ms"],
+            service["latency"]["p90_ms"],
+            rat["latency_p90"],
+        ),
+        (
+            "latency p99 (ms)",
+            relay["latency"]["p99_ms"],
+            service["latency"]["p99_ms"],
+            rat["latency_p99"],
+        ),
+        (
+            "burst results/s",
+            relay["burst"]["results_per_s"],
+            service["burst"]["results_per_s"],
+            rat["burst_throughput"],
+        ),
+        ("burst lost", relay["burst"]["lost"], service["burst"]["lost"], None),
+        (
+            "soak CPU % of one core",
+            relay["soak"]["cpu_percent"],
+            service["soak"]["cpu_percent"],
+            rat["soak_cpu"],
+        ),
+        (
+            "soak p99 latency (ms)",
+            relay["soak"]["p99_ms"],
+            service["soak"]["p99_ms"],
+            rat["soak_p99"],
+        ),
+        (
+            "soak RSS start (MB)",
+            relay["soak"]["rss_start_mb"],
+            service["soak"]["rss_start_mb"],
+            None,
+        ),
+        ("soak RSS end (MB)", relay["soak"]["rss_end_mb"], service["soak"]["rss_end_mb"], None),
+    ]
+    lines = [f"{'':26}{'relay':>12}{'service':>12}{'ratio':>9}"]
+    for name, a, b, ratio in rows:
+        lines.append(
+            f"{name:26}{a:>12.3f}{b:>12.3f}{'' if ratio is None else f'{ratio:>9.2f}'}"
+            if isinstance(a, float)
+            else f"{name:26}{a:>12}{b:>12}{'' if ratio is None else f'{ratio:>9.2f}'}"
+        )
+    lines.append("")
+    lines.append(f"{'core: bodies/s':26}{'vectorized':>12}{'loop':>12}{'speedup':>9}")
+    for row in report["core"]:
+        lines.append(
+            f"{'N = ' + format(row['n'], ','):26}{row['vectorized_per_s']:>12.3g}"
+            f"{row['loop_per_s']:>12.3g}{row['speedup']:>9.1f}"
+        )
+    lines.append("")
+    lines.append(
+        "targets: "
+        + ", ".join(f"{k} {'met' if v else 'MISSED'}" for k, v in report["verdicts"].items())
+    )
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="tiny sizes, for CI")
+    parser.add_argument("--warmup", type=int, default=200)
+    parser.add_argument("--latency-n", type=int, default=2000)
+    parser.add_argument("--burst-n", type=int, default=100_000)
+    parser.add_argument("--burst-bodies", type=int, default=100)
+    parser.add_argument("--soak-bodies", type=int, default=100)
+    parser.add_argument("--soak-hz", type=float, default=30.0)
+    parser.add_argument("--soak-s", type=float, default=60.0)
+    parser.add_argument("--core-sizes", default="1,100,10000,1000000")
+    parser.add_argument("--out", type=Path, default=RESULTS)
+    args = parser.parse_args()
+    if args.quick:
+        args.warmup, args.latency_n, args.burst_n, args.soak_s = 20, 50, 2000, 2.0
+        args.core_sizes = "1,100,10000"
+
+    sizes = tuple(int(n) for n in args.core_sizes.split(","))
+    report: dict = {
+        "version": __version__,
+        "machine": {
+            "cpus": os.cpu_count(),
+            "platform": platform.platform(),
+            "python": platform.python_version(),
+            "zenoh": zenoh.__version__ if hasattr(zenoh, "__version__") else "unknown",
+        },
+        "parameters": {k: v for k, v in vars(args).items() if k != "out"} | {"out": str(args.out)},
+        "relay": measure("relay", args),
+        "service": measure("service", args),
+        "core": core.measure(sizes, min_time=0.05 if args.quick else 0.3),
+    }
+    report["ratios"] = ratios(report["relay"], report["service"])
+    report["verdicts"] = verdicts(report)
+    report["targets"] = TARGETS
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(report, indent=2) + "\n")
+    print(table(report))
+    print(f"\nwritten to {args.out}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

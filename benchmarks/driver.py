@@ -1,0 +1,167 @@
+"""Drives a target (the bare relay or the service) through zenoh and measures it.
+
+The same code drives both, from the same process, so the figures compare like with like:
+- latency: one pose in flight at a time, pose -> per-body result;
+- burst: N poses over M bodies as fast as BLOCK puts go; results/s and loss;
+- soak: M bodies at a fixed rate (a tracker) for S seconds; the target's CPU %, p99
+  latency and resident memory at start and end.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import statistics
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import zenoh
+
+from .common import pose_payload, rss_mb
+
+_STAMP = re.compile(rb'"sec":\s*(\d+)')
+_TICKS = os.sysconf("SC_CLK_TCK")
+
+
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time a process has used so far (Linux /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / _TICKS
+
+
+@dataclass
+class _Results:
+    """What arrives on the output keys: counts, and arrival times by (body, stamp)."""
+
+    lock: threading.Lock = field(default_factory=threading.Lock)
+    count: int = 0
+    last: float = 0.0
+    arrivals: dict[tuple[str, int], float] = field(default_factory=dict)
+    event: threading.Event = field(default_factory=threading.Event)
+    keep_times: bool = False
+
+    def on_sample(self, sample: zenoh.Sample) -> None:
+        now = time.perf_counter()
+        if sample.kind != zenoh.SampleKind.PUT:
+            return
+        with self.lock:
+            self.count += 1
+            self.last = now
+            if self.keep_times:
+                body = str(sample.key_expr).split("/")[-3]
+                match = _STAMP.search(sample.payload.to_bytes())
+                if match:
+                    self.arrivals[(body, int(match.group(1)))] = now
+        self.event.set()
+
+
+def percentiles(values_s: list[float]) -> dict[str, float]:
+    ms = np.array(values_s) * 1000
+    return {f"p{p}_ms": float(np.percentile(ms, p)) for p in (50, 90, 99)}
+
+
+class Driver:
+    """One zenoh session that feeds a target and records its results."""
+
+    def __init__(self, session: zenoh.Session, namespace: str = "hri") -> None:
+        self.session = session
+        self.ns = namespace
+        self.results = _Results()
+        self._subscriber = session.declare_subscriber(
+            f"{namespace}/bodies/*/facing/*", self.results.on_sample
+        )
+        self._payloads: dict[tuple[int, int, int], bytes] = {}
+
+    def close(self) -> None:
+        self._subscriber.undeclare()
+
+    def _put(self, body: int, sec: int, off_deg: float) -> None:
+        key = f"{self.ns}/bodies/b{body}/pose/base_link"
+        x, y = 1.0 + body % 7, (body % 5) - 2.0
+        yaw = np.degrees(np.arctan2(-y, -x)) + off_deg
+        payload = pose_payload(f"b{body}", "base_link", x, y, float(yaw), sec)
+        self.session.put(key, payload, congestion_control=zenoh.CongestionControl.BLOCK)
+
+    def reset(self, keep_times: bool = False) -> None:
+        with self.results.lock:
+            self.results.count = 0
+            self.results.arrivals.clear()
+            self.results.keep_times = keep_times
+        self.results.event.clear()
+
+    def latency(self, n: int, first_sec: int) -> dict[str, float]:
+        """n round trips, one pose in flight at a time."""
+        self.reset()
+        rtts = []
+        for i in range(n):
+            self.results.event.clear()
+            started = time.perf_counter()
+            self._put(0, first_sec + i, off_deg=(i % 40) - 20.0)
+            if not self.results.event.wait(5):
+                raise RuntimeError(f"no result for pose {i} within 5 s")
+            rtts.append(time.perf_counter() - started)
+        return {**percentiles(rtts), "n": n}
+
+    def burst(self, n: int, bodies: int, first_sec: int, quiet_s: float = 2.0) -> dict[str, float]:
+        """n poses over ``bodies`` bodies as fast as possible; results/s and loss."""
+        self.reset()
+        started = time.perf_counter()
+        for i in range(n):
+            self._put(i % bodies, first_sec + i // bodies, off_deg=(i % 50) - 25.0)
+        sent_s = time.perf_counter() - started
+        while True:  # until everything arrived, or nothing more for quiet_s
+            seen = self.results.count
+            if seen >= n:
+                break
+            time.sleep(0.05)
+            if self.results.count == seen and time.perf_counter() - self.results.last > quiet_s:
+                break
+        received = self.results.count
+        elapsed = max(self.results.last - started, 1e-9)
+        return {
+            "sent": n,
+            "received": received,
+            "lost": n - received,
+            "sent_per_s": n / sent_s,
+            "results_per_s": received / elapsed,
+        }
+
+    def soak(self, pid: int, bodies: int, hz: float, seconds: float, first_sec: int) -> dict:
+        """A tracker's load: every 1/hz s, one pose per body. CPU, p99 latency, memory."""
+        self.reset(keep_times=True)
+        sent: dict[tuple[str, int], float] = {}
+        rss_start, cpu_start = rss_mb(pid), cpu_seconds(pid)
+        started = time.perf_counter()
+        frame = 0
+        while (now := time.perf_counter()) - started < seconds:
+            for body in range(bodies):
+                sec = first_sec + frame
+                sent[(f"b{body}", sec)] = time.perf_counter()
+                self._put(body, sec, off_deg=((frame + body) % 60) - 30.0)
+            frame += 1
+            next_frame = started + frame / hz
+            if next_frame > now:
+                time.sleep(
+                    next_frame - time.perf_counter() if next_frame > time.perf_counter() else 0
+                )
+        wall = time.perf_counter() - started
+        time.sleep(1.0)  # let the last results arrive
+        cpu = cpu_seconds(pid) - cpu_start
+        with self.results.lock:
+            arrivals = dict(self.results.arrivals)
+        latencies = [arrivals[k] - t for k, t in sent.items() if k in arrivals]
+        return {
+            "bodies": bodies,
+            "hz": hz,
+            "seconds": round(wall, 2),
+            "sent": len(sent),
+            "received": len(latencies),
+            "cpu_percent": 100 * cpu / wall,
+            "rss_start_mb": rss_start,
+            "rss_end_mb": rss_mb(pid),
+            **{k: v for k, v in percentiles(latencies).items() if k == "p99_ms"},
+            "p50_ms": statistics.median(latencies) * 1000 if latencies else float("nan"),
+        }

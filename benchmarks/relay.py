@@ -1,0 +1,48 @@
+"""The bare relay: the physical limit of a one-hop Python zenoh service.
+
+Its subscriber re-publishes every incoming pose payload, untouched, on the output key the
+service would use (``.../pose/...`` -> ``.../facing/...``), straight from the callback and
+with BLOCK (no loss), so it does the least a zenoh service can do per sample.
+
+    python -m benchmarks.relay -l tcp/127.0.0.1:7447 [--namespace hri]
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+
+import zenoh
+
+from facing_service.testing import loopback_config
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("-l", "--listen", required=True)
+    parser.add_argument("--namespace", default="hri")
+    args = parser.parse_args()
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM, signal.SIGINT})
+    with zenoh.open(loopback_config(listen=[args.listen])) as session:
+
+        def relay(sample: zenoh.Sample) -> None:
+            session.put(
+                str(sample.key_expr).replace("/pose/", "/facing/", 1),
+                sample.payload,
+                encoding=zenoh.Encoding.APPLICATION_JSON,
+                congestion_control=zenoh.CongestionControl.BLOCK,
+            )
+
+        subscriber = session.declare_subscriber(f"{args.namespace}/bodies/*/pose/*", relay)
+        # a queryable so the driver can tell when the relay is up, like the service's status
+        ready = session.declare_queryable(
+            f"{args.namespace}/services/relay/status",
+            lambda q: (q.reply(q.key_expr, b"{}"), q.drop()),
+        )
+        signal.sigwait({signal.SIGTERM, signal.SIGINT})
+        ready.undeclare()
+        subscriber.undeclare()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,31 @@
+"""The benchmark harness at tiny sizes, so it never rots. No timing assertions: the
+figures are printed and written, and only their presence and sanity are checked."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def test_quick_benchmark_run_writes_every_figure(tmp_path):
+    out = tmp_path / "latest.json"
+    proc = subprocess.run(
+        [sys.executable, "-m", "benchmarks", "--quick", "--out", str(out)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=240,
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    report = json.loads(out.read_text())
+    for target in ("relay", "service"):
+        assert report[target]["latency"]["n"] == 50
+        assert report[target]["burst"]["received"] > 0
+        assert report[target]["soak"]["received"] > 0
+    assert set(report["ratios"]) >= {"latency_p50", "latency_p99", "burst_throughput"}
+    assert [row["n"] for row in report["core"]] == [1, 100, 10_000]
+    assert "targets:" in proc.stdout
