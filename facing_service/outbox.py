@@ -17,6 +17,7 @@ from __future__ import annotations
 import itertools
 import threading
 from collections import OrderedDict
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 DEFAULT_LIMIT = 10_000
@@ -40,24 +41,25 @@ class Outbox:
         self._in_flight = 0  # taken by the publisher, not yet reported sent
         self.superseded = 0  # results replaced before they could be sent
 
-    def add_result(self, key: str, payload: bytes) -> None:
-        """A per-body result; past ``limit`` it replaces the pending result for ``key``."""
+    def add_results(self, results: Iterable[tuple[str, bytes]]) -> None:
+        """Per-body results ``(key, payload)``, in order; past ``limit`` each replaces the
+        pending result for its key. One lock and one wake-up for the whole batch."""
         with self._cond:
-            if len(self._pending) >= self.limit:
-                slot = self._latest_result.get(key)
-                if slot is not None and self._pending.pop(slot, None) is not None:
-                    self.superseded += 1
-            self._append(Publication(key, payload, reliable=False))
-            self._latest_result[key] = next(reversed(self._pending))
+            for key, payload in results:
+                if len(self._pending) >= self.limit:
+                    slot = self._latest_result.get(key)
+                    if slot is not None and self._pending.pop(slot, None) is not None:
+                        self.superseded += 1
+                slot = next(self._slots)
+                self._pending[slot] = Publication(key, payload, reliable=False)
+                self._latest_result[key] = slot
+            self._cond.notify()
 
     def add_change(self, key: str, payload: bytes | None) -> None:
         """A state change (aggregate or DELETE): kept, in order, never conflated."""
         with self._cond:
-            self._append(Publication(key, payload, reliable=True))
-
-    def _append(self, publication: Publication) -> None:
-        self._pending[next(self._slots)] = publication
-        self._cond.notify()
+            self._pending[next(self._slots)] = Publication(key, payload, reliable=True)
+            self._cond.notify()
 
     def take(self, timeout: float | None = None) -> list[Publication]:
         """Everything pending, oldest first; waits up to ``timeout`` for something.

@@ -96,6 +96,34 @@ class FacingState(BaseModel):
     threshold_deg: float = Field(description="Half-angle of the facing cone applied.")
 
 
+def facing_state_json(
+    body_id: str,
+    frame_id: str,
+    stamp: tuple[int, int],
+    facing: bool,
+    angle_deg: float | None,
+    distance_m: float | None,
+    robot_in_body: tuple[float, float, float],
+    threshold_deg: float,
+) -> bytes:
+    """The JSON of a ``FacingState``, written directly: the service's hot path.
+
+    Building and dumping a pydantic model per result cost ~5 us of ~10 us per sample.
+    Safe to format by hand because ids and frames are validated names (no character needs
+    escaping) and every number is finite; a test checks it against ``FacingState``.
+    """
+    x, y, z = robot_in_body
+    return (
+        f'{{"body_id":"{body_id}","frame_id":"{frame_id}",'
+        f'"stamp":{{"sec":{stamp[0]},"nanosec":{stamp[1]}}},'
+        f'"facing":{"true" if facing else "false"},'
+        f'"angle_deg":{"null" if angle_deg is None else repr(angle_deg)},'
+        f'"distance_m":{"null" if distance_m is None else repr(distance_m)},'
+        f'"robot_in_body":{{"x":{x!r},"y":{y!r},"z":{z!r}}},'
+        f'"threshold_deg":{threshold_deg!r}}}'
+    ).encode()
+
+
 class FrameFacing(BaseModel):
     """Output per base frame: published whenever either list changes."""
 

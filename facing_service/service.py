@@ -372,8 +372,9 @@ class FacingService:
                 f"already tracking max_bodies={self.settings.max_bodies}",
             )
         poses.clear()
-        self._count("samples_accepted", len(changes.results))
         self._publish(changes)
+        # Counted once handed to the outbox: "all accepted and outbox empty" means all sent.
+        self._count("samples_accepted", len(changes.results))
 
     def _on_delete(self, key: str) -> None:
         parsed = keys.parse_pose_key(self.settings.namespace, key)
@@ -396,10 +397,10 @@ class FacingService:
     def _publish(self, changes: Changes) -> None:
         """Hand the publications to the outbox, in the order they must be sent."""
         ns = self.settings.namespace
-        for state in changes.results:
-            self._outbox.add_result(
-                keys.facing_key(ns, state.body_id, state.frame_id),
-                state.model_dump_json().encode(),
+        if changes.results:
+            self._outbox.add_results(
+                (keys.facing_key(ns, state.body_id, state.frame_id), state.to_json())
+                for state in changes.results
             )
         for frame_id, body_id in changes.lost:
             self._outbox.add_change(keys.facing_key(ns, body_id, frame_id), None)
@@ -427,9 +428,7 @@ class FacingService:
             states, frames = self._tracker.evaluate(threshold)
         ns = self.settings.namespace
         if item.per_body:
-            replies = [
-                (keys.facing_key(ns, s.body_id, s.frame_id), s.model_dump_json()) for s in states
-            ]
+            replies = [(keys.facing_key(ns, s.body_id, s.frame_id), s.to_json()) for s in states]
         else:
             replies = [(keys.frame_key(ns, f.frame_id), f.model_dump_json()) for f in frames]
         for key, payload in replies:
@@ -443,37 +442,51 @@ class FacingService:
     def _send(self) -> None:
         session = self._session
         assert session is not None
-        while True:
-            publications = self._outbox.take()
-            if not publications and self._outbox.closed:
-                return
-            for p in publications:
-                try:
-                    counter = self._send_one(session, p)
-                except zenoh.ZError:
-                    if self._closing.is_set():
-                        return  # the session closed under a blocked put: shutting down
-                    log.exception("publisher: could not publish on %s", p.key)
-                    counter = "publish_errors"
-                with self._counts_lock:
-                    self._counts[counter] += 1
-                self._outbox.sent()  # after counting: depth 0 means every count is in
+        # Declared publishers, one per output key: a put through one costs a third of a
+        # session.put (1.2 vs 3.2 us, measured). Per-body ones are undeclared when their
+        # body is lost, so there are never more than the bodies tracked, plus the frames.
+        publishers: dict[str, zenoh.Publisher] = {}
+        try:
+            while True:
+                publications = self._outbox.take()
+                if not publications and self._outbox.closed:
+                    return
+                for p in publications:
+                    try:
+                        counter = self._send_one(session, publishers, p)
+                    except zenoh.ZError:
+                        if self._closing.is_set():
+                            return  # the session closed under a blocked put: shutting down
+                        log.exception("publisher: could not publish on %s", p.key)
+                        counter = "publish_errors"
+                    with self._counts_lock:
+                        self._counts[counter] += 1
+                    self._outbox.sent()  # after counting: depth 0 means every count is in
+        finally:
+            for publisher in publishers.values():
+                publisher.undeclare()
 
     @staticmethod
-    def _send_one(session: zenoh.Session, p: Publication) -> str:
+    def _send_one(
+        session: zenoh.Session, publishers: dict[str, zenoh.Publisher], p: Publication
+    ) -> str:
         """Send one publication; returns the name of the counter it counts under."""
-        if p.payload is None:
+        if p.payload is None:  # the body is lost: so is its publisher
+            if (publisher := publishers.pop(p.key, None)) is not None:
+                publisher.undeclare()
             session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
             return "deletes_published"
-        if p.reliable:
-            session.put(
-                p.key, p.payload, encoding=JSON, congestion_control=zenoh.CongestionControl.BLOCK
+        publisher = publishers.get(p.key)
+        if publisher is None:
+            congestion = (
+                zenoh.CongestionControl.BLOCK if p.reliable else zenoh.CongestionControl.DROP
             )
-            return "frames_published"
-        session.put(
-            p.key, p.payload, encoding=JSON, congestion_control=zenoh.CongestionControl.DROP
-        )
-        return "results_published"
+            publisher = session.declare_publisher(
+                p.key, encoding=JSON, congestion_control=congestion
+            )
+            publishers[p.key] = publisher
+        publisher.put(p.payload)
+        return "frames_published" if p.reliable else "results_published"
 
 
 def _threshold_parameter(parameters: zenoh.Parameters) -> float | None:

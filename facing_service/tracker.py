@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import detector
-from .schemas import FacingState, FrameFacing, Point, Pose, Stamp
+from .schemas import FrameFacing, Pose, Stamp, facing_state_json
 
 BodyKey = tuple[str, str]  # (frame_id, body_id)
 
@@ -26,11 +26,38 @@ class PoseSample:
     pose: Pose
 
 
+@dataclass(frozen=True, slots=True)
+class BodyState:
+    """The decision for one body: the fields of the wire's ``FacingState``, kept as plain
+    values (a pydantic model per sample was a third of the per-sample cost)."""
+
+    body_id: str
+    frame_id: str
+    stamp: tuple[int, int]
+    facing: bool
+    angle_deg: float | None
+    distance_m: float | None
+    robot_in_body: tuple[float, float, float]
+    threshold_deg: float
+
+    def to_json(self) -> bytes:
+        return facing_state_json(
+            self.body_id,
+            self.frame_id,
+            self.stamp,
+            self.facing,
+            self.angle_deg,
+            self.distance_m,
+            self.robot_in_body,
+            self.threshold_deg,
+        )
+
+
 @dataclass
 class Changes:
     """What one tracker call changed, in the order it must be published."""
 
-    results: list[FacingState] = field(default_factory=list)
+    results: list[BodyState] = field(default_factory=list)
     lost: list[BodyKey] = field(default_factory=list)
     frames: list[FrameFacing] = field(default_factory=list)
     out_of_order: list[PoseSample] = field(default_factory=list)
@@ -41,7 +68,7 @@ class Changes:
 class _Track:
     pose: Pose
     last_seen: float
-    state: FacingState
+    state: BodyState
 
 
 @dataclass
@@ -65,36 +92,34 @@ def _frame_facing(
 
 def _classify(
     samples: Sequence[PoseSample], thresholds: float | np.ndarray, reported_threshold: float
-) -> list[FacingState]:
-    """Run the vectorized core over ``samples`` and wrap each row as a FacingState."""
+) -> list[BodyState]:
+    """Run the vectorized core over ``samples`` and wrap each row as a BodyState."""
     result = detector.classify(
         np.array([s.pose.translation for s in samples], dtype=np.float64),
         np.array([s.pose.rotation for s in samples], dtype=np.float64),
         thresholds,
     )
-    states = []
-    for s, r, angle, distance, defined, facing in zip(
-        samples,
-        result.robot_in_body.tolist(),
-        result.angle_deg.tolist(),
-        result.distance_m.tolist(),
-        result.defined.tolist(),
-        result.facing.tolist(),
-        strict=True,
-    ):
-        states.append(
-            FacingState(
-                body_id=s.body_id,
-                frame_id=s.frame_id,
-                stamp=Stamp(sec=s.pose.stamp[0], nanosec=s.pose.stamp[1]),
-                facing=facing,
-                angle_deg=angle if defined else None,
-                distance_m=distance if defined else None,
-                robot_in_body=Point(x=r[0], y=r[1], z=r[2]),
-                threshold_deg=reported_threshold,
-            )
+    return [
+        BodyState(
+            s.body_id,
+            s.frame_id,
+            s.pose.stamp,
+            facing,
+            angle if defined else None,
+            distance if defined else None,
+            tuple(r),
+            reported_threshold,
         )
-    return states
+        for s, r, angle, distance, defined, facing in zip(
+            samples,
+            result.robot_in_body.tolist(),
+            result.angle_deg.tolist(),
+            result.distance_m.tolist(),
+            result.defined.tolist(),
+            result.facing.tolist(),
+            strict=True,
+        )
+    ]
 
 
 class Tracker:
@@ -206,7 +231,7 @@ class Tracker:
         """How many bodies each known frame tracks (for the status report)."""
         return {frame_id: len(frame.tracked) for frame_id, frame in self._frames.items()}
 
-    def states(self) -> list[FacingState]:
+    def states(self) -> list[BodyState]:
         """The latest decision of every tracked body."""
         return [track.state for track in self._tracks.values()]
 
@@ -217,7 +242,7 @@ class Tracker:
             for frame_id, frame in self._frames.items()
         ]
 
-    def evaluate(self, threshold_deg: float) -> tuple[list[FacingState], list[FrameFacing]]:
+    def evaluate(self, threshold_deg: float) -> tuple[list[BodyState], list[FrameFacing]]:
         """Re-decide the latest poses under another cone, without hysteresis.
 
         For queries: a what-if that leaves the tracker's state untouched.
@@ -241,7 +266,7 @@ class Tracker:
         track = self._tracks.get(key)
         return track is not None and track.state.facing
 
-    def _store(self, sample: PoseSample, state: FacingState, now: float) -> None:
+    def _store(self, sample: PoseSample, state: BodyState, now: float) -> None:
         key = (sample.frame_id, sample.body_id)
         self._tracks[key] = _Track(sample.pose, now, state)
         self._tracks.move_to_end(key)

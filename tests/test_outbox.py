@@ -6,7 +6,7 @@ from facing_service.outbox import Outbox
 def test_everything_is_kept_in_order_below_the_limit():
     box = Outbox(limit=100)
     for i in range(5):
-        box.add_result("r/a", str(i).encode())
+        box.add_results([("r/a", str(i).encode())])
     box.add_change("f", b"agg")
     taken = [(p.key, p.payload, p.reliable) for p in box.take()]
     assert taken == [("r/a", str(i).encode(), False) for i in range(5)] + [("f", b"agg", True)]
@@ -16,11 +16,11 @@ def test_everything_is_kept_in_order_below_the_limit():
 
 def test_past_the_limit_results_conflate_and_move_behind_later_changes():
     box = Outbox(limit=2)
-    box.add_result("r/a", b"1")
+    box.add_results([("r/a", b"1")])
     box.add_change("r/a", None)  # the body was lost
-    box.add_result("r/a", b"2")  # and came back: supersedes b"1", goes after the delete
-    box.add_result("r/a", b"3")  # supersedes b"2"
-    box.add_result("r/b", b"x")
+    box.add_results([("r/a", b"2")])  # and came back: supersedes b"1", goes after the delete
+    box.add_results([("r/a", b"3")])  # supersedes b"2"
+    box.add_results([("r/b", b"x")])
     taken = [(p.key, p.payload, p.reliable) for p in box.take()]
     assert taken == [("r/a", None, True), ("r/a", b"3", False), ("r/b", b"x", False)]
     assert box.superseded == 2
@@ -36,7 +36,7 @@ def test_changes_never_conflate():
 def test_stuck_publisher_keeps_memory_bounded_by_limit_plus_bodies():
     box = Outbox(limit=500)
     for i in range(100_000):
-        box.add_result(f"r/{i % 100}", str(i).encode())
+        box.add_results([(f"r/{i % 100}", str(i).encode())])
     assert len(box) <= 500 + 100
     latest = {p.key: p.payload for p in box.take()}
     assert latest["r/99"] == b"99999" and len(latest) == 100
@@ -60,7 +60,7 @@ def test_take_wakes_on_close_and_on_new_items():
 def test_depth_counts_taken_publications_until_sent():
     box = Outbox()
     box.add_change("f", b"1")
-    box.add_result("r", b"2")
+    box.add_results([("r", b"2")])
     taken = box.take()
     assert len(taken) == 2 and len(box) == 2
     box.sent()

@@ -7,6 +7,8 @@ import math
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from facing_service.schemas import (
     FacingState,
@@ -16,6 +18,7 @@ from facing_service.schemas import (
     Rejection,
     Stamp,
     decode_pose,
+    facing_state_json,
     json_schemas,
 )
 
@@ -180,3 +183,37 @@ def test_committed_json_schemas_match_the_models(name):
 
 def test_no_stray_schema_files():
     assert {p.name for p in SCHEMAS_DIR.glob("*.json")} == set(json_schemas())
+
+
+names = st.from_regex(r"[A-Za-z0-9_.-]{1,64}", fullmatch=True)
+finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
+
+
+@settings(max_examples=300)
+@given(
+    names,
+    names,
+    st.integers(0, 2**31 - 1),
+    st.integers(0, 999_999_999),
+    st.booleans(),
+    st.none() | finite,
+    st.none() | finite,
+    st.tuples(finite, finite, finite),
+    st.floats(0.001, 179.999),
+)
+def test_hand_written_facing_state_json_matches_the_model(
+    body, frame, sec, nanosec, facing, angle, distance, r, threshold
+):
+    fast = facing_state_json(body, frame, (sec, nanosec), facing, angle, distance, r, threshold)
+    model = FacingState(
+        body_id=body,
+        frame_id=frame,
+        stamp=Stamp(sec=sec, nanosec=nanosec),
+        facing=facing,
+        angle_deg=angle,
+        distance_m=distance,
+        robot_in_body=Point(x=r[0], y=r[1], z=r[2]),
+        threshold_deg=threshold,
+    )
+    assert json.loads(fast) == json.loads(model.model_dump_json())
+    assert FacingState.model_validate_json(fast) == model
