@@ -233,6 +233,9 @@ class FacingService:
 
     def status(self) -> ServiceStatus:
         """A consistent snapshot of health, counters and state sizes; thread-safe."""
+        # Depth before counters: the publisher counts a publication before reporting it
+        # sent, so a depth of 0 read first guarantees the counters below include it all.
+        outbox_depth = len(self._outbox)
         with self._counts_lock:
             counts = dict(self._counts)
             rejected = {reason.value: n for reason, n in self._rejections.items()}
@@ -251,7 +254,7 @@ class FacingService:
             counters=counts,
             rejected=rejected,
             inbox_depth=self._inbox.qsize(),
-            outbox_depth=len(self._outbox),
+            outbox_depth=outbox_depth,
         )
 
     # -- zenoh callbacks: hand off, nothing else ---------------------------------------
