@@ -12,6 +12,7 @@ service never loops over bodies in Python for the geometry.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +24,9 @@ BoolArray = npt.NDArray[np.bool_]
 #: Below this horizontal distance (metres) the direction to the robot is undefined: the
 #: robot is straight above or below the body, or the tracker published the origin.
 DEGENERATE_DISTANCE_M = 1e-9
+#: Below this many bodies, ``classify_one`` per body beats ``classify``: a numpy call
+#: costs ~19 us whatever N, one body on floats ~2.4 us (measured; crossover at ~8).
+SMALL_BATCH = 8
 
 
 @dataclass(frozen=True)
@@ -88,3 +92,29 @@ def classify(
     return Classification(
         robot_in_body=r, angle_deg=angle, distance_m=distance, defined=defined, facing=facing
     )
+
+
+def classify_one(
+    translation: tuple[float, float, float],
+    quaternion: tuple[float, float, float, float],
+    threshold_deg: float,
+) -> tuple[tuple[float, float, float], float | None, float | None, bool]:
+    """``classify`` for a single body, on plain floats: ``(r, angle, distance, facing)``,
+    with ``None`` for an undefined angle and distance.
+
+    The same formula, for the same results; it exists because most batches at robot scale
+    are a few bodies, where numpy's per-call overhead would dominate (see SMALL_BATCH).
+    """
+    tx, ty, tz = translation
+    ux, uy, uz, w = quaternion
+    cx = uy * tz - uz * ty
+    cy = uz * tx - ux * tz
+    cz = ux * ty - uy * tx
+    x = 2.0 * (w * cx - (uy * cz - uz * cy)) - tx
+    y = 2.0 * (w * cy - (uz * cx - ux * cz)) - ty
+    z = 2.0 * (w * cz - (ux * cy - uy * cx)) - tz
+    distance = math.hypot(x, y)
+    if distance < DEGENERATE_DISTANCE_M:
+        return (x, y, z), None, None, False
+    angle = math.atan2(abs(y), x) * (180.0 / math.pi)
+    return (x, y, z), angle, distance, angle < threshold_deg and x > 0.0

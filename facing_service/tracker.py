@@ -91,34 +91,38 @@ def _frame_facing(
 
 
 def _classify(
-    samples: Sequence[PoseSample], thresholds: float | np.ndarray, reported_threshold: float
+    samples: Sequence[PoseSample], thresholds: Sequence[float], reported_threshold: float
 ) -> list[BodyState]:
-    """Run the vectorized core over ``samples`` and wrap each row as a BodyState."""
-    result = detector.classify(
-        np.array([s.pose.translation for s in samples], dtype=np.float64),
-        np.array([s.pose.rotation for s in samples], dtype=np.float64),
-        thresholds,
-    )
+    """Decide ``samples`` (one threshold each) and wrap each as a BodyState: the
+    vectorized core for a batch, the per-body one below ``detector.SMALL_BATCH``."""
+    if len(samples) < detector.SMALL_BATCH:
+        rows = [
+            detector.classify_one(s.pose.translation, s.pose.rotation, threshold)
+            for s, threshold in zip(samples, thresholds, strict=True)
+        ]
+    else:
+        result = detector.classify(
+            np.array([s.pose.translation for s in samples], dtype=np.float64),
+            np.array([s.pose.rotation for s in samples], dtype=np.float64),
+            np.array(thresholds, dtype=np.float64),
+        )
+        defined = result.defined.tolist()
+        rows = [
+            (tuple(r), a if d else None, m if d else None, f)
+            for r, a, m, d, f in zip(
+                result.robot_in_body.tolist(),
+                result.angle_deg.tolist(),
+                result.distance_m.tolist(),
+                defined,
+                result.facing.tolist(),
+                strict=True,
+            )
+        ]
     return [
         BodyState(
-            s.body_id,
-            s.frame_id,
-            s.pose.stamp,
-            facing,
-            angle if defined else None,
-            distance if defined else None,
-            tuple(r),
-            reported_threshold,
+            s.body_id, s.frame_id, s.pose.stamp, facing, angle, distance, r, reported_threshold
         )
-        for s, r, angle, distance, defined, facing in zip(
-            samples,
-            result.robot_in_body.tolist(),
-            result.angle_deg.tolist(),
-            result.distance_m.tolist(),
-            result.defined.tolist(),
-            result.facing.tolist(),
-            strict=True,
-        )
+        for s, (r, angle, distance, facing) in zip(samples, rows, strict=True)
     ]
 
 
@@ -189,10 +193,11 @@ class Tracker:
 
         touched: set[str] = set()
         for generation in generations:
-            was_facing = np.array(
-                [self._was_facing((s.frame_id, s.body_id)) for s in generation], dtype=bool
-            )
-            thresholds = self.threshold_deg + self.hysteresis_deg * was_facing
+            thresholds = [
+                self.threshold_deg
+                + (self.hysteresis_deg if self._was_facing((s.frame_id, s.body_id)) else 0.0)
+                for s in generation
+            ]
             states = _classify(generation, thresholds, self.threshold_deg)
             for sample, state in zip(generation, states, strict=True):
                 self._store(sample, state, now)
@@ -251,7 +256,7 @@ class Tracker:
             PoseSample(frame_id, body_id, track.pose)
             for (frame_id, body_id), track in self._tracks.items()
         ]
-        states = _classify(samples, threshold_deg, threshold_deg) if samples else []
+        states = _classify(samples, [threshold_deg] * len(samples), threshold_deg)
         facing: dict[str, list[str]] = {frame_id: [] for frame_id in self._frames}
         for state in states:
             if state.facing:

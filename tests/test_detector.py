@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from facing_service.detector import classify, robot_in_body
+from facing_service.detector import classify, classify_one, robot_in_body
 
 from poses import toward_origin_deg, yaw_quaternion
 
@@ -237,3 +237,24 @@ def test_outputs_are_nan_only_where_undefined(scene, threshold):
 def test_robot_in_body_is_minus_r_transpose_t_for_a_known_rotation():
     q = np.array([yaw_quaternion(90.0)])
     np.testing.assert_allclose(robot_in_body(np.array([[1.0, 2.0, 3.0]]), q), [[-2.0, 1.0, -3.0]])
+
+
+@settings(max_examples=300)
+@given(scenes, thresholds)
+def test_the_per_body_path_agrees_with_the_vectorized_core(scene, threshold):
+    """The tracker uses classify_one for small batches: it must decide identically."""
+    t, q = arrays_of(scene)
+    result = classify(t, q, threshold)
+    for i, (ti, qi) in enumerate(scene):
+        r, angle, distance, facing = classify_one(
+            tuple(map(float, ti)), tuple(map(float, qi)), threshold
+        )
+        np.testing.assert_allclose(r, result.robot_in_body[i], rtol=0, atol=1e-12)
+        assert (angle is None) == (not result.defined[i])
+        if angle is not None:
+            assert angle == pytest.approx(result.angle_deg[i], abs=1e-9)
+            assert distance == pytest.approx(result.distance_m[i], abs=1e-12)
+            if abs(angle - threshold) > 1e-9:
+                assert facing is bool(result.facing[i])
+        else:
+            assert facing is False
