@@ -9,6 +9,7 @@ The same code drives both, from the same process, so the figures compare like wi
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import statistics
@@ -127,7 +128,17 @@ class Driver:
             "lost": n - received,
             "sent_per_s": n / sent_s,
             "results_per_s": received / elapsed,
+            **self.service_counters(),
         }
+
+    def service_counters(self) -> dict[str, int]:
+        """The service's own view of a run (where a loss happened); empty for the relay."""
+        for reply in self.session.get(f"{self.ns}/services/facing/*/status", timeout=2):
+            if reply.ok is not None:
+                counters = json.loads(reply.ok.payload.to_bytes())["counters"]
+                wanted = ("samples_accepted", "results_published", "results_superseded")
+                return {f"service_{k}": counters[k] for k in wanted}
+        return {}
 
     def soak(self, pid: int, bodies: int, hz: float, seconds: float, first_sec: int) -> dict:
         """A tracker's load: every 1/hz s, one pose per body. CPU, p99 latency, memory."""

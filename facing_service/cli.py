@@ -14,17 +14,23 @@ import os
 import signal
 import sys
 import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType
 
 import zenoh
 from pydantic import ValidationError
+from rich.console import Console
+from rich.live import Live
 
 from . import __version__, keys
-from .config import Settings, env_name, load_settings, probe_config
+from .client import FacingClient
+from .config import Settings, env_name, load_settings, probe_config, zenoh_config
 from .schemas import ServiceStatus, json_schemas
 from .service import FacingService
+from .sim import Scene, simulate
+from .testing import free_port, loopback_config
+from .watch import Watcher
 
 log = logging.getLogger("facing_service")
 
@@ -77,6 +83,16 @@ def add_zenoh_arguments(parser: argparse.ArgumentParser) -> None:
         help="any zenoh config key with a JSON5 value, repeatable, e.g. "
         "'scouting/delay:0' (env FACING_CFG; ';'-separated)",
     )
+
+
+def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
+    parser.add_argument(
+        "--base-frame", default="base_link", help="frame of the poses (default base_link)"
+    )
+    parser.add_argument("--people", type=int, default=5, help="people in the scene (5)")
+    parser.add_argument("--rate-hz", type=float, default=30.0, help="poses per second (30)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (0)")
 
 
 def _build_parser() -> argparse.ArgumentParser:
@@ -146,11 +162,66 @@ def _build_parser() -> argparse.ArgumentParser:
     )
     add_zenoh_arguments(health)
 
+    simulate = commands.add_parser(
+        "simulate",
+        help="publish a synthetic scene of people, like a body tracker would",
+        description="People walk around the robot, stop, turn toward it and away, appear "
+        "and leave (DELETE), with tracker-like jitter on position and yaw. Deterministic "
+        "for a given --seed.",
+    )
+    _add_scene_arguments(simulate)
+    simulate.add_argument("--duration-s", type=float, help="stop after this long")
+    add_zenoh_arguments(simulate)
+
+    watch = commands.add_parser(
+        "watch", help="live terminal view: a map around the robot and a table"
+    )
+    watch.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
+    watch.add_argument(
+        "--base-frame", default="base_link", help="the frame to show (default base_link)"
+    )
+    watch.add_argument("--once", action="store_true", help="print one frame and exit")
+    watch.add_argument(
+        "--wait-s", type=float, default=1.0, help="with --once: gather data this long first"
+    )
+    add_zenoh_arguments(watch)
+
+    demo = commands.add_parser(
+        "demo",
+        help="the service, a simulated scene and the live view, in one process",
+        description="Nothing else needed: an embedded service on loopback, a simulator "
+        "publishing people into it, and the watch view of the results. Ctrl-C ends it.",
+    )
+    _add_scene_arguments(demo)
+    demo.add_argument("--duration-s", type=float, help="end by itself after this long")
+
     export = commands.add_parser(
         "export-schemas", help="write the wire contract's JSON Schemas to a folder"
     )
     export.add_argument("directory", type=Path)
     return parser
+
+
+def _stop_on_signals() -> threading.Event:
+    """An event set by SIGTERM or SIGINT (Ctrl-C): every long-running command ends on it."""
+    stop = threading.Event()
+
+    def on_signal(signum: int, _frame: FrameType | None) -> None:
+        log.info("received %s, shutting down", signal.Signals(signum).name)
+        stop.set()
+
+    signal.signal(signal.SIGTERM, on_signal)
+    signal.signal(signal.SIGINT, on_signal)
+    return stop
+
+
+def _session_settings(args: argparse.Namespace) -> Settings | None:
+    """Settings from the flags and FACING_* variables, or None after printing why not."""
+    try:
+        return load_settings(vars(args), os.environ)
+    except ValidationError as error:
+        print(f"facing-service {args.command}: invalid setting: {error}", file=sys.stderr)
+        return None
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -163,14 +234,7 @@ def _run(args: argparse.Namespace) -> int:
         level=settings.log_level,
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",
     )
-    stop = threading.Event()
-
-    def on_signal(signum: int, _frame: FrameType | None) -> None:
-        log.info("received %s, shutting down", signal.Signals(signum).name)
-        stop.set()
-
-    signal.signal(signal.SIGTERM, on_signal)
-    signal.signal(signal.SIGINT, on_signal)
+    stop = _stop_on_signals()
     try:
         service = FacingService(settings).start()
     except zenoh.ZError as error:
@@ -219,6 +283,120 @@ def _health(args: argparse.Namespace) -> int:
     return 0 if any(status.status == "ok" for status in answers) else 1
 
 
+def _publisher(session: zenoh.Session) -> Callable[[str, bytes | None], None]:
+    """Publish a pose (or, for None, DELETE the key) as a tracker should: BLOCK."""
+
+    def publish(key: str, payload: bytes | None) -> None:
+        if payload is None:
+            session.delete(key, congestion_control=zenoh.CongestionControl.BLOCK)
+        else:
+            session.put(
+                key,
+                payload,
+                encoding=zenoh.Encoding.APPLICATION_JSON,
+                congestion_control=zenoh.CongestionControl.BLOCK,
+            )
+
+    return publish
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    stop = _stop_on_signals()
+    scene = Scene(people=args.people, seed=args.seed)
+    with zenoh.open(zenoh_config(settings)) as session:
+        simulate(
+            _publisher(session),
+            scene,
+            args.base_frame,
+            settings.namespace,
+            args.rate_hz,
+            args.duration_s,
+            should_stop=stop.is_set,
+        )
+    return 0
+
+
+def _watch(args: argparse.Namespace) -> int:
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    stop = _stop_on_signals()
+    with FacingClient(
+        settings.namespace, args.base_frame, session_config=zenoh_config(settings)
+    ) as client:
+        watcher = Watcher(client, args.base_frame)
+        try:
+            if args.once:
+                stop.wait(args.wait_s)
+                Console().print(watcher.view())
+                return 0
+            with Live(watcher.view(), refresh_per_second=10) as live:
+                while not stop.wait(0.1):
+                    live.update(watcher.view())
+        finally:
+            watcher.close()
+    return 0
+
+
+def _demo(args: argparse.Namespace) -> int:
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    stop = _stop_on_signals()
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    embedded = settings.model_copy(
+        update={
+            "listen": [endpoint],
+            "no_multicast_scouting": True,
+            "cfg": ["scouting/delay:0"],
+            "base_frame": args.base_frame,
+            "log_level": "WARNING",
+        }
+    )
+    logging.basicConfig(level=logging.WARNING)
+    peer = loopback_config(connect=[endpoint])
+    seen_facing: set[str] = set()
+    with (
+        FacingService(embedded),
+        zenoh.open(peer) as tracker,
+        FacingClient(
+            embedded.namespace, args.base_frame, session_config=loopback_config(connect=[endpoint])
+        ) as client,
+    ):
+        client.on_facing(lambda state: seen_facing.add(state.body_id))
+        watcher = Watcher(client, args.base_frame)
+        scene = Scene(people=args.people, seed=args.seed)
+        feeder = threading.Thread(
+            target=simulate,
+            args=(
+                _publisher(tracker),
+                scene,
+                args.base_frame,
+                embedded.namespace,
+                args.rate_hz,
+                args.duration_s,
+                stop.is_set,
+            ),
+            daemon=True,
+        )
+        feeder.start()
+        try:
+            with Live(watcher.view(), refresh_per_second=10) as live:
+                while feeder.is_alive() and not stop.wait(0.1):
+                    live.update(watcher.view())
+                live.update(watcher.view())
+        finally:
+            stop.set()
+            feeder.join(timeout=2.0)
+            watcher.close()
+    people = ", ".join(sorted(seen_facing, key=lambda b: (len(b), b))) or "nobody"
+    print(f"faced the robot during the demo: {people}")
+    return 0
+
+
 def _export_schemas(args: argparse.Namespace) -> int:
     args.directory.mkdir(parents=True, exist_ok=True)
     for name, schema in json_schemas().items():
@@ -228,5 +406,12 @@ def _export_schemas(args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = _build_parser().parse_args(argv)
-    command = {"run": _run, "health": _health, "export-schemas": _export_schemas}
+    command = {
+        "run": _run,
+        "health": _health,
+        "simulate": _simulate,
+        "watch": _watch,
+        "demo": _demo,
+        "export-schemas": _export_schemas,
+    }
     return command[args.command](args)

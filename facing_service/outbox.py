@@ -5,10 +5,11 @@ waits (up to zenoh's ``wait_before_close``, 5 s by default, before zenoh drops t
 Keeping that wait off the worker means one stuck consumer never stalls ingestion, state or
 queries.
 
-Everything is sent, in order, while the publisher keeps up. Only once ``limit``
-publications are pending (the publisher is stuck or far behind) do per-body results
-*conflate*: a newer result for a key replaces the pending one (it supersedes it, as a DROP
-publisher would have), so memory stays bounded by ``limit`` plus the number of bodies.
+Everything is sent, in order, while the publisher keeps up (it sends with BLOCK, so a
+slow consumer slows it down rather than losing results). Only once ``limit`` publications
+are pending (a consumer is stuck, or far slower than the input) do per-body results
+*conflate*: a newer result for a key replaces the pending one, which it supersedes; this
+is counted, never silent, and keeps memory bounded by ``limit`` plus the number of bodies.
 Deletes and frame aggregates never conflate and are never dropped.
 """
 
@@ -19,15 +20,22 @@ import threading
 from collections import OrderedDict
 from collections.abc import Iterable
 from dataclasses import dataclass
+from enum import Enum
 
 DEFAULT_LIMIT = 10_000
+
+
+class Kind(str, Enum):
+    RESULT = "result"  # per-body result: may be superseded past the limit
+    FRAME = "frame"  # per-frame aggregate: a state change, never superseded
+    DELETE = "delete"  # a body lost: a state change, never superseded
 
 
 @dataclass(frozen=True, slots=True)
 class Publication:
     key: str
-    payload: bytes | None  # None: a DELETE
-    reliable: bool  # BLOCK (state changes) rather than DROP (superseded results)
+    payload: bytes | None  # None for a DELETE
+    kind: Kind
 
 
 class Outbox:
@@ -51,14 +59,21 @@ class Outbox:
                     if slot is not None and self._pending.pop(slot, None) is not None:
                         self.superseded += 1
                 slot = next(self._slots)
-                self._pending[slot] = Publication(key, payload, reliable=False)
+                self._pending[slot] = Publication(key, payload, Kind.RESULT)
                 self._latest_result[key] = slot
             self._cond.notify()
 
-    def add_change(self, key: str, payload: bytes | None) -> None:
-        """A state change (aggregate or DELETE): kept, in order, never conflated."""
+    def add_frame(self, key: str, payload: bytes) -> None:
+        """A per-frame aggregate: kept, in order, never conflated."""
+        self._add_change(Publication(key, payload, Kind.FRAME))
+
+    def add_delete(self, key: str) -> None:
+        """A body lost: kept, in order, never conflated."""
+        self._add_change(Publication(key, None, Kind.DELETE))
+
+    def _add_change(self, publication: Publication) -> None:
         with self._cond:
-            self._pending[next(self._slots)] = Publication(key, payload, reliable=True)
+            self._pending[next(self._slots)] = publication
             self._cond.notify()
 
     def take(self, timeout: float | None = None) -> list[Publication]:

@@ -7,17 +7,17 @@ Threads, and why:
   the senders (trackers publishing with BLOCK slow down; nothing is dropped here).
 - the worker: owns the tracker. Drains the inbox in batches (one vectorized core call per
   batch), hands publications to the outbox, answers queries in order with the samples.
-- the publisher: sends what the outbox holds. A consumer that stops reading can block a
-  BLOCK put (up to zenoh's ``wait_before_close``); only this thread waits, while the
-  worker keeps ingesting, deciding and answering (see ``outbox``).
+- the publisher: sends what the outbox holds, with BLOCK. A slow consumer slows it down;
+  one that stops reading blocks it (up to zenoh's ``wait_before_close``). Only this
+  thread waits, while the worker keeps ingesting, deciding and answering (see ``outbox``).
 - the status queryable answers from a snapshot in its callback, so a health check gets an
   answer even when the worker is behind a backlog.
 
-Congestion control per key (see the README):
-- per-body results ``NS/bodies/<id>/facing/<frame>`` (PUT): DROP, and conflated in the
-  outbox: each result supersedes the previous one for that body.
-- per-frame aggregates ``NS/facing/<frame>`` and per-body DELETEs: BLOCK, never conflated,
-  so state changes are never silently dropped under load.
+Congestion control (see the README): every output is BLOCK and sent by the publisher
+thread only, so nothing is dropped silently. Per-body results are superseded (counted)
+only while 10 000 publications wait in the outbox; aggregates and DELETEs never are.
+(DROP for per-body results lost 2.5 % of a 100 000-pose burst to a consumer that was
+merely slower than the burst, and made nothing faster; see benchmarks.)
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ import zenoh
 
 from . import __version__, keys
 from .config import Settings, zenoh_config
-from .outbox import Outbox, Publication
+from .outbox import Kind, Outbox, Publication
 from .schemas import QueryError, Rejected, Rejection, ServiceStatus, decode_pose
 from .tracker import Changes, PoseSample, Tracker
 
@@ -66,14 +66,6 @@ COUNTERS = (
     "publish_errors",
 )
 
-#: The worker publishes per-body results itself (saving a thread hop per sample) while
-#: nothing waits in the outbox and puts are quick. A DROP put to a congested link waits up
-#: to zenoh's wait_before_drop (1 ms): one slower than SLOW_PUT_S sends everything through
-#: the publisher thread for DIRECT_PAUSE_S, so a stuck consumer costs the worker at most
-#: about a millisecond per pause.
-SLOW_PUT_S = 0.0005
-DIRECT_PAUSE_S = 1.0
-
 _STOP = object()
 
 
@@ -86,12 +78,11 @@ class _Publishers:
         self._session = session
         self._publishers: dict[str, zenoh.Publisher] = {}
 
-    def put(self, key: str, payload: bytes, reliable: bool) -> None:
+    def put(self, key: str, payload: bytes) -> None:
         publisher = self._publishers.get(key)
         if publisher is None:
-            congestion = zenoh.CongestionControl.BLOCK if reliable else zenoh.CongestionControl.DROP
             publisher = self._session.declare_publisher(
-                key, encoding=JSON, congestion_control=congestion
+                key, encoding=JSON, congestion_control=zenoh.CongestionControl.BLOCK
             )
             self._publishers[key] = publisher
         publisher.put(payload)
@@ -179,8 +170,6 @@ class FacingService:
         self._tracked: dict[str, int] = self._tracker.tracked_per_frame()
         self._rejection_log = _RejectionLog(clock)
         self._horizon = clock()  # arrival time of the newest item the worker has handled
-        self._direct: _Publishers | None = None  # the worker's own, for the direct path
-        self._direct_paused_until = 0.0
         self._session: zenoh.Session | None = None
         self._entities: list[zenoh.Subscriber[None] | zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
@@ -192,7 +181,6 @@ class FacingService:
         s = self.settings
         ns, frame = s.namespace, s.base_frame
         self._session = session = zenoh.open(zenoh_config(s))
-        self._direct = _Publishers(session)
         try:
             self._publish(Changes(frames=self._tracker.frames()))
             self._threads = [
@@ -327,8 +315,6 @@ class FacingService:
             except Exception:  # the worker must outlive any single bug
                 log.exception("worker: unexpected error in a batch of %d items", len(batch))
         self._rejection_log.maybe_log(force=True)
-        if self._direct is not None:
-            self._direct.close()
 
     def _next_batch(self) -> list[tuple[float, object]]:
         """Wait for the first item (or the next deadline), then take what is queued."""
@@ -440,43 +426,20 @@ class FacingService:
                 self._counts[name] += n
 
     def _publish(self, changes: Changes) -> None:
-        """Publish per-body results directly when it is safe, else through the outbox;
-        state changes always go through the outbox (BLOCK must never stall the worker)."""
+        """Hand the publications to the outbox, in the order they must be sent: the worker
+        never waits on the network (a stuck consumer only ever stalls the publisher)."""
         ns = self.settings.namespace
-        results = [
-            (keys.facing_key(ns, state.body_id, state.frame_id), state.to_json())
-            for state in changes.results
-        ]
-        if results:
-            sent = self._publish_directly(results)
-            if sent < len(results):
-                self._outbox.add_results(results[sent:])
+        if changes.results:
+            self._outbox.add_results(
+                (keys.facing_key(ns, state.body_id, state.frame_id), state.to_json())
+                for state in changes.results
+            )
         for frame_id, body_id in changes.lost:
-            key = keys.facing_key(ns, body_id, frame_id)
-            if self._direct is not None:
-                self._direct.forget(key)
-            self._outbox.add_change(key, None)
+            self._outbox.add_delete(keys.facing_key(ns, body_id, frame_id))
         for frame in changes.frames:
-            self._outbox.add_change(
+            self._outbox.add_frame(
                 keys.frame_key(ns, frame.frame_id), frame.model_dump_json().encode()
             )
-
-    def _publish_directly(self, results: list[tuple[str, bytes]]) -> int:
-        """Put results from the worker while nothing waits in the outbox (so nothing can
-        be overtaken) and puts stay quick; returns how many it sent."""
-        direct = self._direct
-        if direct is None or len(self._outbox) or self._clock() < self._direct_paused_until:
-            return 0
-        sent = 0
-        for key, payload in results:
-            started = time.perf_counter()
-            direct.put(key, payload, reliable=False)
-            sent += 1
-            if time.perf_counter() - started > SLOW_PUT_S:  # congested: step aside
-                self._direct_paused_until = self._clock() + DIRECT_PAUSE_S
-                break
-        self._count("results_published", sent)
-        return sent
 
     def _answer(self, item: _QueryItem) -> None:
         """Reply with the current state of every matching key, one reply per key."""
@@ -538,8 +501,8 @@ class FacingService:
             publishers.forget(p.key)
             session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
             return "deletes_published"
-        publishers.put(p.key, p.payload, p.reliable)
-        return "frames_published" if p.reliable else "results_published"
+        publishers.put(p.key, p.payload)
+        return "frames_published" if p.kind is Kind.FRAME else "results_published"
 
 
 def _threshold_parameter(parameters: zenoh.Parameters) -> float | None:

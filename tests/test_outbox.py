@@ -7,9 +7,11 @@ def test_everything_is_kept_in_order_below_the_limit():
     box = Outbox(limit=100)
     for i in range(5):
         box.add_results([("r/a", str(i).encode())])
-    box.add_change("f", b"agg")
-    taken = [(p.key, p.payload, p.reliable) for p in box.take()]
-    assert taken == [("r/a", str(i).encode(), False) for i in range(5)] + [("f", b"agg", True)]
+    box.add_frame("f", b"agg")
+    taken = [(p.key, p.payload, p.kind.value) for p in box.take()]
+    assert taken == [("r/a", str(i).encode(), "result") for i in range(5)] + [
+        ("f", b"agg", "frame")
+    ]
     assert box.superseded == 0
     assert box.take(timeout=0) == []
 
@@ -17,19 +19,19 @@ def test_everything_is_kept_in_order_below_the_limit():
 def test_past_the_limit_results_conflate_and_move_behind_later_changes():
     box = Outbox(limit=2)
     box.add_results([("r/a", b"1")])
-    box.add_change("r/a", None)  # the body was lost
+    box.add_delete("r/a")  # the body was lost
     box.add_results([("r/a", b"2")])  # and came back: supersedes b"1", goes after the delete
     box.add_results([("r/a", b"3")])  # supersedes b"2"
     box.add_results([("r/b", b"x")])
-    taken = [(p.key, p.payload, p.reliable) for p in box.take()]
-    assert taken == [("r/a", None, True), ("r/a", b"3", False), ("r/b", b"x", False)]
+    taken = [(p.key, p.payload, p.kind.value) for p in box.take()]
+    assert taken == [("r/a", None, "delete"), ("r/a", b"3", "result"), ("r/b", b"x", "result")]
     assert box.superseded == 2
 
 
 def test_changes_never_conflate():
     box = Outbox(limit=10)
     for i in range(1000):
-        box.add_change("f", str(i).encode())
+        box.add_frame("f", str(i).encode())
     assert [p.payload for p in box.take()] == [str(i).encode() for i in range(1000)]
 
 
@@ -47,7 +49,7 @@ def test_take_wakes_on_close_and_on_new_items():
     results = []
     reader = threading.Thread(target=lambda: results.append(box.take(timeout=10)))
     reader.start()
-    box.add_change("f", b"x")
+    box.add_frame("f", b"x")
     reader.join(timeout=5)
     assert results and results[0][0].key == "f"
     reader = threading.Thread(target=lambda: results.append(box.take(timeout=10)))
@@ -59,7 +61,7 @@ def test_take_wakes_on_close_and_on_new_items():
 
 def test_depth_counts_taken_publications_until_sent():
     box = Outbox()
-    box.add_change("f", b"1")
+    box.add_frame("f", b"1")
     box.add_results([("r", b"2")])
     taken = box.take()
     assert len(taken) == 2 and len(box) == 2

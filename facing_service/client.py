@@ -1,0 +1,221 @@
+"""A client as easy as libhri's HRIListener: ask who faces the robot, react to changes.
+
+    from facing_service import FacingClient
+
+    with FacingClient(connect=["tcp/192.168.1.10:7447"]) as hri:
+        hri.on_facing(lambda state: print("hello", state.body_id))
+        print(hri.bodies_facing("base_link"))
+
+The application never sees a key expression. A local cache, seeded by a query when the
+client starts and kept live by a subscription, answers ``bodies`` / ``bodies_facing``
+without a network round trip. Callbacks fire on transitions only (``on_facing``,
+``on_not_facing``, ``on_lost``) or on every result (``on_change``); they run, in order,
+on the client's own dispatcher thread, never on zenoh's, so a slow behaviour cannot stall
+the session. ``query`` asks the service directly, e.g. with another facing cone.
+"""
+
+from __future__ import annotations
+
+import logging
+import queue
+import threading
+from collections.abc import Callable, Iterable
+from typing import Any
+
+import zenoh
+
+from . import keys
+from .config import Settings, zenoh_config
+from .schemas import FacingState, QueryError
+
+log = logging.getLogger("facing_service.client")
+
+StateCallback = Callable[[FacingState], Any]
+LostCallback = Callable[[str, str], Any]  # (body_id, frame_id)
+
+_STOP = object()
+
+
+class FacingClient:
+    """Live view of the facing service's results. Use as a context manager.
+
+    ``namespace`` is the service's; ``frame`` restricts the view to one base frame (``*``:
+    all). The session is configured like the service's (``mode``, ``connect``,
+    ``listen``, ``config``, ``cfg``, ``no_multicast_scouting``), or by a ready
+    ``session_config``.
+    """
+
+    def __init__(
+        self,
+        namespace: str = "hri",
+        frame: str = keys.ALL_FRAMES,
+        *,
+        session_config: zenoh.Config | None = None,
+        timeout_s: float = 2.0,
+        **session_flags: Any,
+    ) -> None:
+        self.namespace = keys.validate_namespace(namespace)
+        self.frame = keys.validate_frame_filter(frame)
+        self.timeout_s = timeout_s
+        self._config = session_config or zenoh_config(Settings(**session_flags))
+        self._lock = threading.Lock()
+        self._states: dict[tuple[str, str], FacingState] = {}  # (frame, body) -> latest
+        self._on: dict[str, list[Callable[..., Any]]] = {
+            "facing": [],
+            "not_facing": [],
+            "lost": [],
+            "change": [],
+        }
+        self._events: queue.SimpleQueue[object] = queue.SimpleQueue()
+        self._session: zenoh.Session | None = None
+        self._subscriber: zenoh.Subscriber[None] | None = None
+        self._dispatcher: threading.Thread | None = None
+
+    # -- lifecycle -------------------------------------------------------------------
+
+    def open(self) -> FacingClient:
+        self._session = zenoh.open(self._config)
+        self._dispatcher = threading.Thread(
+            target=self._dispatch, name="facing-client", daemon=True
+        )
+        self._dispatcher.start()
+        # Subscribe first, then seed: a result arriving meanwhile is newer than the
+        # query's answer and is kept (states only ever move forward in stamp order).
+        self._subscriber = self._session.declare_subscriber(
+            keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame), self._on_sample
+        )
+        for state in self._ask(None, None):
+            self._apply(state)
+        return self
+
+    def close(self) -> None:
+        if self._subscriber is not None:
+            self._subscriber.undeclare()
+            self._subscriber = None
+        if self._dispatcher is not None:
+            self._events.put(_STOP)
+            self._dispatcher.join(timeout=2.0)
+            self._dispatcher = None
+        if self._session is not None:
+            self._session.close()
+            self._session = None
+
+    def __enter__(self) -> FacingClient:
+        return self.open()
+
+    def __exit__(self, *_exc: object) -> None:
+        self.close()
+
+    @property
+    def session(self) -> zenoh.Session:
+        """The client's zenoh session, for applications that need more than results."""
+        assert self._session is not None, "client not open"
+        return self._session
+
+    # -- the cache -------------------------------------------------------------------
+
+    def bodies(self, frame: str) -> dict[str, FacingState]:
+        """Every body tracked in ``frame``, by id, with its latest result."""
+        with self._lock:
+            return {b: s for (f, b), s in self._states.items() if f == frame}
+
+    def bodies_facing(self, frame: str) -> list[str]:
+        """Ids of the bodies facing the robot in ``frame``, sorted."""
+        with self._lock:
+            return sorted(b for (f, b), s in self._states.items() if f == frame and s.facing)
+
+    # -- callbacks -------------------------------------------------------------------
+
+    def on_facing(self, callback: StateCallback) -> StateCallback:
+        """``callback(state)`` when a body starts facing the robot (or first appears
+        facing it). Bodies already facing when it is registered are reported at once."""
+        with self._lock:
+            current = [s for s in self._states.values() if s.facing]
+            self._on["facing"].append(callback)
+        for state in current:
+            self._events.put((callback, (state,)))
+        return callback
+
+    def on_not_facing(self, callback: StateCallback) -> StateCallback:
+        """``callback(state)`` when a body that faced the robot turns away."""
+        self._on["not_facing"].append(callback)
+        return callback
+
+    def on_lost(self, callback: LostCallback) -> LostCallback:
+        """``callback(body_id, frame_id)`` when a body is lost (deleted or stale)."""
+        self._on["lost"].append(callback)
+        return callback
+
+    def on_change(self, callback: StateCallback) -> StateCallback:
+        """``callback(state)`` for every result."""
+        self._on["change"].append(callback)
+        return callback
+
+    # -- asking the service ----------------------------------------------------------
+
+    def query(self, frame: str, threshold_deg: float | None = None) -> list[FacingState]:
+        """The service's current results for ``frame``, optionally re-decided under
+        another cone (``threshold_deg``, without hysteresis). Raises ValueError when the
+        service refuses the parameter."""
+        return sorted(self._ask(frame, threshold_deg), key=lambda s: s.body_id)
+
+    def _ask(self, frame: str | None, threshold_deg: float | None) -> list[FacingState]:
+        assert self._session is not None, "client not open"
+        selector = keys.facing_key(self.namespace, keys.ALL_FRAMES, frame or self.frame)
+        if threshold_deg is not None:
+            selector += f"?threshold_deg={threshold_deg}"
+        states = []
+        for reply in self._session.get(selector, timeout=self.timeout_s):
+            if reply.ok is not None:
+                states.append(FacingState.model_validate_json(reply.ok.payload.to_bytes()))
+            else:
+                error = QueryError.model_validate_json(reply.err.payload.to_bytes())
+                raise ValueError(f"{error.error}: {error.detail}")
+        return states
+
+    # -- zenoh side: keep the cache, queue the callbacks -------------------------------
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        try:
+            if sample.kind == zenoh.SampleKind.PUT:
+                self._apply(FacingState.model_validate_json(sample.payload.to_bytes()))
+                return
+            parts = str(sample.key_expr).split("/")
+            body_id, frame_id = parts[-3], parts[-1]
+            with self._lock:
+                known = self._states.pop((frame_id, body_id), None) is not None
+                callbacks = list(self._on["lost"]) if known else []
+            self._queue(callbacks, (body_id, frame_id))
+        except Exception:  # a bad sample must never break the subscription
+            log.exception("facing client: could not handle a sample on %s", sample.key_expr)
+
+    def _apply(self, state: FacingState) -> None:
+        key = (state.frame_id, state.body_id)
+        with self._lock:
+            previous = self._states.get(key)
+            if previous is not None and _stamp(previous) > _stamp(state):
+                return  # older than what we have (the seeding query raced a result)
+            self._states[key] = state
+            was_facing = previous is not None and previous.facing
+            callbacks = list(self._on["change"])
+            if state.facing and not was_facing:
+                callbacks += self._on["facing"]
+            elif was_facing and not state.facing:
+                callbacks += self._on["not_facing"]
+        self._queue(callbacks, (state,))
+
+    def _queue(self, callbacks: Iterable[Callable[..., Any]], args: tuple[Any, ...]) -> None:
+        for callback in callbacks:
+            self._events.put((callback, args))
+
+    def _dispatch(self) -> None:
+        while (event := self._events.get()) is not _STOP:
+            callback, args = event  # type: ignore[misc]
+            try:
+                callback(*args)
+            except Exception:
+                log.exception("facing client: a callback raised")
+
+
+def _stamp(state: FacingState) -> tuple[int, int]:
+    return state.stamp.sec, state.stamp.nanosec

@@ -1,0 +1,208 @@
+"""Synthetic scenes: people walking around a robot, stopping, turning toward it and away,
+appearing and leaving, seen through a noisy body tracker.
+
+Pure and deterministic: ``Scene.step(dt)`` advances the world and returns what a tracker
+would publish for that frame (poses, and ids that were lost), all from one seeded random
+generator, so the same seed always gives the same poses. ``simulate`` is the thin shell
+that publishes a scene over zenoh at a rate.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import random
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from enum import Enum
+
+#: The area people move in around the robot (metres, base frame; the robot at the origin).
+AREA_M = 4.0
+SPEED_M_S = 0.9
+#: Tracker-like noise, per published pose.
+YAW_NOISE_DEG = 3.0
+POSITION_NOISE_M = 0.03
+
+
+class Activity(str, Enum):
+    WALKING = "walking"
+    STOPPED = "stopped"
+    FACING = "facing"  # stopped, turned toward the robot
+    LEAVING = "leaving"
+
+
+@dataclass
+class Person:
+    body_id: str
+    x: float
+    y: float
+    yaw_deg: float
+    activity: Activity
+    until_s: float  # when the current activity ends
+    goal: tuple[float, float] = (0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class TrackedPose:
+    body_id: str
+    x: float
+    y: float
+    yaw_deg: float
+    sec: int
+    nanosec: int
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What the tracker publishes at one instant."""
+
+    poses: list[TrackedPose]
+    lost: list[str]
+
+
+@dataclass
+class Scene:
+    people: int = 5
+    seed: int = 0
+    #: Time at which the scene starts (the stamps' origin), in seconds.
+    start_s: float = 1_700_000_000.0
+    _rng: random.Random = field(init=False)
+    _now: float = field(init=False, default=0.0)
+    _crowd: dict[str, Person] = field(init=False, default_factory=dict)
+    _next_id: int = field(init=False, default=1)
+
+    def __post_init__(self) -> None:
+        self._rng = random.Random(self.seed)
+        for _ in range(self.people):
+            self._arrive()
+
+    @property
+    def now(self) -> float:
+        return self._now
+
+    def step(self, dt: float) -> Frame:
+        """Advance by ``dt`` seconds; the tracker's view of the new instant."""
+        self._now += dt
+        lost = []
+        for person in list(self._crowd.values()):
+            self._move(person, dt)
+            if person.activity is Activity.LEAVING and math.hypot(person.x, person.y) > AREA_M:
+                del self._crowd[person.body_id]
+                lost.append(person.body_id)
+        while len(self._crowd) < self.people:
+            self._arrive()
+        # integer nanoseconds: stamps never step back through a rounding carry
+        sec, nanosec = divmod(round((self.start_s + self._now) * 1e9), 1_000_000_000)
+        rng = self._rng
+        poses = [
+            TrackedPose(
+                p.body_id,
+                p.x + rng.gauss(0.0, POSITION_NOISE_M),
+                p.y + rng.gauss(0.0, POSITION_NOISE_M),
+                p.yaw_deg + rng.gauss(0.0, YAW_NOISE_DEG),
+                sec,
+                nanosec,
+            )
+            for p in self._crowd.values()
+        ]
+        return Frame(poses, lost)
+
+    def _arrive(self) -> None:
+        rng = self._rng
+        angle = rng.uniform(0, 2 * math.pi)
+        radius = rng.uniform(1.5, AREA_M)
+        person = Person(
+            body_id=f"p{self._next_id}",
+            x=radius * math.cos(angle),
+            y=radius * math.sin(angle),
+            yaw_deg=rng.uniform(-180, 180),
+            activity=Activity.WALKING,
+            until_s=self._now,
+        )
+        self._next_id += 1
+        self._crowd[person.body_id] = person
+        self._choose(person)
+
+    def _choose(self, person: Person) -> None:
+        """Pick the next activity: walk somewhere, stop, face the robot, or leave."""
+        rng = self._rng
+        roll = rng.random()
+        if roll < 0.35:
+            person.activity = Activity.WALKING
+            angle, radius = rng.uniform(0, 2 * math.pi), rng.uniform(0.8, AREA_M - 0.5)
+            person.goal = (radius * math.cos(angle), radius * math.sin(angle))
+            person.until_s = self._now + rng.uniform(2.0, 6.0)
+        elif roll < 0.55:
+            person.activity = Activity.STOPPED
+            person.yaw_deg += rng.uniform(-120, 120)
+            person.until_s = self._now + rng.uniform(1.0, 4.0)
+        elif roll < 0.9:
+            person.activity = Activity.FACING
+            person.until_s = self._now + rng.uniform(2.0, 6.0)
+        else:
+            person.activity = Activity.LEAVING
+            angle = math.atan2(person.y, person.x) + rng.uniform(-0.5, 0.5)
+            person.goal = (2 * AREA_M * math.cos(angle), 2 * AREA_M * math.sin(angle))
+            person.until_s = math.inf
+
+    def _move(self, person: Person, dt: float) -> None:
+        if self._now >= person.until_s:
+            self._choose(person)
+        if person.activity in (Activity.WALKING, Activity.LEAVING):
+            dx, dy = person.goal[0] - person.x, person.goal[1] - person.y
+            distance = math.hypot(dx, dy)
+            if distance < 0.05 and person.activity is Activity.WALKING:
+                person.until_s = self._now  # arrived: choose again next step
+                return
+            step = min(distance, SPEED_M_S * dt)
+            person.x += step * dx / max(distance, 1e-9)
+            person.y += step * dy / max(distance, 1e-9)
+            person.yaw_deg = math.degrees(math.atan2(dy, dx))
+        elif person.activity is Activity.FACING:
+            toward = math.degrees(math.atan2(-person.y, -person.x))
+            turn = (toward - person.yaw_deg + 180) % 360 - 180
+            person.yaw_deg += max(-180 * dt, min(180 * dt, turn))  # turns at 180 deg/s
+
+
+def pose_message(pose: TrackedPose, frame_id: str) -> bytes:
+    """The tracker's payload: a TransformStamped of ``body_<id>`` in ``frame_id``."""
+    half = math.radians(pose.yaw_deg) / 2
+    return json.dumps(
+        {
+            "header": {"stamp": {"sec": pose.sec, "nanosec": pose.nanosec}, "frame_id": frame_id},
+            "child_frame_id": f"body_{pose.body_id}",
+            "transform": {
+                "translation": {"x": pose.x, "y": pose.y, "z": 0.0},
+                "rotation": {"x": 0.0, "y": 0.0, "z": math.sin(half), "w": math.cos(half)},
+            },
+        }
+    ).encode()
+
+
+def simulate(
+    publish: Callable[[str, bytes | None], None],
+    scene: Scene,
+    frame_id: str,
+    namespace: str = "hri",
+    rate_hz: float = 30.0,
+    duration_s: float | None = None,
+    should_stop: Callable[[], bool] = lambda: False,
+) -> int:
+    """Publish ``scene`` in real time: ``publish(key, payload)`` for each pose and
+    ``publish(key, None)`` (a DELETE) for each person lost. Returns the frames published."""
+    period = 1.0 / rate_hz
+    started = time.monotonic()
+    frames = 0
+    while not should_stop() and (duration_s is None or frames * period < duration_s):
+        frame = scene.step(period)
+        for pose in frame.poses:
+            key = f"{namespace}/bodies/{pose.body_id}/pose/{frame_id}"
+            publish(key, pose_message(pose, frame_id))
+        for body_id in frame.lost:
+            publish(f"{namespace}/bodies/{body_id}/pose/{frame_id}", None)
+        frames += 1
+        delay = started + frames * period - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+    return frames

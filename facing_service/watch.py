@@ -1,0 +1,183 @@
+"""``facing-service watch``: a live terminal view of a running deployment.
+
+A top-down map around the robot (each person drawn where they stand, as an arrow along
+their heading; people facing the robot highlighted and labelled) beside a table of id,
+facing, angle, distance and since when. ``render`` is pure (plain data in, a rich
+renderable out) so the view is tested without a terminal; ``Watcher`` gathers the data
+from zenoh: results through a ``FacingClient``, positions and headings from the poses
+(a result alone does not say where a person stands).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import threading
+import time
+from dataclasses import dataclass
+
+import zenoh
+from rich.console import Group, RenderableType
+from rich.panel import Panel
+from rich.table import Table
+from rich.text import Text
+
+from . import keys
+from .client import FacingClient
+from .schemas import FacingState
+
+#: Arrows for a heading in the map (base x is up, base y is left), every 45 degrees.
+_ARROWS = "↑↖←↙↓↘→↗"
+
+
+@dataclass(frozen=True)
+class PersonView:
+    body_id: str
+    x: float
+    y: float
+    yaw_deg: float
+    facing: bool | None  # None: no result yet
+    angle_deg: float | None
+    distance_m: float | None
+    since_s: float | None  # how long the facing decision has held
+
+
+def arrow(yaw_deg: float) -> str:
+    return _ARROWS[round((yaw_deg % 360) / 45) % 8]
+
+
+def render(
+    people: list[PersonView],
+    frame_id: str,
+    radius_m: float = 4.0,
+    width: int = 41,
+    height: int = 19,
+) -> RenderableType:
+    """The map and the table for one instant."""
+    grid = [[" "] * width for _ in range(height)]
+    styles: dict[tuple[int, int], str] = {}
+    cx, cy = width // 2, height // 2
+    scale_x, scale_y = (width // 2) / radius_m, (height // 2) / radius_m
+    for row in range(height):  # range rings at 1 m
+        for col in range(width):
+            r = math.hypot((col - cx) / scale_x, (row - cy) / scale_y)
+            if abs(r - round(r)) < 0.06 and 0 < round(r) <= radius_m:
+                grid[row][col] = "·"
+                styles[(row, col)] = "grey35"
+    grid[cy][cx] = "R"
+    styles[(cy, cx)] = "bold cyan"
+    for person in sorted(people, key=lambda p: p.body_id):
+        col, row = cx - round(person.y * scale_x), cy - round(person.x * scale_y)
+        if not (0 <= row < height and 0 <= col < width):
+            continue
+        style = "bold green" if person.facing else "yellow"
+        grid[row][col] = arrow(person.yaw_deg)
+        styles[(row, col)] = style
+        if person.facing:
+            for i, char in enumerate(person.body_id[: width - col - 2]):
+                grid[row][col + 1 + i] = char
+                styles[(row, col + 1 + i)] = "green"
+    canvas = Text()
+    for row in range(height):
+        for col in range(width):
+            canvas.append(grid[row][col], styles.get((row, col), ""))
+        if row < height - 1:
+            canvas.append("\n")
+
+    table = Table(title=f"frame {frame_id}", expand=False)
+    for name in ("id", "facing", "angle °", "distance m", "since s"):
+        table.add_column(name, justify="left" if name == "id" else "right")
+    for person in sorted(people, key=lambda p: p.body_id):
+        table.add_row(
+            person.body_id,
+            "?" if person.facing is None else ("yes" if person.facing else "no"),
+            _number(person.angle_deg, 1),
+            _number(person.distance_m, 2),
+            _number(person.since_s, 1),
+            style="bold green" if person.facing else None,
+        )
+    facing = sum(1 for p in people if p.facing)
+    title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
+    return Group(Panel(canvas, title=title, expand=False), table)
+
+
+def _number(value: float | None, digits: int) -> str:
+    return "-" if value is None else f"{value:.{digits}f}"
+
+
+class Watcher:
+    """Gathers what ``render`` needs: results from a FacingClient, poses from the input."""
+
+    def __init__(self, client: FacingClient, frame: str) -> None:
+        self.client = client
+        self.frame = frame
+        self._lock = threading.Lock()
+        self._poses: dict[str, tuple[float, float, float]] = {}
+        self._since: dict[str, tuple[bool, float]] = {}
+        self._subscriber = client.session.declare_subscriber(
+            keys.pose_key(client.namespace, keys.ALL_FRAMES, frame), self._on_pose
+        )
+        client.on_change(self._on_result)
+        client.on_lost(self._on_lost)
+
+    def close(self) -> None:
+        self._subscriber.undeclare()
+
+    def _on_pose(self, sample: zenoh.Sample) -> None:
+        body_id = str(sample.key_expr).split("/")[-3]
+        with self._lock:
+            if sample.kind == zenoh.SampleKind.DELETE:
+                self._poses.pop(body_id, None)
+                return
+            try:
+                t = json.loads(sample.payload.to_bytes())["transform"]
+                q = t["rotation"]
+                yaw = math.degrees(
+                    math.atan2(
+                        2 * (q["w"] * q["z"] + q["x"] * q["y"]), 1 - 2 * (q["y"] ** 2 + q["z"] ** 2)
+                    )
+                )
+                self._poses[body_id] = (t["translation"]["x"], t["translation"]["y"], yaw)
+            except (ValueError, KeyError, TypeError):
+                pass  # the service counts bad input; the view just skips it
+
+    def _on_result(self, state: FacingState) -> None:
+        if state.frame_id != self.frame:
+            return
+        with self._lock:
+            previous = self._since.get(state.body_id)
+            if previous is None or previous[0] != state.facing:
+                self._since[state.body_id] = (state.facing, time.monotonic())
+
+    def _on_lost(self, body_id: str, frame_id: str) -> None:
+        if frame_id == self.frame:
+            with self._lock:
+                self._since.pop(body_id, None)
+                self._poses.pop(body_id, None)
+
+    def people(self) -> list[PersonView]:
+        states = self.client.bodies(self.frame)
+        now = time.monotonic()
+        with self._lock:
+            poses = dict(self._poses)
+            since = dict(self._since)
+        people = []
+        for body_id, (x, y, yaw) in poses.items():
+            state = states.get(body_id)
+            changed = since.get(body_id)
+            people.append(
+                PersonView(
+                    body_id,
+                    x,
+                    y,
+                    yaw,
+                    None if state is None else state.facing,
+                    None if state is None else state.angle_deg,
+                    None if state is None else state.distance_m,
+                    None if changed is None else now - changed[1],
+                )
+            )
+        return people
+
+    def view(self) -> RenderableType:
+        return render(self.people(), self.frame)
