@@ -7,4 +7,7 @@ try:
 except PackageNotFoundError:  # running from a source tree that was never installed
     __version__ = "0.0.0+unknown"
 
-__all__ = ["__version__"]
+from .client import FacingClient
+from .schemas import FacingState, FrameFacing
+
+__all__ = ["FacingClient", "FacingState", "FrameFacing", "__version__"]

@@ -8,6 +8,7 @@ them; every ``run`` flag can also come from a ``FACING_<NAME>`` environment vari
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import logging
 import os
@@ -184,6 +185,7 @@ def _build_parser() -> argparse.ArgumentParser:
     watch.add_argument(
         "--wait-s", type=float, default=1.0, help="with --once: gather data this long first"
     )
+    watch.add_argument("--svg", type=Path, help="also save the last frame as an SVG image")
     add_zenoh_arguments(watch)
 
     demo = commands.add_parser(
@@ -194,6 +196,7 @@ def _build_parser() -> argparse.ArgumentParser:
     )
     _add_scene_arguments(demo)
     demo.add_argument("--duration-s", type=float, help="end by itself after this long")
+    demo.add_argument("--svg", type=Path, help="save the last frame as an SVG image")
 
     export = commands.add_parser(
         "export-schemas", help="write the wire contract's JSON Schemas to a folder"
@@ -332,13 +335,22 @@ def _watch(args: argparse.Namespace) -> int:
             if args.once:
                 stop.wait(args.wait_s)
                 Console().print(watcher.view())
-                return 0
-            with Live(watcher.view(), refresh_per_second=10) as live:
-                while not stop.wait(0.1):
-                    live.update(watcher.view())
+            else:
+                with Live(watcher.view(), refresh_per_second=10) as live:
+                    while not stop.wait(0.1):
+                        live.update(watcher.view())
+            _save_svg(watcher, args.svg)
         finally:
             watcher.close()
     return 0
+
+
+def _save_svg(watcher: Watcher, path: Path | None) -> None:
+    """The current frame as an SVG image (rich's export), e.g. for documentation."""
+    if path is not None:
+        console = Console(record=True, width=100, file=io.StringIO())
+        console.print(watcher.view())
+        console.save_svg(str(path), title="facing-service watch")
 
 
 def _demo(args: argparse.Namespace) -> int:
@@ -347,8 +359,12 @@ def _demo(args: argparse.Namespace) -> int:
         return 2
     stop = _stop_on_signals()
     endpoint = f"tcp/127.0.0.1:{free_port()}"
+    # The embedded session is a router and the simulator and the view are its clients:
+    # a router does not forward between peers (it expects them to mesh), so as peers the
+    # view would get results but never the poses it draws people from.
     embedded = settings.model_copy(
         update={
+            "mode": "router",
             "listen": [endpoint],
             "no_multicast_scouting": True,
             "cfg": ["scouting/delay:0"],
@@ -357,14 +373,12 @@ def _demo(args: argparse.Namespace) -> int:
         }
     )
     logging.basicConfig(level=logging.WARNING)
-    peer = loopback_config(connect=[endpoint])
+    peer = loopback_config(connect=[endpoint], mode="client")
     seen_facing: set[str] = set()
     with (
         FacingService(embedded),
         zenoh.open(peer) as tracker,
-        FacingClient(
-            embedded.namespace, args.base_frame, session_config=loopback_config(connect=[endpoint])
-        ) as client,
+        FacingClient(embedded.namespace, args.base_frame, session_config=peer) as client,
     ):
         client.on_facing(lambda state: seen_facing.add(state.body_id))
         watcher = Watcher(client, args.base_frame)
@@ -388,6 +402,7 @@ def _demo(args: argparse.Namespace) -> int:
                 while feeder.is_alive() and not stop.wait(0.1):
                     live.update(watcher.view())
                 live.update(watcher.view())
+            _save_svg(watcher, args.svg)
         finally:
             stop.set()
             feeder.join(timeout=2.0)

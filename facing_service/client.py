@@ -19,6 +19,7 @@ from __future__ import annotations
 import logging
 import queue
 import threading
+import time
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -84,9 +85,30 @@ class FacingClient:
         self._subscriber = self._session.declare_subscriber(
             keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame), self._on_sample
         )
-        for state in self._ask(None, None):
-            self._apply(state)
+        if self._wait_for_service():
+            for state in self._ask(None, None):
+                self._apply(state)
+        else:
+            log.warning(
+                "no facing service seen within %.1f s; the cache fills as results arrive",
+                self.timeout_s,
+            )
         return self
+
+    def _wait_for_service(self) -> bool:
+        """Wait (up to ``timeout_s``) until a service's liveliness token is visible. A
+        session just opened may not be connected yet, and the service declares its token
+        after its queryables: once the token is seen, the seeding query reaches them."""
+        assert self._session is not None
+        token = keys.service_token(self.namespace, "*")
+        deadline = time.monotonic() + self.timeout_s
+        while True:
+            for reply in self._session.liveliness().get(token, timeout=0.2):
+                if reply.ok is not None:
+                    return True
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(0.05)
 
     def close(self) -> None:
         if self._subscriber is not None:

@@ -1,0 +1,71 @@
+"""A behaviour: greet people once when they start facing the robot, say goodbye when
+they turn away for good or leave.
+
+    python examples/greeter.py [-e tcp/<host>:7447] [--frame base_link]
+
+Transitions, not samples: on_facing fires once when someone turns toward the robot, not
+30 times a second. A short grace period keeps a glance away from ending the conversation.
+"""
+
+from __future__ import annotations
+
+import argparse
+import threading
+import time
+
+from facing_service import FacingClient, FacingState
+
+GRACE_S = 2.0  # turned away for less than this: still talking
+
+
+class Greeter:
+    def __init__(self) -> None:
+        self.talking: dict[str, float | None] = {}  # id -> when they turned away, or None
+        self.lock = threading.Lock()
+
+    def hello(self, state: FacingState) -> None:
+        with self.lock:
+            if state.body_id not in self.talking:
+                print(f"hello {state.body_id}! (at {state.distance_m:.1f} m)", flush=True)
+            self.talking[state.body_id] = None
+
+    def turned_away(self, state: FacingState) -> None:
+        with self.lock:
+            if state.body_id in self.talking:
+                self.talking[state.body_id] = time.monotonic()
+
+    def lost(self, body_id: str, _frame_id: str) -> None:
+        with self.lock:
+            if self.talking.pop(body_id, "absent") != "absent":
+                print(f"goodbye {body_id}", flush=True)
+
+    def tick(self) -> None:
+        """Say goodbye to whoever has looked away for longer than the grace period."""
+        now = time.monotonic()
+        with self.lock:
+            for body_id, since in list(self.talking.items()):
+                if since is not None and now - since > GRACE_S:
+                    del self.talking[body_id]
+                    print(f"goodbye {body_id}", flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("-e", "--connect", action="append", default=[])
+    parser.add_argument("--frame", default="base_link")
+    parser.add_argument("--duration-s", type=float, help="stop after this long")
+    args = parser.parse_args()
+
+    greeter = Greeter()
+    with FacingClient(connect=args.connect, frame=args.frame) as hri:
+        hri.on_facing(greeter.hello)
+        hri.on_not_facing(greeter.turned_away)
+        hri.on_lost(greeter.lost)
+        started = time.monotonic()
+        while args.duration_s is None or time.monotonic() - started < args.duration_s:
+            greeter.tick()
+            time.sleep(0.1)
+
+
+if __name__ == "__main__":
+    main()
