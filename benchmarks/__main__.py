@@ -18,6 +18,7 @@ import subprocess
 import sys
 import time
 from contextlib import AbstractContextManager
+from importlib import metadata
 from pathlib import Path
 
 import zenoh
@@ -197,7 +198,7 @@ def main() -> None:
             "cpus": os.cpu_count(),
             "platform": platform.platform(),
             "python": platform.python_version(),
-            "zenoh": zenoh.__version__ if hasattr(zenoh, "__version__") else "unknown",
+            "zenoh": metadata.version("eclipse-zenoh"),
         },
         "parameters": {k: v for k, v in vars(args).items() if k != "out"} | {"out": str(args.out)},
         "relay": measure("relay", args),
