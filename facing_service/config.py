@@ -17,15 +17,16 @@ from pathlib import Path
 from typing import Any, Literal
 
 import zenoh
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from . import keys
+from .engagement import EngagementParams
 from .schemas import DEFAULT_MAX_PAYLOAD_BYTES
 
 ENV_PREFIX = "FACING_"
 #: In environment variables, list settings are comma-separated, except ``FACING_CFG``
 #: whose JSON5 values may hold commas: its entries are separated by ``;``.
-_LIST_SEPARATORS = {"connect": ",", "listen": ",", "cfg": ";"}
+_LIST_SEPARATORS = {"connect": ",", "listen": ",", "cfg": ";", "zones_m": ","}
 
 LogLevel = Literal["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"]
 
@@ -46,6 +47,13 @@ class Settings(BaseModel):
     stale_after_s: float = Field(default=2.0, gt=0.0, allow_inf_nan=False)
     max_payload_bytes: int = Field(default=DEFAULT_MAX_PAYLOAD_BYTES, gt=0)
     max_bodies: int = Field(default=10_000, gt=0)
+    engage_above: float = Field(default=0.6, gt=0.0, le=1.0)
+    disengage_below: float = Field(default=0.35, ge=0.0, lt=1.0)
+    engagement_tau_s: float = Field(default=0.25, gt=0.0, allow_inf_nan=False)
+    engage_dwell_s: float = Field(default=0.5, ge=0.0, allow_inf_nan=False)
+    disengage_dwell_s: float = Field(default=0.6, ge=0.0, allow_inf_nan=False)
+    engagement_period_s: float = Field(default=1.0, gt=0.0, allow_inf_nan=False)
+    zones_m: list[float] = [0.45, 1.2, 3.6]
     instance: str = Field(default_factory=default_instance)
     log_level: LogLevel = "INFO"
     # zenoh session; None means "as the config file says, else zenoh's default (peer)".
@@ -75,6 +83,33 @@ class Settings(BaseModel):
     @classmethod
     def _log_level(cls, value: Any) -> Any:
         return value.upper() if isinstance(value, str) else value
+
+    @field_validator("zones_m")
+    @classmethod
+    def _zones(cls, value: list[float]) -> list[float]:
+        if len(value) != 3 or not 0 < value[0] < value[1] < value[2]:
+            raise ValueError("zones_m is INTIMATE,PERSONAL,SOCIAL limits, increasing, > 0")
+        return value
+
+    @model_validator(mode="after")
+    def _hysteresis(self) -> Settings:
+        if self.disengage_below >= self.engage_above:
+            raise ValueError("disengage_below must be below engage_above")
+        return self
+
+    def engagement_params(self) -> EngagementParams:
+        intimate, personal, social = self.zones_m
+        return EngagementParams(
+            threshold_deg=self.threshold_deg,
+            tau_s=self.engagement_tau_s,
+            engage_above=self.engage_above,
+            disengage_below=self.disengage_below,
+            engage_dwell_s=self.engage_dwell_s,
+            disengage_dwell_s=self.disengage_dwell_s,
+            intimate_m=intimate,
+            personal_m=personal,
+            social_m=social,
+        )
 
     @field_validator("cfg")
     @classmethod

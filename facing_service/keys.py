@@ -5,6 +5,8 @@ Layout (``NS`` is the namespace, one or more chunks such as ``hri`` or ``robot1/
     NS/bodies/<body_id>/pose/<base_frame>     input poses (PUT) and body lost (DELETE)
     NS/bodies/<body_id>/facing/<base_frame>   per-body result (PUT) and lost/stale (DELETE)
     NS/facing/<base_frame>                    per-frame aggregate
+    NS/bodies/<body_id>/engagement/<frame>    per-body engagement level
+    NS/events/engagement/<base_frame>         engagement level changes
     NS/services/facing/<instance>             liveliness token while a service runs
     NS/services/facing/<instance>/status      status queryable
 
@@ -54,6 +56,14 @@ def pose_key(namespace: str, body_id: str, frame_id: str) -> str:
 
 def facing_key(namespace: str, body_id: str, frame_id: str) -> str:
     return f"{namespace}/bodies/{body_id}/facing/{frame_id}"
+
+
+def engagement_key(namespace: str, body_id: str, frame_id: str) -> str:
+    return f"{namespace}/bodies/{body_id}/engagement/{frame_id}"
+
+
+def event_key(namespace: str, frame_id: str) -> str:
+    return f"{namespace}/events/engagement/{frame_id}"
 
 
 def frame_key(namespace: str, frame_id: str) -> str:

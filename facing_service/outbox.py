@@ -28,6 +28,8 @@ DEFAULT_LIMIT = 10_000
 class Kind(str, Enum):
     RESULT = "result"  # per-body result: may be superseded past the limit
     FRAME = "frame"  # per-frame aggregate: a state change, never superseded
+    ENGAGEMENT = "engagement"  # per-body engagement level: never superseded
+    EVENT = "event"  # a change of engagement level: never superseded
     DELETE = "delete"  # a body lost: a state change, never superseded
 
 
@@ -63,9 +65,9 @@ class Outbox:
                 self._latest_result[key] = slot
             self._cond.notify()
 
-    def add_frame(self, key: str, payload: bytes) -> None:
-        """A per-frame aggregate: kept, in order, never conflated."""
-        self._add_change(Publication(key, payload, Kind.FRAME))
+    def add_change(self, key: str, payload: bytes, kind: Kind) -> None:
+        """A state change (aggregate, engagement, event): kept, in order, never conflated."""
+        self._add_change(Publication(key, payload, kind))
 
     def add_delete(self, key: str) -> None:
         """A body lost: kept, in order, never conflated."""

@@ -135,6 +135,33 @@ class FrameFacing(BaseModel):
     bodies_tracked: list[str]
 
 
+class EngagementState(BaseModel):
+    """Output per body on ``NS/bodies/<id>/engagement/<frame>``: published on every change
+    of level and at a modest rate otherwise (``--engagement-period-s``)."""
+
+    body_id: str
+    frame_id: str
+    stamp: Stamp = Field(description="Stamp of the newest pose behind this state.")
+    level: str = Field(description="UNKNOWN, DISENGAGED, ENGAGING, ENGAGED or DISENGAGING.")
+    level_value: int = Field(description="As hri_msgs/EngagementLevel: 0 to 4, same order.")
+    score: float = Field(description="The smoothed facing score, in [0, 1].")
+    zone: str = Field(description="Proxemic zone: intimate, personal, social or public.")
+    since: Stamp = Field(description="Stamp at which the current level began.")
+
+
+class EngagementEvent(BaseModel):
+    """A change of level, on ``NS/events/engagement/<frame>``."""
+
+    body_id: str
+    frame_id: str
+    stamp: Stamp
+    previous: str
+    level: str
+    level_value: int
+    score: float
+    zone: str
+
+
 class ServiceStatus(BaseModel):
     """Reply of ``NS/services/facing/<instance>/status``: health, counters, config."""
 
@@ -254,6 +281,8 @@ SCHEMA_FILES: dict[str, tuple[type[BaseModel], str]] = {
     "facing_state.schema.json": (FacingState, "serialization"),
     "frame_facing.schema.json": (FrameFacing, "serialization"),
     "query_error.schema.json": (QueryError, "serialization"),
+    "engagement_state.schema.json": (EngagementState, "serialization"),
+    "engagement_event.schema.json": (EngagementEvent, "serialization"),
     "status.schema.json": (ServiceStatus, "serialization"),
 }
 

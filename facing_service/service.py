@@ -36,9 +36,19 @@ import zenoh
 
 from . import __version__, keys
 from .config import Settings, zenoh_config
+from .engagement import Level
 from .outbox import Kind, Outbox, Publication
-from .schemas import QueryError, Rejected, Rejection, ServiceStatus, decode_pose
-from .tracker import Changes, PoseSample, Tracker
+from .schemas import (
+    EngagementEvent,
+    EngagementState,
+    QueryError,
+    Rejected,
+    Rejection,
+    ServiceStatus,
+    Stamp,
+    decode_pose,
+)
+from .tracker import Changes, EngagementUpdate, PoseSample, Tracker
 
 log = logging.getLogger("facing_service")
 
@@ -61,6 +71,8 @@ COUNTERS = (
     "results_superseded",
     "deletes_published",
     "frames_published",
+    "engagement_published",
+    "events_published",
     "queries_answered",
     "queries_refused",
     "publish_errors",
@@ -100,7 +112,7 @@ class _Publishers:
 @dataclass(frozen=True)
 class _QueryItem:
     query: zenoh.Query
-    per_body: bool  # which output key space the query reached us through
+    space: str  # which output key space it reached us through: facing, frame, engagement
 
 
 class _RejectionLog:
@@ -159,6 +171,8 @@ class FacingService:
             settings.stale_after_s,
             frames=fixed,
             max_bodies=settings.max_bodies,
+            engagement=settings.engagement_params(),
+            engagement_period_s=settings.engagement_period_s,
         )
         self._inbox: queue.Queue[tuple[float, object]] = queue.Queue(maxsize=INBOX_SIZE)
         self._outbox = Outbox()
@@ -194,10 +208,14 @@ class FacingService:
             self._entities = [
                 session.declare_subscriber(subscription, self._enqueue),
                 session.declare_queryable(
-                    body_space, lambda q: self._enqueue(_QueryItem(q, per_body=True))
+                    body_space, lambda q: self._enqueue(_QueryItem(q, "facing"))
                 ),
                 session.declare_queryable(
-                    frame_space, lambda q: self._enqueue(_QueryItem(q, per_body=False))
+                    frame_space, lambda q: self._enqueue(_QueryItem(q, "frame"))
+                ),
+                session.declare_queryable(
+                    keys.engagement_key(ns, keys.ALL_FRAMES, frame),
+                    lambda q: self._enqueue(_QueryItem(q, "engagement")),
                 ),
                 session.declare_queryable(keys.status_key(ns, s.instance), self._on_status),
             ]
@@ -434,11 +452,25 @@ class FacingService:
                 (keys.facing_key(ns, state.body_id, state.frame_id), state.to_json())
                 for state in changes.results
             )
+        for update in changes.engagement:
+            if update.level is not Level.UNKNOWN:
+                self._outbox.add_change(
+                    keys.engagement_key(ns, update.body_id, update.frame_id),
+                    _engagement_state(update).model_dump_json().encode(),
+                    Kind.ENGAGEMENT,
+                )
+            if update.previous is not None:
+                self._outbox.add_change(
+                    keys.event_key(ns, update.frame_id),
+                    _engagement_event(update).model_dump_json().encode(),
+                    Kind.EVENT,
+                )
         for frame_id, body_id in changes.lost:
             self._outbox.add_delete(keys.facing_key(ns, body_id, frame_id))
+            self._outbox.add_delete(keys.engagement_key(ns, body_id, frame_id))
         for frame in changes.frames:
-            self._outbox.add_frame(
-                keys.frame_key(ns, frame.frame_id), frame.model_dump_json().encode()
+            self._outbox.add_change(
+                keys.frame_key(ns, frame.frame_id), frame.model_dump_json().encode(), Kind.FRAME
             )
 
     def _answer(self, item: _QueryItem) -> None:
@@ -459,10 +491,18 @@ class FacingService:
         else:
             states, frames = self._tracker.evaluate(threshold)
         ns = self.settings.namespace
-        if item.per_body:
+        if item.space == "facing":
             replies = [(keys.facing_key(ns, s.body_id, s.frame_id), s.to_json()) for s in states]
-        else:
+        elif item.space == "frame":
             replies = [(keys.frame_key(ns, f.frame_id), f.model_dump_json()) for f in frames]
+        else:
+            replies = [
+                (
+                    keys.engagement_key(ns, e.body_id, e.frame_id),
+                    _engagement_state(e).model_dump_json(),
+                )
+                for e in self._tracker.engagements()
+            ]
         for key, payload in replies:
             if query.key_expr.intersects(zenoh.KeyExpr(key)):
                 query.reply(key, payload, encoding=JSON)
@@ -502,7 +542,42 @@ class FacingService:
             session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
             return "deletes_published"
         publishers.put(p.key, p.payload)
-        return "frames_published" if p.kind is Kind.FRAME else "results_published"
+        return _COUNTER[p.kind]
+
+
+_COUNTER = {
+    Kind.RESULT: "results_published",
+    Kind.FRAME: "frames_published",
+    Kind.ENGAGEMENT: "engagement_published",
+    Kind.EVENT: "events_published",
+}
+
+
+def _engagement_state(update: EngagementUpdate) -> EngagementState:
+    return EngagementState(
+        body_id=update.body_id,
+        frame_id=update.frame_id,
+        stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+        level=update.level.name,
+        level_value=int(update.level),
+        score=update.score,
+        zone=update.zone.value,
+        since=Stamp(sec=update.since[0], nanosec=update.since[1]),
+    )
+
+
+def _engagement_event(update: EngagementUpdate) -> EngagementEvent:
+    assert update.previous is not None
+    return EngagementEvent(
+        body_id=update.body_id,
+        frame_id=update.frame_id,
+        stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+        previous=update.previous.name,
+        level=update.level.name,
+        level_value=int(update.level),
+        score=update.score,
+        zone=update.zone.value,
+    )
 
 
 def _threshold_parameter(parameters: zenoh.Parameters) -> float | None:

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import detector
+from .engagement import Engagement, EngagementParams, Level, Zone, facing_score, step, zone
 from .schemas import FrameFacing, Pose, Stamp, facing_state_json
 
 BodyKey = tuple[str, str]  # (frame_id, body_id)
@@ -53,6 +54,30 @@ class BodyState:
         )
 
 
+@dataclass(frozen=True, slots=True)
+class EngagementUpdate:
+    """A body's engagement to publish: ``previous`` is set when the level just changed
+    (then it is also an event); UNKNOWN with a previous level means the body was lost."""
+
+    body_id: str
+    frame_id: str
+    stamp: tuple[int, int]
+    level: Level
+    score: float
+    zone: Zone
+    since: tuple[int, int]
+    previous: Level | None
+
+
+def _stamp_s(stamp: tuple[int, int]) -> float:
+    return stamp[0] + stamp[1] * 1e-9
+
+
+def _to_stamp(seconds: float) -> tuple[int, int]:
+    sec, nanosec = divmod(round(seconds * 1e9), 1_000_000_000)
+    return sec, nanosec
+
+
 @dataclass
 class Changes:
     """What one tracker call changed, in the order it must be published."""
@@ -62,6 +87,7 @@ class Changes:
     frames: list[FrameFacing] = field(default_factory=list)
     out_of_order: list[PoseSample] = field(default_factory=list)
     over_capacity: list[PoseSample] = field(default_factory=list)
+    engagement: list[EngagementUpdate] = field(default_factory=list)
 
 
 @dataclass(slots=True)
@@ -69,6 +95,8 @@ class _Track:
     pose: Pose
     last_seen: float
     state: BodyState
+    engagement: Engagement = field(default_factory=Engagement)
+    engagement_published: float = float("-inf")  # pose time of the last update sent
 
 
 @dataclass
@@ -146,7 +174,11 @@ class Tracker:
         stale_after_s: float,
         frames: Iterable[str] = (),
         max_bodies: int = 10_000,
+        engagement: EngagementParams | None = None,
+        engagement_period_s: float = 1.0,
     ) -> None:
+        self.engagement = engagement or EngagementParams(threshold_deg=threshold_deg)
+        self.engagement_period_s = engagement_period_s
         self.threshold_deg = threshold_deg
         self.hysteresis_deg = hysteresis_deg
         self.stale_after_s = stale_after_s
@@ -200,7 +232,9 @@ class Tracker:
             ]
             states = _classify(generation, thresholds, self.threshold_deg)
             for sample, state in zip(generation, states, strict=True):
-                self._store(sample, state, now)
+                update = self._store(sample, state, now)
+                if update is not None:
+                    changes.engagement.append(update)
                 touched.add(sample.frame_id)
             changes.results.extend(states)
         changes.frames = self._frame_changes(touched)
@@ -271,10 +305,17 @@ class Tracker:
         track = self._tracks.get(key)
         return track is not None and track.state.facing
 
-    def _store(self, sample: PoseSample, state: BodyState, now: float) -> None:
+    def _store(self, sample: PoseSample, state: BodyState, now: float) -> EngagementUpdate | None:
+        """Keep the new state; the engagement update to publish, if one is due."""
         key = (sample.frame_id, sample.body_id)
-        self._tracks[key] = _Track(sample.pose, now, state)
+        previous = self._tracks.get(key)
+        track = _Track(sample.pose, now, state)
+        if previous is not None:
+            track.engagement = previous.engagement
+            track.engagement_published = previous.engagement_published
+        self._tracks[key] = track
         self._tracks.move_to_end(key)
+        update = self._engage(track, state)
         frame = self._frames.setdefault(sample.frame_id, _Frame())
         if sample.body_id not in frame.tracked:
             frame.tracked.add(sample.body_id)
@@ -287,9 +328,55 @@ class Tracker:
             frame.dirty = True
         if frame.stamp is None or sample.pose.stamp > frame.stamp:
             frame.stamp = sample.pose.stamp
+        return update
+
+    def _engage(self, track: _Track, state: BodyState) -> EngagementUpdate | None:
+        """Step the body's engagement on the pose's own clock (its stamp)."""
+        p = self.engagement
+        t = _stamp_s(state.stamp)
+        before = track.engagement.level
+        track.engagement = step(
+            track.engagement, t, facing_score(state.angle_deg, state.distance_m, p), p
+        )
+        changed = track.engagement.level is not before
+        if not changed and t - track.engagement_published < self.engagement_period_s:
+            return None
+        track.engagement_published = t
+        return self._engagement_update(track, before if changed else None)
+
+    def _engagement_update(self, track: _Track, previous: Level | None) -> EngagementUpdate:
+        state, engagement = track.state, track.engagement
+        return EngagementUpdate(
+            state.body_id,
+            state.frame_id,
+            state.stamp,
+            engagement.level,
+            engagement.score,
+            zone(state.distance_m, self.engagement),
+            _to_stamp(engagement.since),
+            previous,
+        )
+
+    def engagements(self) -> list[EngagementUpdate]:
+        """The current engagement of every tracked body (for queries)."""
+        return [self._engagement_update(track, None) for track in self._tracks.values()]
 
     def _remove(self, key: BodyKey, changes: Changes) -> None:
-        del self._tracks[key]
+        track = self._tracks.pop(key)
+        if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
+            update = self._engagement_update(track, track.engagement.level)
+            changes.engagement.append(
+                EngagementUpdate(
+                    update.body_id,
+                    update.frame_id,
+                    update.stamp,
+                    Level.UNKNOWN,
+                    update.score,
+                    update.zone,
+                    update.stamp,
+                    update.previous,
+                )
+            )
         frame_id, body_id = key
         frame = self._frames[frame_id]
         frame.tracked.discard(body_id)

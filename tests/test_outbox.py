@@ -1,13 +1,13 @@
 import threading
 
-from facing_service.outbox import Outbox
+from facing_service.outbox import Kind, Outbox
 
 
 def test_everything_is_kept_in_order_below_the_limit():
     box = Outbox(limit=100)
     for i in range(5):
         box.add_results([("r/a", str(i).encode())])
-    box.add_frame("f", b"agg")
+    box.add_change("f", b"agg", Kind.FRAME)
     taken = [(p.key, p.payload, p.kind.value) for p in box.take()]
     assert taken == [("r/a", str(i).encode(), "result") for i in range(5)] + [
         ("f", b"agg", "frame")
@@ -31,7 +31,7 @@ def test_past_the_limit_results_conflate_and_move_behind_later_changes():
 def test_changes_never_conflate():
     box = Outbox(limit=10)
     for i in range(1000):
-        box.add_frame("f", str(i).encode())
+        box.add_change("f", str(i).encode(), Kind.FRAME)
     assert [p.payload for p in box.take()] == [str(i).encode() for i in range(1000)]
 
 
@@ -49,7 +49,7 @@ def test_take_wakes_on_close_and_on_new_items():
     results = []
     reader = threading.Thread(target=lambda: results.append(box.take(timeout=10)))
     reader.start()
-    box.add_frame("f", b"x")
+    box.add_change("f", b"x", Kind.FRAME)
     reader.join(timeout=5)
     assert results and results[0][0].key == "f"
     reader = threading.Thread(target=lambda: results.append(box.take(timeout=10)))
@@ -61,7 +61,7 @@ def test_take_wakes_on_close_and_on_new_items():
 
 def test_depth_counts_taken_publications_until_sent():
     box = Outbox()
-    box.add_frame("f", b"1")
+    box.add_change("f", b"1", Kind.FRAME)
     box.add_results([("r", b"2")])
     taken = box.take()
     assert len(taken) == 2 and len(box) == 2

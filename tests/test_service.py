@@ -109,7 +109,7 @@ def test_stale_body_is_deleted(rig):
     rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete", timeout=3)
     rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == [], timeout=3)
     wait_until_answered(client, FRAME_KEY)  # the worker finished the batch that published
-    assert service.status().counters["deletes_published"] == 1
+    assert service.status().counters["deletes_published"] == 2  # its result and engagement
 
 
 def test_out_of_order_stamps_are_dropped_and_counted(rig):
@@ -151,7 +151,8 @@ def test_queries_answer_current_state_and_what_if_thresholds(rig):
 
     everything = dict(get(client, f"{NS}/**"))
     status = f"{NS}/services/facing/{service.settings.instance}/status"
-    assert set(everything) == {body_key("a"), body_key("b"), FRAME_KEY, status}
+    engagement = {f"{NS}/bodies/{b}/engagement/cam" for b in ("a", "b")}
+    assert set(everything) == {body_key("a"), body_key("b"), FRAME_KEY, status, *engagement}
 
     what_if = dict(get(client, f"{NS}/bodies/*/facing/cam?threshold_deg=35"))
     assert what_if[body_key("b")]["facing"] and what_if[body_key("b")]["threshold_deg"] == 35.0
