@@ -142,6 +142,23 @@ def _build_parser() -> argparse.ArgumentParser:
         help=f"this service's name in NS/services/facing/<instance> "
         f"(env {env_name('instance')}; default <host name>-<pid>)",
     )
+    engagement = run.add_argument_group("engagement levels (see README, Engagement)")
+    for name, kind, help_text in (
+        ("engage-above", float, "smoothed score at which a body starts ENGAGING"),
+        ("disengage-below", float, "smoothed score below which ENGAGED turns DISENGAGING"),
+        ("engagement-tau-s", float, "time constant of the smoothed score"),
+        ("engage-dwell-s", float, "ENGAGING must hold this long to become ENGAGED"),
+        ("disengage-dwell-s", float, "DISENGAGING must hold this long to become DISENGAGED"),
+        ("engagement-period-s", float, "republish an unchanged level this often"),
+    ):
+        field = name.replace("-", "_")
+        engagement.add_argument(f"--{name}", type=kind, help=f"{help_text} ({_default(field)})")
+    engagement.add_argument(
+        "--zones-m",
+        type=lambda text: [float(v) for v in text.split(",")],
+        metavar="INTIMATE,PERSONAL,SOCIAL",
+        help=f"proxemic zone limits in metres ({_default('zones_m')}; comma-separated)",
+    )
     run.add_argument("--log-level", help=f"log level ({_default('log_level')})")
     add_zenoh_arguments(run)
 

@@ -27,11 +27,12 @@ import zenoh
 
 from . import keys
 from .config import Settings, zenoh_config
-from .schemas import FacingState, QueryError
+from .schemas import EngagementEvent, FacingState, QueryError
 
 log = logging.getLogger("facing_service.client")
 
 StateCallback = Callable[[FacingState], Any]
+EventCallback = Callable[[EngagementEvent], Any]
 LostCallback = Callable[[str, str], Any]  # (body_id, frame_id)
 
 _STOP = object()
@@ -66,10 +67,13 @@ class FacingClient:
             "not_facing": [],
             "lost": [],
             "change": [],
+            "engaged": [],
+            "disengaged": [],
         }
         self._events: queue.SimpleQueue[object] = queue.SimpleQueue()
         self._session: zenoh.Session | None = None
         self._subscriber: zenoh.Subscriber[None] | None = None
+        self._events_subscriber: zenoh.Subscriber[None] | None = None
         self._dispatcher: threading.Thread | None = None
 
     # -- lifecycle -------------------------------------------------------------------
@@ -84,6 +88,9 @@ class FacingClient:
         # query's answer and is kept (states only ever move forward in stamp order).
         self._subscriber = self._session.declare_subscriber(
             keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame), self._on_sample
+        )
+        self._events_subscriber = self._session.declare_subscriber(
+            keys.event_key(self.namespace, self.frame), self._on_event
         )
         if self._wait_for_service():
             for state in self._ask(None, None):
@@ -111,9 +118,10 @@ class FacingClient:
             time.sleep(0.05)
 
     def close(self) -> None:
-        if self._subscriber is not None:
-            self._subscriber.undeclare()
-            self._subscriber = None
+        for subscriber in (self._subscriber, self._events_subscriber):
+            if subscriber is not None:
+                subscriber.undeclare()
+        self._subscriber = self._events_subscriber = None
         if self._dispatcher is not None:
             self._events.put(_STOP)
             self._dispatcher.join(timeout=2.0)
@@ -173,6 +181,16 @@ class FacingClient:
         self._on["change"].append(callback)
         return callback
 
+    def on_engaged(self, callback: EventCallback) -> EventCallback:
+        """``callback(event)`` when a body becomes ENGAGED (see README, Engagement)."""
+        self._on["engaged"].append(callback)
+        return callback
+
+    def on_disengaged(self, callback: EventCallback) -> EventCallback:
+        """``callback(event)`` when an engaged body becomes DISENGAGED or is lost."""
+        self._on["disengaged"].append(callback)
+        return callback
+
     # -- asking the service ----------------------------------------------------------
 
     def query(self, frame: str, threshold_deg: float | None = None) -> list[FacingState]:
@@ -210,6 +228,18 @@ class FacingClient:
             self._queue(callbacks, (body_id, frame_id))
         except Exception:  # a bad sample must never break the subscription
             log.exception("facing client: could not handle a sample on %s", sample.key_expr)
+
+    def _on_event(self, sample: zenoh.Sample) -> None:
+        try:
+            event = EngagementEvent.model_validate_json(sample.payload.to_bytes())
+        except Exception:
+            log.exception("facing client: could not read an engagement event")
+            return
+        was_engaged = event.previous in ("ENGAGED", "DISENGAGING")
+        if event.level == "ENGAGED" and not was_engaged:
+            self._queue(list(self._on["engaged"]), (event,))
+        elif event.level in ("DISENGAGED", "UNKNOWN") and was_engaged:
+            self._queue(list(self._on["disengaged"]), (event,))
 
     def _apply(self, state: FacingState) -> None:
         key = (state.frame_id, state.body_id)

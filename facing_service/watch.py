@@ -10,6 +10,7 @@ from zenoh: results through a ``FacingClient``, positions and headings from the 
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import threading
@@ -40,6 +41,7 @@ class PersonView:
     angle_deg: float | None
     distance_m: float | None
     since_s: float | None  # how long the facing decision has held
+    engagement: str | None = None  # the engagement level, when known
 
 
 def arrow(yaw_deg: float) -> str:
@@ -85,7 +87,7 @@ def render(
             canvas.append("\n")
 
     table = Table(title=f"frame {frame_id}", expand=False)
-    for name in ("id", "facing", "angle °", "distance m", "since s"):
+    for name in ("id", "facing", "angle °", "distance m", "since s", "engagement"):
         table.add_column(name, justify="left" if name == "id" else "right")
     for person in sorted(people, key=lambda p: p.body_id):
         table.add_row(
@@ -94,6 +96,10 @@ def render(
             _number(person.angle_deg, 1),
             _number(person.distance_m, 2),
             _number(person.since_s, 1),
+            Text(
+                person.engagement or "-",
+                style="bold magenta" if person.engagement == "ENGAGED" else "",
+            ),
             style="bold green" if person.facing else None,
         )
     facing = sum(1 for p in people if p.facing)
@@ -114,14 +120,31 @@ class Watcher:
         self._lock = threading.Lock()
         self._poses: dict[str, tuple[float, float, float]] = {}
         self._since: dict[str, tuple[bool, float]] = {}
-        self._subscriber = client.session.declare_subscriber(
-            keys.pose_key(client.namespace, keys.ALL_FRAMES, frame), self._on_pose
-        )
+        self._levels: dict[str, str] = {}
+        self._subscribers = [
+            client.session.declare_subscriber(
+                keys.pose_key(client.namespace, keys.ALL_FRAMES, frame), self._on_pose
+            ),
+            client.session.declare_subscriber(
+                keys.engagement_key(client.namespace, keys.ALL_FRAMES, frame),
+                self._on_engagement,
+            ),
+        ]
         client.on_change(self._on_result)
         client.on_lost(self._on_lost)
 
     def close(self) -> None:
-        self._subscriber.undeclare()
+        for subscriber in self._subscribers:
+            subscriber.undeclare()
+
+    def _on_engagement(self, sample: zenoh.Sample) -> None:
+        body_id = str(sample.key_expr).split("/")[-3]
+        with self._lock:
+            if sample.kind == zenoh.SampleKind.DELETE:
+                self._levels.pop(body_id, None)
+                return
+            with contextlib.suppress(ValueError, KeyError, TypeError):
+                self._levels[body_id] = json.loads(sample.payload.to_bytes())["level"]
 
     def _on_pose(self, sample: zenoh.Sample) -> None:
         body_id = str(sample.key_expr).split("/")[-3]
@@ -161,6 +184,7 @@ class Watcher:
         with self._lock:
             poses = dict(self._poses)
             since = dict(self._since)
+            levels = dict(self._levels)
         people = []
         for body_id, (x, y, yaw) in poses.items():
             state = states.get(body_id)
@@ -175,6 +199,7 @@ class Watcher:
                     None if state is None else state.angle_deg,
                     None if state is None else state.distance_m,
                     None if changed is None else now - changed[1],
+                    levels.get(body_id),
                 )
             )
         return people
