@@ -220,8 +220,7 @@ class FacingClient:
             if sample.kind == zenoh.SampleKind.PUT:
                 self._apply(FacingState.model_validate_json(sample.payload.to_bytes()))
                 return
-            parts = str(sample.key_expr).split("/")
-            body_id, frame_id = parts[-3], parts[-1]
+            body_id, frame_id = keys.body_and_frame(str(sample.key_expr))
             with self._lock:
                 known = self._states.pop((frame_id, body_id), None) is not None
                 callbacks = list(self._on["lost"]) if known else []

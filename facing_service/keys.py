@@ -89,6 +89,13 @@ def result_queryables(namespace: str, frame: str) -> tuple[str, str]:
     return facing_key(namespace, ALL_FRAMES, frame), frame_key(namespace, frame)
 
 
+def body_and_frame(key: str) -> tuple[str, str]:
+    """``(body_id, frame_id)`` of any per-body key (``.../bodies/<id>/<kind>/<frame>``)
+    received on a subscription to that key space."""
+    parts = key.rsplit("/", 3)
+    return parts[-3], parts[-1]
+
+
 def parse_pose_key(namespace: str, key: str) -> tuple[str, str] | None:
     """``(body_id, base_frame)`` of an input key, or None when it is not a valid one.
 

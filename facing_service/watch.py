@@ -15,7 +15,9 @@ import json
 import math
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import zenoh
 from rich.console import Group, RenderableType
@@ -111,6 +113,14 @@ def _number(value: float | None, digits: int) -> str:
     return "-" if value is None else f"{value:.{digits}f}"
 
 
+def _position_and_yaw(message: Any) -> tuple[float, float, float]:
+    """x, y and heading (degrees) of a TransformStamped pose message."""
+    t = message["transform"]
+    q = t["rotation"]
+    yaw = math.atan2(2 * (q["w"] * q["z"] + q["x"] * q["y"]), 1 - 2 * (q["y"] ** 2 + q["z"] ** 2))
+    return t["translation"]["x"], t["translation"]["y"], math.degrees(yaw)
+
+
 class Watcher:
     """Gathers what ``render`` needs: results from a FacingClient, poses from the input."""
 
@@ -138,31 +148,23 @@ class Watcher:
             subscriber.undeclare()
 
     def _on_engagement(self, sample: zenoh.Sample) -> None:
-        body_id = str(sample.key_expr).split("/")[-3]
-        with self._lock:
-            if sample.kind == zenoh.SampleKind.DELETE:
-                self._levels.pop(body_id, None)
-                return
-            with contextlib.suppress(ValueError, KeyError, TypeError):
-                self._levels[body_id] = json.loads(sample.payload.to_bytes())["level"]
+        self._update(self._levels, sample, lambda message: message["level"])
 
     def _on_pose(self, sample: zenoh.Sample) -> None:
-        body_id = str(sample.key_expr).split("/")[-3]
+        self._update(self._poses, sample, _position_and_yaw)
+
+    def _update(
+        self, store: dict[str, Any], sample: zenoh.Sample, read: Callable[[Any], Any]
+    ) -> None:
+        """Keep what ``read`` takes from each body's latest message; a DELETE forgets it.
+        Unreadable input is skipped: the service counts bad input, the view just draws."""
+        body_id, _ = keys.body_and_frame(str(sample.key_expr))
         with self._lock:
             if sample.kind == zenoh.SampleKind.DELETE:
-                self._poses.pop(body_id, None)
+                store.pop(body_id, None)
                 return
-            try:
-                t = json.loads(sample.payload.to_bytes())["transform"]
-                q = t["rotation"]
-                yaw = math.degrees(
-                    math.atan2(
-                        2 * (q["w"] * q["z"] + q["x"] * q["y"]), 1 - 2 * (q["y"] ** 2 + q["z"] ** 2)
-                    )
-                )
-                self._poses[body_id] = (t["translation"]["x"], t["translation"]["y"], yaw)
-            except (ValueError, KeyError, TypeError):
-                pass  # the service counts bad input; the view just skips it
+            with contextlib.suppress(ValueError, KeyError, TypeError):
+                store[body_id] = read(json.loads(sample.payload.to_bytes()))
 
     def _on_result(self, state: FacingState) -> None:
         if state.frame_id != self.frame:

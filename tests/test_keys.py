@@ -49,3 +49,8 @@ def test_frame_filter_accepts_star_or_a_name():
 def test_output_key_spaces():
     assert keys.result_queryables("hri", "*") == ("hri/bodies/*/facing/*", "hri/facing/*")
     assert keys.pose_subscription("hri", "cam") == "hri/bodies/*/pose/cam"
+
+
+def test_body_and_frame_of_any_per_body_key():
+    assert keys.body_and_frame("robot1/hri/bodies/p3/engagement/base_link") == ("p3", "base_link")
+    assert keys.body_and_frame(keys.facing_key("hri", "a.b", "cam")) == ("a.b", "cam")
