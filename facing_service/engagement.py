@@ -27,7 +27,7 @@ benchmarks/engagement.py).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from enum import Enum, IntEnum
 
 
@@ -102,8 +102,8 @@ def step(state: Engagement, t: float, raw_score: float, p: EngagementParams) -> 
         alpha = 1.0 - math.exp(-max(0.0, t - state.last) / p.tau_s)
         score = state.score + alpha * (raw_score - state.score)
         level, since = state.level, state.since
-    new = replace(state, score=score, raw=raw_score, last=t, level=level, since=since)
-    return advance(new, t, p)
+    # the constructor, not dataclasses.replace: this runs for every sample
+    return advance(Engagement(level, score, raw_score, since, t), t, p)
 
 
 def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
@@ -135,7 +135,7 @@ def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
             nxt = Level.DISENGAGED
     if nxt is level:
         return state
-    return replace(state, level=nxt, since=t)
+    return Engagement(nxt, state.score, state.raw, t, state.last)
 
 
 class VoteWindow:
