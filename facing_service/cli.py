@@ -255,10 +255,29 @@ def _run(args: argparse.Namespace) -> int:
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",
     )
     stop = _stop_on_signals()
-    try:
-        service = FacingService(settings).start()
-    except zenoh.ZError as error:
-        print(f"facing-service: cannot start zenoh: {error}", file=sys.stderr)
+    service = FacingService(settings)
+    failure: list[zenoh.ZError] = []
+    opened = threading.Event()
+
+    def start() -> None:
+        try:
+            service.start()
+        except zenoh.ZError as error:
+            failure.append(error)
+        finally:
+            opened.set()
+
+    # zenoh.open can wait indefinitely (a client with connect/timeout_ms:-1 waits for its
+    # router) inside native code, where Python never runs signal handlers; so it runs on a
+    # helper thread and this one stays responsive to SIGTERM and Ctrl-C.
+    threading.Thread(target=start, name="facing-open", daemon=True).start()
+    while not opened.wait(0.1):
+        if stop.is_set():  # nothing is open yet, so nothing to close
+            log.info("stopped before zenoh connected")
+            logging.shutdown()
+            os._exit(0)  # the helper thread is stuck in zenoh.open; do not wait for it
+    if failure:
+        print(f"facing-service: cannot start zenoh: {failure[0]}", file=sys.stderr)
         return 1
     try:
         stop.wait()

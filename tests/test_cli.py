@@ -73,3 +73,29 @@ def test_export_schemas_writes_every_schema(tmp_path):
     written = {p.name: json.loads(p.read_text()) for p in tmp_path.iterdir()}
     assert written == json_schemas()
     assert "status.schema.json" in written and "pose.schema.json" in written
+
+
+def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
+    """With connect/timeout_ms:-1 (as compose.yaml sets), zenoh.open waits for a router
+    that may never come; SIGTERM must still end the process at once (docker stop)."""
+    flags = (
+        "-m",
+        "client",
+        "-e",
+        endpoint(free_port()),
+        *LOOPBACK_FLAGS,
+        "--cfg",
+        "connect/timeout_ms:-1",
+        "--cfg",
+        "connect/exit_on_failure:false",
+    )
+    with running_cli("run", *flags) as proc:
+        time.sleep(1.5)  # zenoh is busy retrying the dead endpoint
+        assert proc.poll() is None
+        started = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        code = proc.wait(timeout=10)
+        elapsed = time.monotonic() - started
+        output = proc.stdout.read()
+    assert code == 0, output
+    assert elapsed < 2.0, f"took {elapsed:.2f} s"  # the contract's deadline
