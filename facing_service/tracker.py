@@ -96,7 +96,7 @@ class _Track:
     last_seen: float
     state: BodyState
     engagement: Engagement = field(default_factory=Engagement)
-    engagement_published: float = float("-inf")  # pose time of the last update sent
+    engagement_published: float = float("-inf")  # the caller's clock, at the last update
 
 
 @dataclass
@@ -315,7 +315,7 @@ class Tracker:
             track.engagement_published = previous.engagement_published
         self._tracks[key] = track
         self._tracks.move_to_end(key)
-        update = self._engage(track, state)
+        update = self._engage(track, state, now)
         frame = self._frames.setdefault(sample.frame_id, _Frame())
         if sample.body_id not in frame.tracked:
             frame.tracked.add(sample.body_id)
@@ -330,8 +330,10 @@ class Tracker:
             frame.stamp = sample.pose.stamp
         return update
 
-    def _engage(self, track: _Track, state: BodyState) -> EngagementUpdate | None:
-        """Step the body's engagement on the pose's own clock (its stamp)."""
+    def _engage(self, track: _Track, state: BodyState, now: float) -> EngagementUpdate | None:
+        """Step the body's engagement on the pose's own clock (its stamp): behaviour timing
+        is the tracker's. Unchanged levels are republished at most every period of the
+        caller's clock (``now``): that limit is about output load, whatever the stamps do."""
         p = self.engagement
         t = _stamp_s(state.stamp)
         before = track.engagement.level
@@ -339,9 +341,9 @@ class Tracker:
             track.engagement, t, facing_score(state.angle_deg, state.distance_m, p), p
         )
         changed = track.engagement.level is not before
-        if not changed and t - track.engagement_published < self.engagement_period_s:
+        if not changed and now - track.engagement_published < self.engagement_period_s:
             return None
-        track.engagement_published = t
+        track.engagement_published = now
         return self._engagement_update(track, before if changed else None)
 
     def _engagement_update(self, track: _Track, previous: Level | None) -> EngagementUpdate:
