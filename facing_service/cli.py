@@ -245,10 +245,8 @@ def _session_settings(args: argparse.Namespace) -> Settings | None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    try:
-        settings = load_settings(vars(args), os.environ)
-    except ValidationError as error:
-        print(f"facing-service: invalid setting: {error}", file=sys.stderr)
+    settings = _session_settings(args)
+    if settings is None:
         return 2
     logging.basicConfig(
         level=settings.log_level,

@@ -537,11 +537,12 @@ class FacingService:
     @staticmethod
     def _send_one(session: zenoh.Session, publishers: _Publishers, p: Publication) -> str:
         """Send one publication; returns the name of the counter it counts under."""
-        if p.payload is None:  # the body is lost: so is its publisher
+        if p.kind is Kind.DELETE:  # the body is lost: so is its publisher
             publishers.forget(p.key)
             session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
-            return "deletes_published"
-        publishers.put(p.key, p.payload)
+        else:
+            assert p.payload is not None
+            publishers.put(p.key, p.payload)
         return _COUNTER[p.kind]
 
 
@@ -550,6 +551,7 @@ _COUNTER = {
     Kind.FRAME: "frames_published",
     Kind.ENGAGEMENT: "engagement_published",
     Kind.EVENT: "events_published",
+    Kind.DELETE: "deletes_published",
 }
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -308,12 +308,11 @@ class Tracker:
     def _store(self, sample: PoseSample, state: BodyState, now: float) -> EngagementUpdate | None:
         """Keep the new state; the engagement update to publish, if one is due."""
         key = (sample.frame_id, sample.body_id)
-        previous = self._tracks.get(key)
-        track = _Track(sample.pose, now, state)
-        if previous is not None:
-            track.engagement = previous.engagement
-            track.engagement_published = previous.engagement_published
-        self._tracks[key] = track
+        track = self._tracks.get(key)
+        if track is None:
+            track = self._tracks[key] = _Track(sample.pose, now, state)
+        else:  # in place: the body's engagement carries over
+            track.pose, track.last_seen, track.state = sample.pose, now, state
         self._tracks.move_to_end(key)
         update = self._engage(track, state, now)
         frame = self._frames.setdefault(sample.frame_id, _Frame())
@@ -367,18 +366,7 @@ class Tracker:
         track = self._tracks.pop(key)
         if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
             update = self._engagement_update(track, track.engagement.level)
-            changes.engagement.append(
-                EngagementUpdate(
-                    update.body_id,
-                    update.frame_id,
-                    update.stamp,
-                    Level.UNKNOWN,
-                    update.score,
-                    update.zone,
-                    update.stamp,
-                    update.previous,
-                )
-            )
+            changes.engagement.append(replace(update, level=Level.UNKNOWN, since=update.stamp))
         frame_id, body_id = key
         frame = self._frames[frame_id]
         frame.tracked.discard(body_id)
