@@ -27,6 +27,7 @@ import zenoh
 
 from . import keys
 from .config import Settings, zenoh_config
+from .engagement import Level
 from .schemas import EngagementEvent, FacingState, QueryError
 
 log = logging.getLogger("facing_service.client")
@@ -234,10 +235,11 @@ class FacingClient:
         except Exception:
             log.exception("facing client: could not read an engagement event")
             return
-        was_engaged = event.previous in ("ENGAGED", "DISENGAGING")
-        if event.level == "ENGAGED" and not was_engaged:
+        level, previous = Level[event.level], Level[event.previous]
+        was_engaged = previous in (Level.ENGAGED, Level.DISENGAGING)
+        if level is Level.ENGAGED and not was_engaged:
             self._queue(list(self._on["engaged"]), (event,))
-        elif event.level in ("DISENGAGED", "UNKNOWN") and was_engaged:
+        elif level in (Level.DISENGAGED, Level.UNKNOWN) and was_engaged:
             self._queue(list(self._on["disengaged"]), (event,))
 
     def _apply(self, state: FacingState) -> None:
