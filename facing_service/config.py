@@ -17,9 +17,10 @@ from pathlib import Path
 from typing import Any, Literal
 
 import zenoh
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from . import keys
+from .disclosure import public_cfg_entry, public_value
 from .engagement import EngagementParams
 from .schemas import DEFAULT_MAX_PAYLOAD_BYTES
 
@@ -114,27 +115,37 @@ class Settings(BaseModel):
     @field_validator("cfg")
     @classmethod
     def _cfg(cls, value: list[str]) -> list[str]:
-        for entry in value:
+        for position, entry in enumerate(value, 1):
             key, sep, _ = entry.partition(":")
-            if not (sep and key):
-                raise ValueError(f"--cfg expects KEY:VALUE, got {entry!r}")
+            if not (sep and key):  # the entry itself is not quoted: it may be a secret
+                raise ValueError(f"entry {position} is not KEY:VALUE")
         return value
+
+
+class SettingsError(ValueError):
+    """A bad setting, as one line that names the flag or variable it came from and never
+    quotes a secret (see ``disclosure``)."""
 
 
 def env_name(field: str) -> str:
     return ENV_PREFIX + field.upper()
 
 
+def flag_name(field: str) -> str:
+    return "--" + field.replace("_", "-")
+
+
 def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Settings:
     """Merge flags (None or absent = not given) over ``FACING_*`` variables over defaults.
 
-    Raises pydantic's ValidationError, naming the offending setting, on a bad value.
+    Raises SettingsError naming the flag or variable each bad value came from.
     """
     values: dict[str, Any] = {}
+    sources: dict[str, str] = {}
     for name in Settings.model_fields:
         flag = flags.get(name)
         if flag is not None and flag != [] and flag is not False:
-            values[name] = flag
+            values[name], sources[name] = flag, flag_name(name)
         elif (raw := environ.get(env_name(name))) is not None and raw != "":
             separator = _LIST_SEPARATORS.get(name)
             values[name] = (
@@ -142,7 +153,27 @@ def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Setti
                 if separator
                 else raw
             )
-    return Settings(**values)
+            sources[name] = env_name(name)
+    try:
+        return Settings(**values)
+    except ValidationError as error:
+        raise SettingsError(_describe(error, values, sources)) from None
+
+
+def _describe(error: ValidationError, values: Mapping[str, Any], sources: Mapping[str, str]) -> str:
+    """One line per problem: where the value came from, the value if it may be shown, why."""
+    problems = []
+    for detail in error.errors(include_url=False, include_input=False):
+        field = str(detail["loc"][0]) if detail["loc"] else ""
+        reason = detail["msg"].removeprefix("Value error, ")
+        if field in values:
+            shown = public_value(field, values[field])
+            problems.append(f"{sources[field]}={shown}: {reason}")
+        elif field:
+            problems.append(f"{flag_name(field)}: {reason}")
+        else:
+            problems.append(reason)
+    return "; ".join(problems)
 
 
 def _loopback(endpoint: str) -> str:
@@ -159,26 +190,67 @@ def probe_config(settings: Settings) -> zenoh.Config:
     those endpoints on loopback.
     """
     connect = settings.connect or [_loopback(e) for e in settings.listen]
-    helper = settings.model_copy(
-        update={"listen": [], "connect": connect, "mode": "client" if connect else "peer"}
-    )
+    # A router's mode would make the helper listen; otherwise the configured mode holds
+    # (the config file's, when no flag gives one: a client stays a client).
+    mode = "client" if connect else (None if settings.mode == "router" else settings.mode)
+    helper = settings.model_copy(update={"listen": [], "connect": connect, "mode": mode})
     conf = zenoh_config(helper)
     conf.insert_json5("listen/endpoints", "[]")
     return conf
 
 
 def zenoh_config(settings: Settings) -> zenoh.Config:
-    """The zenoh session config; raises zenoh.ZError on an unknown key or bad value."""
-    conf = zenoh.Config.from_file(str(settings.config)) if settings.config else zenoh.Config()
+    """The zenoh session config; SettingsError on an unreadable file, unknown key or bad
+    value, naming the flag and never echoing a secret value (zenoh's own messages quote
+    the offending text, and the source file of zenoh's that raised them)."""
+    conf = _config_file(settings.config) if settings.config else zenoh.Config()
     if settings.mode is not None:
-        conf.insert_json5("mode", json.dumps(settings.mode))
+        _insert(conf, "mode", json.dumps(settings.mode), "--mode")
     if settings.connect:
-        conf.insert_json5("connect/endpoints", json.dumps(settings.connect))
+        _insert(conf, "connect/endpoints", json.dumps(settings.connect), "--connect")
     if settings.listen:
-        conf.insert_json5("listen/endpoints", json.dumps(settings.listen))
+        _insert(conf, "listen/endpoints", json.dumps(settings.listen), "--listen")
     if settings.no_multicast_scouting:
-        conf.insert_json5("scouting/multicast/enabled", "false")
+        _insert(conf, "scouting/multicast/enabled", "false", "--no-multicast-scouting")
     for entry in settings.cfg:
         key, _, value = entry.partition(":")
-        conf.insert_json5(key, value)
+        _insert(conf, key, value, f"--cfg {public_cfg_entry(entry)}")
     return conf
+
+
+def _config_file(path: Path) -> zenoh.Config:
+    if not path.exists():
+        raise SettingsError(f"--config {str(path)!r}: no such file")
+    if not path.is_file():
+        raise SettingsError(f"--config {str(path)!r}: not a file")
+    if not os.access(path, os.R_OK):
+        raise SettingsError(f"--config {str(path)!r}: not readable (permission denied)")
+    try:
+        return zenoh.Config.from_file(str(path))
+    except zenoh.ZError as error:
+        raise SettingsError(f"--config {str(path)!r}: {zenoh_error_reason(error)}") from None
+
+
+def _insert(conf: zenoh.Config, key: str, value: str, what: str) -> None:
+    try:
+        conf.insert_json5(key, value)
+    except zenoh.ZError as error:
+        raise SettingsError(f"{what}: {zenoh_error_reason(error)}") from None
+
+
+def zenoh_error_reason(error: zenoh.ZError) -> str:
+    """Why zenoh refused a config, without the text it quotes (which may be a password)."""
+    text = str(error)
+    loc = re.search(r"(?:-->\s*|line: )(\d+)(?::|, column: )(\d+)", text)
+    where = f" at line {loc[1]}, column {loc[2]}" if loc else ""
+    if field := re.search(r"unknown field `([^`]*)`", text):
+        return f"unknown key {field[1]!r}{where}"
+    if "unknown key" in text:
+        return "unknown zenoh config key"
+    if choices := re.search(r"unknown variant `[^`]*`, (expected one of [^\"]*)", text):
+        return f"invalid value{where}; {choices[1]}"
+    if "-->" in text or "Json5Err" in text:
+        return f"not valid JSON5{where}"
+    if os_error := re.match(r"(.+?) \(os error \d+\)", text):
+        return os_error[1]
+    return f"invalid value{where}"

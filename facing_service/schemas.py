@@ -170,7 +170,10 @@ class ServiceStatus(BaseModel):
     version: str
     zenoh_id: str
     uptime_s: float
-    config: dict[str, Any] = Field(description="The settings in force.")
+    config: dict[str, Any] = Field(
+        description="The settings in force, with every value that may hold a secret "
+        "(zenoh --cfg values outside an allow-list, endpoints' '#' config) redacted."
+    )
     bodies_tracked: dict[str, int] = Field(description="Bodies tracked, per base frame.")
     bodies_tracked_total: int
     counters: dict[str, int] = Field(

@@ -36,6 +36,7 @@ import zenoh
 
 from . import __version__, keys
 from .config import Settings, zenoh_config
+from .disclosure import public_settings
 from .engagement import Level
 from .outbox import Kind, Outbox, Publication
 from .schemas import (
@@ -294,7 +295,7 @@ class FacingService:
             version=__version__,
             zenoh_id=str(self._session.zid()) if self._session is not None else "",
             uptime_s=round(self._clock() - self._started_at, 3),
-            config=self.settings.model_dump(mode="json"),
+            config=public_settings(self.settings.model_dump(mode="json")),
             bodies_tracked=tracked,
             bodies_tracked_total=sum(tracked.values()),
             counters=counts,
