@@ -23,6 +23,8 @@ ENV PATH=/venv/bin:$PATH \
     PYTHONUNBUFFERED=1
 USER 10001:10001
 # A health check needs no flags: it reads the same FACING_* variables as the service.
+# Under access control, set FACING_HEALTH_CONFIG to the health identity's zenoh config
+# (examples/secure/health.json5): the service's own identity may not query its status.
 HEALTHCHECK --interval=15s --timeout=10s --start-period=10s --retries=3 \
     CMD ["facing-service", "health", "--timeout", "3"]
 # The CLI itself is PID 1 (exec form): SIGTERM reaches it and it exits 0 within 2 s.

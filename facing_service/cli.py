@@ -20,13 +20,21 @@ from pathlib import Path
 from types import FrameType
 
 import zenoh
-from pydantic import ValidationError
 from rich.console import Console
 from rich.live import Live
 
 from . import __version__, keys
 from .client import FacingClient
-from .config import Settings, env_name, load_settings, probe_config, zenoh_config
+from .config import (
+    Settings,
+    SettingsError,
+    env_name,
+    load_settings,
+    probe_config,
+    zenoh_config,
+)
+from .disclosure import public_zenoh_error
+from .router import router_config, serve
 from .schemas import ServiceStatus, json_schemas
 from .service import FacingService
 from .sim import Scene, simulate
@@ -34,6 +42,9 @@ from .testing import free_port, loopback_config
 from .watch import Watcher
 
 log = logging.getLogger("facing_service")
+
+#: The health check's own zenoh config file, in place of FACING_CONFIG and FACING_CFG.
+HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
 
 
 def _default(field: str) -> str:
@@ -96,7 +107,7 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="random seed (0)")
 
 
-def _build_parser() -> argparse.ArgumentParser:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="facing-service",
         description="Which tracked bodies are oriented toward the robot, over zenoh.",
@@ -178,7 +189,25 @@ def _build_parser() -> argparse.ArgumentParser:
     health.add_argument(
         "--timeout", type=float, default=3.0, help="seconds to wait for answers (default 3)"
     )
+    health.add_argument(
+        "--health-config",
+        type=Path,
+        metavar="FILE",
+        help="zenoh config of the health check's own identity, used instead of --config "
+        "and --cfg (env FACING_HEALTH_CONFIG): under access control the service's "
+        "identity may not ask for the status",
+    )
     add_zenoh_arguments(health)
+
+    router = commands.add_parser(
+        "router",
+        help="run a zenoh router (access control included) with no zenohd installed",
+        description="A zenoh session in router mode with the given config, e.g. "
+        "examples/secure/router.json5, until SIGTERM or Ctrl-C. The same flags as the "
+        "other commands; the mode is always router.",
+    )
+    router.add_argument("--log-level", help=f"log level ({_default('log_level')})")
+    add_zenoh_arguments(router)
 
     simulate = commands.add_parser(
         "simulate",
@@ -236,22 +265,29 @@ def _stop_on_signals() -> threading.Event:
 
 
 def _session_settings(args: argparse.Namespace) -> Settings | None:
-    """Settings from the flags and FACING_* variables, or None after printing why not."""
+    """Settings from the flags and FACING_* variables, with a zenoh config that zenoh
+    accepts, or None after printing why not (one line, naming the flag or variable)."""
     try:
-        return load_settings(vars(args), os.environ)
-    except ValidationError as error:
+        settings = load_settings(vars(args), os.environ)
+        zenoh_config(settings)
+    except SettingsError as error:
         print(f"facing-service {args.command}: invalid setting: {error}", file=sys.stderr)
         return None
+    return settings
+
+
+def _log_to_stderr(settings: Settings) -> None:
+    logging.basicConfig(
+        level=settings.log_level,
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+    )
 
 
 def _run(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
         return 2
-    logging.basicConfig(
-        level=settings.log_level,
-        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
-    )
+    _log_to_stderr(settings)
     stop = _stop_on_signals()
     service = FacingService(settings)
     failure: list[zenoh.ZError] = []
@@ -275,7 +311,9 @@ def _run(args: argparse.Namespace) -> int:
             logging.shutdown()
             os._exit(0)  # the helper thread is stuck in zenoh.open; do not wait for it
     if failure:
-        print(f"facing-service: cannot start zenoh: {failure[0]}", file=sys.stderr)
+        print(
+            f"facing-service: cannot start zenoh: {public_zenoh_error(failure[0])}", file=sys.stderr
+        )
         return 1
     try:
         stop.wait()
@@ -299,25 +337,55 @@ def query_status(
 
 def _health(args: argparse.Namespace) -> int:
     instance = args.instance or os.environ.get(env_name("instance")) or "*"
+    flags, environ = {**vars(args), "instance": None}, dict(os.environ)
+    identity = args.health_config or os.environ.get(HEALTH_CONFIG_ENV) or None
+    if identity:  # its own identity: the service's file and --cfg (credentials) stay out
+        flags |= {"config": Path(identity), "cfg": None}
+        environ.pop(env_name("config"), None)
+        environ.pop(env_name("cfg"), None)
     try:
-        settings = load_settings({**vars(args), "instance": None}, os.environ)
+        settings = load_settings(flags, environ)
         if instance != "*":
             keys.validate_name(instance, "instance")
-    except (ValidationError, ValueError) as error:
+        config = probe_config(settings)
+    except (SettingsError, ValueError) as error:
         print(f"facing-service health: invalid setting: {error}", file=sys.stderr)
         return 2
     try:
-        with zenoh.open(probe_config(settings)) as session:
+        with zenoh.open(config) as session:
             answers = query_status(session, settings.namespace, instance, args.timeout)
     except zenoh.ZError as error:
-        print(f"facing-service health: cannot reach zenoh: {error}", file=sys.stderr)
+        print(
+            f"facing-service health: cannot reach zenoh: {public_zenoh_error(error)}",
+            file=sys.stderr,
+        )
         return 1
     for status in answers:
         print(status.model_dump_json())
     if not answers:
         selector = keys.status_key(settings.namespace, instance)
-        print(f"facing-service health: no answer on {selector}", file=sys.stderr)
+        hint = (
+            ""
+            if identity
+            else " (under access control, give the health check an identity allowed to "
+            f"query it: {HEALTH_CONFIG_ENV} or --health-config)"
+        )
+        print(f"facing-service health: no answer on {selector}{hint}", file=sys.stderr)
     return 0 if any(status.status == "ok" for status in answers) else 1
+
+
+def _router(args: argparse.Namespace) -> int:
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    _log_to_stderr(settings)
+    stop = _stop_on_signals()
+    try:
+        serve(router_config(settings), stop)
+    except zenoh.ZError as error:
+        print(f"facing-service router: cannot start: {public_zenoh_error(error)}", file=sys.stderr)
+        return 1
+    return 0
 
 
 def _publisher(session: zenoh.Session) -> Callable[[str, bytes | None], None]:
@@ -454,10 +522,11 @@ def _export_schemas(args: argparse.Namespace) -> int:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = _build_parser().parse_args(argv)
+    args = build_parser().parse_args(argv)
     command = {
         "run": _run,
         "health": _health,
+        "router": _router,
         "simulate": _simulate,
         "watch": _watch,
         "demo": _demo,

@@ -89,6 +89,25 @@ def result_queryables(namespace: str, frame: str) -> tuple[str, str]:
     return facing_key(namespace, ALL_FRAMES, frame), frame_key(namespace, frame)
 
 
+def published_spaces(namespace: str) -> tuple[str, ...]:
+    """Every key space the service puts or deletes on, for any body and frame."""
+    return (
+        facing_key(namespace, ALL_FRAMES, ALL_FRAMES),
+        frame_key(namespace, ALL_FRAMES),
+        engagement_key(namespace, ALL_FRAMES, ALL_FRAMES),
+        event_key(namespace, ALL_FRAMES),
+    )
+
+
+def served_spaces(namespace: str) -> tuple[str, ...]:
+    """Every key space the service answers queries on (its queryables, any frame)."""
+    return (
+        *result_queryables(namespace, ALL_FRAMES),
+        engagement_key(namespace, ALL_FRAMES, ALL_FRAMES),
+        status_key(namespace, ALL_FRAMES),
+    )
+
+
 def body_and_frame(key: str) -> tuple[str, str]:
     """``(body_id, frame_id)`` of any per-body key (``.../bodies/<id>/<kind>/<frame>``)
     received on a subscription to that key space."""

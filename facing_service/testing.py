@@ -52,12 +52,15 @@ def running_cli(
     env: Mapping[str, str] | None = None,
     capture: bool = True,
     module: str = "facing_service",
+    cwd: str | os.PathLike[str] | None = None,
 ) -> Iterator[subprocess.Popen[str]]:
-    """``python -m <module> <args>`` as a real process; SIGTERM (then SIGKILL after 5 s)
-    when the block ends. With ``capture``, stdout and stderr go to ``proc.stdout``."""
+    """``python -m <module> <args>`` as a real process (in ``cwd``); SIGTERM (then SIGKILL
+    after 5 s) when the block ends. With ``capture``, stdout and stderr go to
+    ``proc.stdout``."""
     proc = subprocess.Popen(
         [sys.executable, "-m", module, *args],
         env={**os.environ, **(env or {})},
+        cwd=cwd,
         stdout=subprocess.PIPE if capture else None,
         stderr=subprocess.STDOUT if capture else None,
         text=True,
