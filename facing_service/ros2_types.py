@@ -1,0 +1,74 @@
+"""ROS 2 message types on the wire: names, RIHS01 hashes, CDR, bags, through ``rosbags``.
+
+rosbags is a well-kept, independent pure-Python implementation of ROS 2's CDR, bag formats
+and type hashes; hand-written parsers would be ours to get wrong. Types rosbags does not
+ship (``hri_msgs``) are registered from their upstream ``.msg`` files kept in ``msg/``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+from rosbags.highlevel import AnyReader
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+from rosbags.typesys.store import Typestore
+
+MSG_DIR = Path(__file__).resolve().parent / "msg"
+
+TF_MESSAGE = "tf2_msgs/msg/TFMessage"
+IDS_LIST = "hri_msgs/msg/IdsList"
+STRING = "std_msgs/msg/String"
+
+
+@cache
+def typestore() -> Typestore:
+    """ROS 2 Jazzy's standard types plus the upstream definitions in ``msg/``."""
+    store = get_typestore(Stores.ROS2_JAZZY)
+    for path in sorted(MSG_DIR.glob("*/*.msg")):
+        name = f"{path.parent.name}/msg/{path.stem}"
+        store.register(get_types_from_msg(path.read_text(), name))
+    return store
+
+
+def dds_type_name(typename: str) -> str:
+    """``tf2_msgs/msg/TFMessage`` -> ``tf2_msgs::msg::dds_::TFMessage_`` (rmw_zenoh's keys)."""
+    package, kind, name = typename.split("/")
+    return f"{package}::{kind}::dds_::{name}_"
+
+
+@cache
+def type_hash(typename: str) -> str:
+    """The RIHS01 hash of a type, as rmw_zenoh puts it in keys: ``RIHS01_<sha256 hex>``."""
+    return typestore().hash_rihs01(typename)
+
+
+def deserialize(data: bytes, typename: str) -> Any:
+    """CDR bytes (with their 4-byte encapsulation header) -> message; raises on bad data."""
+    return typestore().deserialize_cdr(data, typename)
+
+
+def serialize(message: Any, typename: str) -> bytes:
+    """Message -> CDR bytes, little-endian, with the encapsulation header."""
+    return bytes(typestore().serialize_cdr(message, typename))
+
+
+def message_type(typename: str) -> Any:
+    """The message class, to build messages: ``message_type(STRING)(data="x")``."""
+    return typestore().types[typename]
+
+
+def read_bag(path: Path) -> Iterator[tuple[str, int, Any]]:
+    """``(topic, receive time in ns, message)`` of a ROS 2 bag (sqlite3 or mcap), in order."""
+    with AnyReader([Path(path)], default_typestore=typestore()) as reader:
+        for connection, timestamp, raw in reader.messages():
+            yield connection.topic, timestamp, reader.deserialize(raw, connection.msgtype)
+
+
+def read_bag_raw(path: Path) -> Iterator[tuple[str, str, int, bytes]]:
+    """``(topic, type name, receive time in ns, CDR bytes)``: what a replay sends as it is."""
+    with AnyReader([Path(path)], default_typestore=typestore()) as reader:
+        for connection, timestamp, raw in reader.messages():
+            yield connection.topic, connection.msgtype, timestamp, bytes(raw)

@@ -1,0 +1,463 @@
+"""A TF buffer that answers like tf2's BufferCore: pure, no I/O, no ROS.
+
+The rules kept (tf2 ``buffer_core.cpp`` / ``cache.cpp``, as in ROS 2 Humble and ROS 1 noetic,
+whose ``tf2_py`` is the differential test's oracle):
+
+- one parent per child at a time; a frame's cache is static or dynamic as its *first*
+  transform was, for good (a later transform of the other kind goes into the same cache:
+  a static cache then simply holds the newest one);
+- a static transform is valid at every time;
+- a dynamic frame keeps ``cache_time`` (10 s) of history, pruned relative to that frame's
+  newest stamp; data older than that is refused (``old_data``), a repeated stamp too
+  (``repeated_data``);
+- lookups interpolate between the two stamps around the time (translation lerp, rotation
+  slerp, tf2's own formulas: quaternions are used as given, not renormalized), and a
+  lookup at time 0 is at the latest time common to every dynamic link of the chain;
+- input checks: NaN (``nan``), ``abs(|q|^2 - 1) >= 0.01`` (``denormalized_quaternion``),
+  child equal to parent (``self_transform``), empty ids (``no_child_frame_id``,
+  ``no_frame_id``); each one refuses the transform with a reason, never raises;
+- lookup errors are tf2's four kinds, with tf2's messages.
+
+Times are integer nanoseconds, as ROS 2's ``TimePoint``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+Vec = tuple[float, float, float]
+Quat = tuple[float, float, float, float]  # x, y, z, w
+
+DEFAULT_CACHE_TIME_NS = 10_000_000_000
+QUATERNION_NORMALIZATION_TOLERANCE = 10e-3
+MAX_GRAPH_DEPTH = 1000
+
+
+class TfError(Exception):
+    """A lookup tf2 would refuse; ``kind`` is tf2's exception name."""
+
+    kind = "TransformException"
+
+
+class LookupError_(TfError):
+    kind = "LookupException"
+
+
+class ConnectivityError(TfError):
+    kind = "ConnectivityException"
+
+
+class ExtrapolationError(TfError):
+    kind = "ExtrapolationException"
+
+
+class InvalidArgumentError(TfError):
+    kind = "InvalidArgumentException"
+
+
+@dataclass(frozen=True, slots=True)
+class Transform:
+    translation: Vec
+    rotation: Quat
+
+
+IDENTITY = Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+
+
+# -- tf2's LinearMath, as it computes (no renormalization anywhere) ---------------------
+
+
+def _qmul(a: Quat, b: Quat) -> Quat:
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by + ay * bw + az * bx - ax * bz,
+        aw * bz + az * bw + ax * by - ay * bx,
+        aw * bw - ax * bx - ay * by - az * bz,
+    )
+
+
+def _qinv(q: Quat) -> Quat:
+    """tf2's ``inverse()``: the conjugate."""
+    return (-q[0], -q[1], -q[2], q[3])
+
+
+def _rotate(q: Quat, v: Vec) -> Vec:
+    """tf2's ``quatRotate``: ``q * v * q.inverse()``."""
+    x, y, z, w = q
+    vx, vy, vz = v
+    # q * (v, 0)
+    px = w * vx + y * vz - z * vy
+    py = w * vy + z * vx - x * vz
+    pz = w * vz + x * vy - y * vx
+    pw = -x * vx - y * vy - z * vz
+    # (..) * conj(q)
+    return (
+        pw * -x + px * w + py * -z - pz * -y,
+        pw * -y + py * w + pz * -x - px * -z,
+        pw * -z + pz * w + px * -y - py * -x,
+    )
+
+
+def _add(a: Vec, b: Vec) -> Vec:
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def _slerp(q1: Quat, q2: Quat, t: float) -> Quat:
+    """tf2's ``Quaternion::slerp`` (shortest path, as tf2 computes it)."""
+    magnitude = math.sqrt(sum(c * c for c in q1) * sum(c * c for c in q2))
+    product = sum(a * b for a, b in zip(q1, q2, strict=True)) / magnitude
+    if abs(product) >= 1.0:
+        return q1
+    sign = -1.0 if product < 0 else 1.0
+    theta = math.acos(sign * product)
+    s1 = math.sin(sign * t * theta)
+    d = 1.0 / math.sin(theta)
+    s0 = math.sin((1.0 - t) * theta)
+    x1, y1, z1, w1 = q1
+    x2, y2, z2, w2 = q2  # the sign is in s1 already: sin(sign * t * theta)
+    return (
+        (x1 * s0 + x2 * s1) * d,
+        (y1 * s0 + y2 * s1) * d,
+        (z1 * s0 + z2 * s1) * d,
+        (w1 * s0 + w2 * s1) * d,
+    )
+
+
+def _lerp(v1: Vec, v2: Vec, t: float) -> Vec:
+    s = 1.0 - t
+    return (s * v1[0] + t * v2[0], s * v1[1] + t * v2[1], s * v1[2] + t * v2[2])
+
+
+# -- caches -------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class _Stored:
+    stamp: int
+    parent: str
+    transform: Transform
+
+
+def _seconds(ns: int) -> str:
+    return f"{ns // 1_000_000_000}.{ns % 1_000_000_000:09d}"
+
+
+class _StaticCache:
+    """One transform, valid at every time."""
+
+    is_static = True
+
+    def __init__(self) -> None:
+        self.item: _Stored | None = None
+
+    def insert(self, item: _Stored) -> str | None:
+        self.item = item
+        return None
+
+    def get(self, time: int) -> _Stored:
+        assert self.item is not None
+        return _Stored(time, self.item.parent, self.item.transform)
+
+    def latest(self) -> tuple[int, str | None]:
+        return (0, self.item.parent) if self.item else (0, None)
+
+
+class _TimeCache:
+    """History of one dynamic frame, newest first."""
+
+    is_static = False
+
+    def __init__(self, cache_time: int) -> None:
+        self.cache_time = cache_time
+        self.items: list[_Stored] = []  # newest first
+
+    def insert(self, item: _Stored) -> str | None:
+        items = self.items
+        if items and items[0].stamp > item.stamp + self.cache_time:
+            return "old_data"
+        i = 0
+        while i < len(items) and items[i].stamp > item.stamp:
+            i += 1
+        if i < len(items) and items[i].stamp == item.stamp:
+            return "repeated_data"
+        items.insert(i, item)
+        latest = items[0].stamp
+        while items and items[-1].stamp + self.cache_time < latest:
+            items.pop()
+        return None
+
+    def _closest(self, time: int) -> tuple[_Stored, _Stored | None]:
+        """tf2's ``findClosest``: one or two items, or ExtrapolationError."""
+        items = self.items
+        if not items:
+            raise ExtrapolationError("no data")  # unreachable: caches exist once filled
+        if time == 0:
+            return items[0], None
+        if len(items) == 1:
+            if items[0].stamp == time:
+                return items[0], None
+            raise ExtrapolationError(
+                f"Lookup would require extrapolation at time {_seconds(time)}, but only time "
+                f"{_seconds(items[0].stamp)} is in the buffer"
+            )
+        latest, earliest = items[0].stamp, items[-1].stamp
+        if time == latest:
+            return items[0], None
+        if time == earliest:
+            return items[-1], None
+        if time > latest:
+            raise ExtrapolationError(
+                f"Lookup would require extrapolation into the future.  Requested time "
+                f"{_seconds(time)} but the latest data is at time {_seconds(latest)}"
+            )
+        if time < earliest:
+            raise ExtrapolationError(
+                f"Lookup would require extrapolation into the past.  Requested time "
+                f"{_seconds(time)} but the earliest data is at time {_seconds(earliest)}"
+            )
+        i = 0
+        while items[i].stamp > time:
+            i += 1
+        return items[i], items[i - 1]  # older, newer
+
+    def get(self, time: int) -> _Stored:
+        one, two = self._closest(time)
+        if two is None or one.parent != two.parent:
+            return one
+        if two.stamp == one.stamp:
+            return two
+        ratio = (time - one.stamp) / (two.stamp - one.stamp)
+        a, b = one.transform, two.transform
+        return _Stored(
+            time,
+            one.parent,
+            Transform(
+                _lerp(a.translation, b.translation, ratio),
+                _slerp(a.rotation, b.rotation, ratio),
+            ),
+        )
+
+    def latest(self) -> tuple[int, str | None]:
+        return (self.items[0].stamp, self.items[0].parent) if self.items else (0, None)
+
+
+# -- the buffer -----------------------------------------------------------------------------
+
+
+def check_transform(parent: str, child: str, transform: Transform) -> str | None:
+    """tf2's input checks: the reason a transform is refused, or None."""
+    if child == parent:
+        return "self_transform"
+    if not child:
+        return "no_child_frame_id"
+    if not parent:
+        return "no_frame_id"
+    values = (*transform.translation, *transform.rotation)
+    if any(math.isnan(v) for v in values):
+        return "nan"
+    if any(math.isinf(v) for v in values):
+        return "nan"  # tf2 lets infinities through to poison lookups; we refuse them alike
+    norm2 = sum(c * c for c in transform.rotation)
+    if not abs(norm2 - 1.0) < QUATERNION_NORMALIZATION_TOLERANCE:
+        return "denormalized_quaternion"
+    return None
+
+
+class TfBuffer:
+    """Transforms by child frame; ``set_transform`` and ``lookup`` as tf2's BufferCore."""
+
+    def __init__(self, cache_time_ns: int = DEFAULT_CACHE_TIME_NS) -> None:
+        self.cache_time_ns = cache_time_ns
+        self._caches: dict[str, _StaticCache | _TimeCache] = {}
+        self._frames: set[str] = set()  # every frame named so far, as child or parent
+
+    def set_transform(
+        self, parent: str, child: str, stamp_ns: int, transform: Transform, *, static: bool
+    ) -> str | None:
+        """Store a transform; returns None, or the reason tf2 would refuse it."""
+        if reason := check_transform(parent, child, transform):
+            return reason
+        cache = self._caches.get(child)
+        if cache is None:
+            cache = _StaticCache() if static else _TimeCache(self.cache_time_ns)
+            self._caches[child] = cache
+        self._frames.update((child, parent))
+        return cache.insert(_Stored(stamp_ns, parent, transform))
+
+    def has_frame(self, frame: str) -> bool:
+        return frame in self._frames
+
+    def parent_chain(self, frame: str) -> list[str]:
+        """``frame`` and its ancestors by their latest parents (for "does a change of X
+        concern a lookup of Y"), stopping at a root or a loop."""
+        chain = [frame]
+        while (cache := self._caches.get(chain[-1])) is not None:
+            parent = cache.latest()[1]
+            if parent is None or parent in chain or len(chain) > MAX_GRAPH_DEPTH:
+                break
+            chain.append(parent)
+        return chain
+
+    # -- lookups -------------------------------------------------------------------------
+
+    def _validate(self, frame: str, argument: str) -> None:
+        if not frame:
+            raise InvalidArgumentError(
+                f"Invalid argument passed to lookupTransform argument {argument} in tf2 "
+                "frame_ids cannot be empty"
+            )
+        if frame.startswith("/"):
+            raise InvalidArgumentError(
+                f'Invalid argument "{frame}" passed to lookupTransform argument {argument} in '
+                "tf2 frame_ids cannot start with a '/' like: "
+            )
+        if frame not in self._frames:
+            raise LookupError_(
+                f'"{frame}" passed to lookupTransform argument {argument} does not exist. '
+            )
+
+    def lookup(self, target: str, source: str, time_ns: int = 0) -> tuple[Transform, int]:
+        """The pose of ``source`` in ``target`` at ``time_ns`` (0: the latest common time),
+        and the time it is for. Raises TfError as tf2 would."""
+        if target == source:
+            if time_ns == 0 and (cache := self._caches.get(target)) is not None:
+                time_ns = cache.latest()[0]
+            return IDENTITY, time_ns
+        self._validate(target, "target_frame")
+        self._validate(source, "source_frame")
+        if time_ns == 0:
+            time_ns = self.latest_common_time(target, source)
+        return self._walk(target, source, time_ns), time_ns
+
+    def _gather(self, frame: str, time: int) -> _Stored | None:
+        cache = self._caches.get(frame)
+        return None if cache is None else cache.get(time)
+
+    def _walk(self, target: str, source: str, time: int) -> Transform:
+        """tf2's ``walkToTopParent`` with its ``TransformAccum``."""
+        src_vec: Vec = (0.0, 0.0, 0.0)
+        src_quat: Quat = (0.0, 0.0, 0.0, 1.0)
+        frame, top_parent, depth = source, source, 0
+        extrapolation: ExtrapolationError | None = None
+        while True:
+            if frame not in self._caches:
+                top_parent = frame
+                break
+            try:
+                stored = self._gather(frame, time)
+            except ExtrapolationError as error:
+                extrapolation, top_parent = error, frame
+                break
+            assert stored is not None
+            if frame == target:  # the target is an ancestor of the source
+                return Transform(src_vec, src_quat)
+            t = stored.transform
+            src_vec = _add(_rotate(t.rotation, src_vec), t.translation)
+            src_quat = _qmul(t.rotation, src_quat)
+            top_parent, frame = frame, stored.parent
+            depth += 1
+            if depth > MAX_GRAPH_DEPTH:
+                raise LookupError_("The tf tree is invalid because it contains a loop.")
+        tgt_vec: Vec = (0.0, 0.0, 0.0)
+        tgt_quat: Quat = (0.0, 0.0, 0.0, 1.0)
+        frame, depth = target, 0
+        while frame != top_parent:
+            if frame not in self._caches:
+                break
+            try:
+                stored = self._gather(frame, time)
+            except ExtrapolationError as error:
+                raise ExtrapolationError(
+                    f"{error}, when looking up transform from frame [{source}] to frame [{target}]"
+                ) from None
+            assert stored is not None
+            if frame == source:  # the source is an ancestor of the target
+                inv = _qinv(tgt_quat)
+                return Transform(_rotate(inv, _neg(tgt_vec)), inv)
+            t = stored.transform
+            tgt_vec = _add(_rotate(t.rotation, tgt_vec), t.translation)
+            tgt_quat = _qmul(t.rotation, tgt_quat)
+            frame = stored.parent
+            depth += 1
+            if depth > MAX_GRAPH_DEPTH:
+                raise LookupError_("The tf tree is invalid because it contains a loop.")
+        if frame != top_parent:
+            if extrapolation is not None:
+                raise ExtrapolationError(
+                    f"{extrapolation}, when looking up transform from frame [{source}] to "
+                    f"frame [{target}]"
+                )
+            raise _disconnected(target, source)
+        inv = _qinv(tgt_quat)
+        return Transform(
+            _add(_rotate(inv, src_vec), _rotate(inv, _neg(tgt_vec))), _qmul(inv, src_quat)
+        )
+
+    def latest_common_time(self, target: str, source: str) -> int:
+        """tf2's ``getLatestCommonTime``: the newest time every dynamic link between the two
+        frames has data for (0 when the chain is all static)."""
+        if source == target:
+            cache = self._caches.get(source)
+            return cache.latest()[0] if cache else 0
+        never = math.inf
+        common: float = never
+        seen: list[tuple[int, str]] = []  # (latest stamp, parent) walking up from the source
+        frame, depth = source, 0
+        while True:
+            cache = self._caches.get(frame)
+            if cache is None:
+                break
+            stamp, parent = cache.latest()
+            if parent is None:
+                break
+            if stamp:
+                common = min(common, stamp)
+            seen.append((stamp, parent))
+            frame = parent
+            if frame == target:
+                return 0 if common == never else int(common)
+            depth += 1
+            if depth > MAX_GRAPH_DEPTH:
+                raise LookupError_("The tf tree is invalid because it contains a loop.")
+        frame, depth, common = target, 0, never
+        common_parent: str | None = None
+        while True:
+            cache = self._caches.get(frame)
+            if cache is None:
+                break
+            stamp, parent = cache.latest()
+            if parent is None:
+                break
+            if stamp:
+                common = min(common, stamp)
+            if any(p == parent for _, p in seen):
+                common_parent = parent
+                break
+            frame = parent
+            if frame == source:
+                return 0 if common == never else int(common)
+            depth += 1
+            if depth > MAX_GRAPH_DEPTH:
+                raise LookupError_("The tf tree is invalid because it contains a loop.")
+        if common_parent is None:
+            raise _disconnected(target, source)
+        for stamp, parent in seen:
+            if stamp:
+                common = min(common, stamp)
+            if parent == common_parent:
+                break
+        return 0 if common == never else int(common)
+
+
+def _neg(v: Vec) -> Vec:
+    return (-v[0], -v[1], -v[2])
+
+
+def _disconnected(target: str, source: str) -> ConnectivityError:
+    return ConnectivityError(
+        f"Could not find a connection between '{target}' and '{source}' because they are not "
+        "part of the same tree.Tf has two or more unconnected trees."
+    )
