@@ -170,6 +170,42 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="INTIMATE,PERSONAL,SOCIAL",
         help=f"proxemic zone limits in metres ({_default('zones_m')}; comma-separated)",
     )
+    heads = run.add_argument_group("heads: face frames, from ROS 2 input (see README)")
+    heads.add_argument(
+        "--head-cone",
+        choices=["3d", "planar"],
+        help=f"measure a head's angle to the robot in 3D or in the horizontal plane "
+        f"({_default('head_cone')})",
+    )
+    for name, help_text in (
+        ("head-threshold-deg", "half-angle of a head's facing cone"),
+        ("head-falloff-deg", "a head's engagement score reaches 0 this far beyond the cone"),
+        ("head-engagement-tau-s", "time constant of a head's smoothed score"),
+        ("head-dwell-s", "a head's ENGAGING/DISENGAGING must hold this long"),
+    ):
+        field = name.replace("-", "_")
+        heads.add_argument(f"--{name}", type=float, help=f"{help_text} ({_default(field)})")
+    ros = run.add_argument_group("ROS 2 input: a robot's own /tf and /humans/* topics")
+    ros.add_argument(
+        "--input",
+        choices=["json", "ros2"],
+        help=f"read our JSON poses, or a ROS 2 robot's topics ({_default('input')})",
+    )
+    ros.add_argument(
+        "--ros-format",
+        choices=["rmw_zenoh", "bridge"],
+        help=f"how the robot is on zenoh: rmw_zenoh, or zenoh-bridge-ros2dds "
+        f"({_default('ros_format')})",
+    )
+    ros.add_argument(
+        "--ros-domain-id",
+        type=int,
+        help=f"ROS_DOMAIN_ID, rmw_zenoh only ({_default('ros_domain_id')})",
+    )
+    ros.add_argument(
+        "--ros-namespace",
+        help=f"ROS namespace (or the bridge's) prefixing every topic ({_default('ros_namespace')})",
+    )
     run.add_argument("--log-level", help=f"log level ({_default('log_level')})")
     add_zenoh_arguments(run)
 

@@ -13,6 +13,7 @@ import os
 import re
 import socket
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -23,6 +24,7 @@ from . import keys
 from .disclosure import public_cfg_entry, public_value
 from .engagement import EngagementParams
 from .schemas import DEFAULT_MAX_PAYLOAD_BYTES
+from .tracker import Profile
 
 ENV_PREFIX = "FACING_"
 #: In environment variables, list settings are comma-separated, except ``FACING_CFG``
@@ -55,6 +57,17 @@ class Settings(BaseModel):
     disengage_dwell_s: float = Field(default=0.6, ge=0.0, allow_inf_nan=False)
     engagement_period_s: float = Field(default=1.0, gt=0.0, allow_inf_nan=False)
     zones_m: list[float] = [0.45, 1.2, 3.6]
+    # Heads (face frames, from ROS 2 input): measured on the shared recordings, see README.
+    head_cone: Literal["3d", "planar"] = "3d"
+    head_threshold_deg: float = Field(default=16.0, gt=0.0, lt=180.0)
+    head_falloff_deg: float = Field(default=20.0, gt=0.0, lt=180.0)
+    head_engagement_tau_s: float = Field(default=2.0, gt=0.0, allow_inf_nan=False)
+    head_dwell_s: float = Field(default=1.0, ge=0.0, allow_inf_nan=False)
+    # Input: our JSON poses, or a ROS 2 robot's own topics.
+    input: Literal["json", "ros2"] = "json"
+    ros_format: Literal["rmw_zenoh", "bridge"] = "rmw_zenoh"
+    ros_domain_id: int = Field(default=0, ge=0, le=232)
+    ros_namespace: str = ""
     instance: str = Field(default_factory=default_instance)
     log_level: LogLevel = "INFO"
     # zenoh session; None means "as the config file says, else zenoh's default (peer)".
@@ -80,6 +93,14 @@ class Settings(BaseModel):
     def _base_frame(cls, value: str) -> str:
         return keys.validate_frame_filter(value)
 
+    @field_validator("ros_namespace")
+    @classmethod
+    def _ros_namespace(cls, value: str) -> str:
+        value = value.strip("/")
+        if value and not all(re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", c) for c in value.split("/")):
+            raise ValueError("a ROS namespace is names of [A-Za-z0-9_] joined by '/'")
+        return value
+
     @field_validator("log_level", mode="before")
     @classmethod
     def _log_level(cls, value: Any) -> Any:
@@ -98,6 +119,12 @@ class Settings(BaseModel):
             raise ValueError("disengage_below must be below engage_above")
         return self
 
+    @property
+    def ros_base_frame(self) -> str:
+        """The frame ROS 2 input looks people up in: ``--base-frame``, or REP 105's
+        ``base_link`` (libhri's default reference frame) when it is ``*``."""
+        return "base_link" if self.base_frame == keys.ALL_FRAMES else self.base_frame
+
     def engagement_params(self) -> EngagementParams:
         intimate, personal, social = self.zones_m
         return EngagementParams(
@@ -110,6 +137,20 @@ class Settings(BaseModel):
             intimate_m=intimate,
             personal_m=personal,
             social_m=social,
+        )
+
+    def head_profile(self) -> Profile:
+        """How face frames are decided (ROS 2 input): see the README's evaluation."""
+        engagement = replace(
+            self.engagement_params(),
+            threshold_deg=self.head_threshold_deg,
+            falloff_deg=self.head_falloff_deg,
+            tau_s=self.head_engagement_tau_s,
+            engage_dwell_s=self.head_dwell_s,
+            disengage_dwell_s=self.head_dwell_s,
+        )
+        return Profile(
+            self.head_threshold_deg, self.hysteresis_deg, self.head_cone == "3d", engagement
         )
 
     @field_validator("cfg")

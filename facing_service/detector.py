@@ -71,19 +71,27 @@ def classify(
     translations: FloatArray,
     quaternions: FloatArray,
     threshold_deg: float | FloatArray,
+    cone3d: bool | BoolArray = False,
 ) -> Classification:
     """Classify N bodies at once.
 
     ``threshold_deg`` is a scalar or one value per body; the tracker passes a widened
     threshold for bodies already facing, which is how hysteresis stays out of the geometry.
     Quaternions must be unit length (the schemas normalize them at the boundary).
+
+    ``cone3d`` (scalar or per body) measures the angle between the frame's x axis and the
+    robot in 3D, ``atan2(hypot(r.y, r.z), r.x)``, instead of in the horizontal plane: a
+    head that looks down at a camera is not facing it, where a chest's pitch is noise.
     """
     r = robot_in_body(translations, quaternions)
     x = r[:, 0]
     y = r[:, 1]
     distance = np.hypot(x, y)
     defined = distance >= DEGENERATE_DISTANCE_M
-    angle = np.arctan2(np.abs(y), x)
+    lateral = np.abs(y)
+    if np.any(cone3d):
+        lateral = np.where(cone3d, np.hypot(y, r[:, 2]), lateral)
+    angle = np.arctan2(lateral, x)
     angle *= 180.0 / np.pi
     facing = (angle < threshold_deg) & (x > 0.0) & defined
     if not defined.all():  # rare: only then pay for masking
@@ -98,6 +106,7 @@ def classify_one(
     translation: tuple[float, float, float],
     quaternion: tuple[float, float, float, float],
     threshold_deg: float,
+    cone3d: bool = False,
 ) -> tuple[tuple[float, float, float], float | None, float | None, bool]:
     """``classify`` for a single body, on plain floats: ``(r, angle, distance, facing)``,
     with ``None`` for an undefined angle and distance.
@@ -116,5 +125,6 @@ def classify_one(
     distance = math.hypot(x, y)
     if distance < DEGENERATE_DISTANCE_M:
         return (x, y, z), None, None, False
-    angle = math.atan2(abs(y), x) * (180.0 / math.pi)
+    lateral = math.hypot(y, z) if cone3d else abs(y)
+    angle = math.atan2(lateral, x) * (180.0 / math.pi)
     return (x, y, z), angle, distance, angle < threshold_deg and x > 0.0

@@ -206,6 +206,17 @@ class Rejection(str, Enum):
     QUATERNION_NOT_NORMALIZED = "quaternion_not_normalized"
     OUT_OF_ORDER = "out_of_order"
     CAPACITY = "capacity"
+    # ROS 2 input (--input ros2)
+    TYPE_MISMATCH = "type_mismatch"  # key of another type, or another RIHS01 type hash
+    MALFORMED_CDR = "malformed_cdr"
+    INVALID_ID = "invalid_id"  # a tracked id outside [A-Za-z0-9_.-]
+    TF_NAN = "tf_nan"  # tf2's input checks, as its warnings name them
+    TF_DENORMALIZED_QUATERNION = "tf_denormalized_quaternion"
+    TF_SELF_TRANSFORM = "tf_self_transform"
+    TF_NO_FRAME_ID = "tf_no_frame_id"
+    TF_NO_CHILD_FRAME_ID = "tf_no_child_frame_id"
+    TF_OLD_DATA = "tf_old_data"
+    TF_REPEATED_DATA = "tf_repeated_data"
 
 
 @dataclass(frozen=True, slots=True)

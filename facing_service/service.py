@@ -39,6 +39,9 @@ from .config import Settings, zenoh_config
 from .disclosure import public_settings
 from .engagement import Level
 from .outbox import Kind, Outbox, Publication
+from .people import People
+from .ros2_input import Ros2Subscriptions, RosSample, route
+from .ros2_wire import RosFormat, Wire
 from .schemas import (
     EngagementEvent,
     EngagementState,
@@ -77,6 +80,7 @@ COUNTERS = (
     "queries_answered",
     "queries_refused",
     "publish_errors",
+    "tf_lookups_unresolved",
 )
 
 _STOP = object()
@@ -174,7 +178,14 @@ class FacingService:
             max_bodies=settings.max_bodies,
             engagement=settings.engagement_params(),
             engagement_period_s=settings.engagement_period_s,
+            head=settings.head_profile(),
         )
+        # ROS 2 input: the robot's people from its TF tree and tracked lists.
+        self._wire = Wire(
+            RosFormat(settings.ros_format), settings.ros_domain_id, settings.ros_namespace
+        )
+        self._people = People(settings.ros_base_frame)
+        self._ros: Ros2Subscriptions | None = None
         self._inbox: queue.Queue[tuple[float, object]] = queue.Queue(maxsize=INBOX_SIZE)
         self._outbox = Outbox()
         self._closing = threading.Event()
@@ -204,10 +215,16 @@ class FacingService:
             ]
             for thread in self._threads:
                 thread.start()
-            subscription = keys.pose_subscription(ns, frame)
             body_space, frame_space = keys.result_queryables(ns, frame)
+            if s.input == "ros2":
+                self._ros = Ros2Subscriptions(session, self._wire, self._enqueue)
+                subscription = ", ".join(self._ros.keys)
+                inputs = []
+            else:
+                subscription = keys.pose_subscription(ns, frame)
+                inputs = [session.declare_subscriber(subscription, self._enqueue)]
             self._entities = [
-                session.declare_subscriber(subscription, self._enqueue),
+                *inputs,
                 session.declare_queryable(
                     body_space, lambda q: self._enqueue(_QueryItem(q, "facing"))
                 ),
@@ -256,6 +273,9 @@ class FacingService:
         for entity in self._entities:
             entity.undeclare()
         self._entities = []
+        if self._ros is not None:
+            self._ros.close()
+            self._ros = None
         # Wake an idle worker; a busy one (full inbox) sees the closing flag after its batch.
         with contextlib.suppress(queue.Full):
             self._inbox.put_nowait((0.0, _STOP))
@@ -381,10 +401,30 @@ class FacingService:
                     continue
                 self._flush(poses)
                 self._on_delete(str(item.key_expr))
+            elif isinstance(item, RosSample):
+                self._horizon = arrival
+                self._on_ros(item, poses)
             elif isinstance(item, _QueryItem):
                 self._flush(poses)
                 self._answer(item)
         self._flush(poses)
+
+    def _on_ros(self, sample: RosSample, poses: list[PoseSample]) -> None:
+        """A sample of the robot's topics: poses join the batch; losses are published
+        after the poses before them, in order."""
+        update = route(self._people, self._wire, sample)
+        if isinstance(update, Rejected):
+            self._reject(update.reason, sample.key, update.detail)
+            return
+        for reason, what in update.refused:
+            self._reject(Rejection(reason), sample.key, what)
+        if update.unresolved:
+            self._count("tf_lookups_unresolved", update.unresolved)
+        poses.extend(update.poses)
+        if update.lost:
+            self._flush(poses)
+            for subject in update.lost:
+                self._publish(self._tracker.lose(self._people.base_frame, subject))
 
     def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
         key = str(sample.key_expr)

@@ -25,6 +25,18 @@ class PoseSample:
     frame_id: str
     body_id: str
     pose: Pose
+    profile: str = "body"  # which Profile decides it: "body", or "head" (a face frame)
+
+
+@dataclass(frozen=True, slots=True)
+class Profile:
+    """How one kind of frame is decided: a chest faces in the horizontal plane (REP 155's
+    body frame, the tutorial's rule), a head in 3D (people look down at a camera)."""
+
+    threshold_deg: float
+    hysteresis_deg: float
+    cone3d: bool
+    engagement: EngagementParams
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,6 +107,7 @@ class _Track:
     pose: Pose
     last_seen: float
     state: BodyState
+    profile: Profile
     engagement: Engagement = field(default_factory=Engagement)
     engagement_published: float = float("-inf")  # the caller's clock, at the last update
 
@@ -119,20 +132,25 @@ def _frame_facing(
 
 
 def _classify(
-    samples: Sequence[PoseSample], thresholds: Sequence[float], reported_threshold: float
+    samples: Sequence[PoseSample],
+    thresholds: Sequence[float],
+    profiles: Sequence[Profile],
+    reported: Sequence[float],
 ) -> list[BodyState]:
-    """Decide ``samples`` (one threshold each) and wrap each as a BodyState: the
-    vectorized core for a batch, the per-body one below ``detector.SMALL_BATCH``."""
+    """Decide ``samples`` (one threshold and profile each) and wrap each as a BodyState
+    (reporting ``reported`` as its threshold): the vectorized core for a batch, the
+    per-body one below ``detector.SMALL_BATCH``."""
     if len(samples) < detector.SMALL_BATCH:
         rows = [
-            detector.classify_one(s.pose.translation, s.pose.rotation, threshold)
-            for s, threshold in zip(samples, thresholds, strict=True)
+            detector.classify_one(s.pose.translation, s.pose.rotation, threshold, p.cone3d)
+            for s, threshold, p in zip(samples, thresholds, profiles, strict=True)
         ]
     else:
         result = detector.classify(
             np.array([s.pose.translation for s in samples], dtype=np.float64),
             np.array([s.pose.rotation for s in samples], dtype=np.float64),
             np.array(thresholds, dtype=np.float64),
+            np.array([p.cone3d for p in profiles], dtype=np.bool_),
         )
         defined = result.defined.tolist()
         rows = [
@@ -147,10 +165,8 @@ def _classify(
             )
         ]
     return [
-        BodyState(
-            s.body_id, s.frame_id, s.pose.stamp, facing, angle, distance, r, reported_threshold
-        )
-        for s, (r, angle, distance, facing) in zip(samples, rows, strict=True)
+        BodyState(s.body_id, s.frame_id, s.pose.stamp, facing, angle, distance, r, threshold)
+        for s, (r, angle, distance, facing), threshold in zip(samples, rows, reported, strict=True)
     ]
 
 
@@ -176,11 +192,12 @@ class Tracker:
         max_bodies: int = 10_000,
         engagement: EngagementParams | None = None,
         engagement_period_s: float = 1.0,
+        head: Profile | None = None,
     ) -> None:
         self.engagement = engagement or EngagementParams(threshold_deg=threshold_deg)
+        body = Profile(threshold_deg, hysteresis_deg, False, self.engagement)
+        self.profiles = {"body": body, "head": head or body}
         self.engagement_period_s = engagement_period_s
-        self.threshold_deg = threshold_deg
-        self.hysteresis_deg = hysteresis_deg
         self.stale_after_s = stale_after_s
         self.max_bodies = max_bodies
         # Ordered by last accepted sample, oldest first: expiry pops from the front.
@@ -225,14 +242,16 @@ class Tracker:
 
         touched: set[str] = set()
         for generation in generations:
+            profiles = [self.profiles[s.profile] for s in generation]
             thresholds = [
-                self.threshold_deg
-                + (self.hysteresis_deg if self._was_facing((s.frame_id, s.body_id)) else 0.0)
-                for s in generation
+                p.threshold_deg
+                + (p.hysteresis_deg if self._was_facing((s.frame_id, s.body_id)) else 0.0)
+                for s, p in zip(generation, profiles, strict=True)
             ]
-            states = _classify(generation, thresholds, self.threshold_deg)
-            for sample, state in zip(generation, states, strict=True):
-                update = self._store(sample, state, now)
+            reported = [p.threshold_deg for p in profiles]
+            states = _classify(generation, thresholds, profiles, reported)
+            for sample, state, profile in zip(generation, states, profiles, strict=True):
+                update = self._store(sample, state, profile, now)
                 if update is not None:
                     changes.engagement.append(update)
                 touched.add(sample.frame_id)
@@ -290,7 +309,9 @@ class Tracker:
             PoseSample(frame_id, body_id, track.pose)
             for (frame_id, body_id), track in self._tracks.items()
         ]
-        states = _classify(samples, [threshold_deg] * len(samples), threshold_deg)
+        same = [threshold_deg] * len(samples)
+        profiles = [track.profile for track in self._tracks.values()]
+        states = _classify(samples, same, profiles, same)
         facing: dict[str, list[str]] = {frame_id: [] for frame_id in self._frames}
         for state in states:
             if state.facing:
@@ -305,14 +326,17 @@ class Tracker:
         track = self._tracks.get(key)
         return track is not None and track.state.facing
 
-    def _store(self, sample: PoseSample, state: BodyState, now: float) -> EngagementUpdate | None:
+    def _store(
+        self, sample: PoseSample, state: BodyState, profile: Profile, now: float
+    ) -> EngagementUpdate | None:
         """Keep the new state; the engagement update to publish, if one is due."""
         key = (sample.frame_id, sample.body_id)
         track = self._tracks.get(key)
         if track is None:
-            track = self._tracks[key] = _Track(sample.pose, now, state)
+            track = self._tracks[key] = _Track(sample.pose, now, state, profile)
         else:  # in place: the body's engagement carries over
             track.pose, track.last_seen, track.state = sample.pose, now, state
+            track.profile = profile
         self._tracks.move_to_end(key)
         update = self._engage(track, state, now)
         frame = self._frames.setdefault(sample.frame_id, _Frame())
@@ -333,7 +357,7 @@ class Tracker:
         """Step the body's engagement on the pose's own clock (its stamp): behaviour timing
         is the tracker's. Unchanged levels are republished at most every period of the
         caller's clock (``now``): that limit is about output load, whatever the stamps do."""
-        p = self.engagement
+        p = track.profile.engagement
         t = _stamp_s(state.stamp)
         before = track.engagement.level
         track.engagement = step(
@@ -353,7 +377,7 @@ class Tracker:
             state.stamp,
             engagement.level,
             engagement.score,
-            zone(state.distance_m, self.engagement),
+            zone(state.distance_m, track.profile.engagement),
             _to_stamp(engagement.since),
             previous,
         )

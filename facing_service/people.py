@@ -1,0 +1,170 @@
+"""People of a ROS4HRI robot, from its TF tree and tracked lists, as the tracker's samples.
+
+Pure: messages in (as plain values), pose samples and losses out. The rules:
+
+- The tracked lists define who exists: ``/humans/bodies/tracked``, ``/humans/faces/tracked``
+  and ``/humans/persons/tracked``. An id that leaves its list is lost at once.
+- Each tracked id is one subject in our key space, named ``<kind>_<id>`` (``body_1f3a``,
+  ``face_959e0``, ``person_rorql``): the REP 155 frame name for bodies and faces, so the
+  same person's body and face never collide, and a person keyed by its person id.
+- A body's pose is its ``body_<id>`` frame, a face's its ``face_<id>`` frame (both x
+  forward, REP 155); a person's is its face's frame when ``/humans/persons/<id>/face_id``
+  names one, else its body's (``body_id``): engagement is about where the head points.
+- Each pose is tf2's lookup of that frame in the base frame at the latest common time,
+  redone whenever a transform on its chain (or the base frame's) changes; a pose is
+  emitted only when that time moves forward, so nothing already said is repeated.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+from . import keys
+from .schemas import Pose
+from .tf_buffer import TfBuffer, TfError, Transform
+from .tracker import PoseSample
+
+#: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
+KINDS = {
+    "/humans/bodies/tracked": ("body_", "body_"),
+    "/humans/faces/tracked": ("face_", "face_"),
+    "/humans/persons/tracked": ("person_", None),
+}
+PERSON_LINKS = {"face_id": "face_", "body_id": "body_"}
+S = 1_000_000_000
+
+
+@dataclass(frozen=True, slots=True)
+class TfInput:
+    parent: str
+    child: str
+    stamp_ns: int
+    transform: Transform
+
+
+@dataclass
+class Update:
+    """What one input changed: poses for the tracker, subjects lost, inputs refused."""
+
+    poses: list[PoseSample] = field(default_factory=list)
+    lost: list[str] = field(default_factory=list)
+    refused: list[tuple[str, str]] = field(default_factory=list)  # (reason, what)
+    unresolved: int = 0  # lookups not possible yet (frame unknown, no common time...)
+
+
+class People:
+    """The robot's people, as seen in ``base_frame``."""
+
+    def __init__(self, base_frame: str) -> None:
+        self.base_frame = base_frame
+        self.tf = TfBuffer()
+        self._tracked: dict[str, set[str]] = {topic: set() for topic in KINDS}
+        self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}  # person -> id
+        self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
+
+    # -- inputs --------------------------------------------------------------------------
+
+    def on_tf(self, transforms: Iterable[TfInput], *, static: bool) -> Update:
+        update = Update()
+        changed: set[str] = set()
+        for t in transforms:
+            reason = self.tf.set_transform(
+                t.parent, t.child, t.stamp_ns, t.transform, static=static
+            )
+            if reason is None:
+                changed.add(t.child)
+            else:
+                update.refused.append((f"tf_{reason}", f"{t.parent} -> {t.child}"))
+        if changed:
+            base_chain = set(self.tf.parent_chain(self.base_frame))
+            concerned = [
+                subject
+                for subject in self.subjects()
+                if (frame := self._frame_of(subject)) is not None
+                and (base_chain | set(self.tf.parent_chain(frame))) & changed
+            ]
+            self._resolve(concerned, update)
+        return update
+
+    def on_tracked(self, topic: str, ids: Sequence[str]) -> Update:
+        update = Update()
+        prefix = KINDS[topic][0]
+        valid = set()
+        for ros_id in ids:
+            if keys.is_name(prefix + ros_id):
+                valid.add(ros_id)
+            else:
+                update.refused.append(("invalid_id", f"{topic}: {ros_id!r}"))
+        current = self._tracked[topic]
+        gone, new = current - valid, valid - current
+        self._tracked[topic] = valid
+        for ros_id in sorted(gone):
+            subject = prefix + ros_id
+            self._last.pop(subject, None)
+            update.lost.append(subject)
+        self._resolve([prefix + ros_id for ros_id in sorted(new)], update)
+        return update
+
+    def on_person_link(self, person_id: str, link: str, target: str) -> Update:
+        """``/humans/persons/<person_id>/<link>`` said ``target`` ("" for none)."""
+        update = Update()
+        links = self._links[PERSON_LINKS[link]]
+        if target and not keys.is_name(PERSON_LINKS[link] + target):
+            update.refused.append(("invalid_id", f"{person_id}/{link}: {target!r}"))
+            return update
+        if links.get(person_id, "") == target:
+            return update
+        if target:
+            links[person_id] = target
+        else:
+            links.pop(person_id, None)
+        if person_id in self._tracked["/humans/persons/tracked"]:
+            self._resolve(["person_" + person_id], update)
+        return update
+
+    # -- state -----------------------------------------------------------------------------
+
+    def subjects(self) -> list[str]:
+        """Every tracked subject, by our name."""
+        return [KINDS[topic][0] + i for topic, ids in self._tracked.items() for i in sorted(ids)]
+
+    def _frame_of(self, subject: str) -> str | None:
+        """The TF frame a subject's pose is read from, or None when it has none (yet)."""
+        prefix, _, ros_id = subject.partition("_")
+        if prefix != "person":
+            return subject  # body_<id> and face_<id> are REP 155's frame names
+        for link_prefix in ("face_", "body_"):
+            if target := self._links[link_prefix].get(ros_id):
+                return link_prefix + target
+        return None
+
+    def _resolve(self, subjects: Iterable[str], update: Update) -> None:
+        for subject in subjects:
+            frame = self._frame_of(subject)
+            if frame is None or not self.tf.has_frame(frame):
+                continue
+            try:
+                transform, stamp = self.tf.lookup(self.base_frame, frame, 0)
+            except TfError:
+                update.unresolved += 1
+                continue
+            if stamp <= self._last.get(subject, -1):
+                continue  # nothing newer than what was already said
+            self._last[subject] = stamp
+            profile = "head" if frame.startswith("face_") else "body"
+            update.poses.append(
+                PoseSample(self.base_frame, subject, _pose(transform, stamp), profile)
+            )
+
+
+def _pose(transform: Transform, stamp_ns: int) -> Pose:
+    """tf2 composes quaternions without renormalizing; the detector wants unit ones."""
+    x, y, z, w = transform.rotation
+    n = math.sqrt(x * x + y * y + z * z + w * w)
+    return Pose(
+        (stamp_ns // S, stamp_ns % S),
+        transform.translation,
+        (x / n, y / n, z / n, w / n),
+    )

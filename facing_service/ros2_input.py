@@ -1,0 +1,132 @@
+"""A ROS 2 robot's people, read straight off zenoh: subscriptions (thin shell) and the
+routing of each sample, decoded with rosbags, into ``People`` (pure).
+
+Topics read (under ``--ros-namespace``, in ``--ros-format``):
+
+    /tf, /tf_static                          tf2_msgs/msg/TFMessage
+    /humans/{bodies,faces,persons}/tracked   hri_msgs/msg/IdsList
+    /humans/persons/<id>/{face_id,body_id}   std_msgs/msg/String
+
+``/tf_static`` and the person topics are transient-local in ROS 2: they are read through
+zenoh-ext advanced subscribers with history and late-publisher detection, so a service
+started after the robot still gets them from the publishers' caches (rmw_zenoh's and the
+bridge's). ``/tf`` and the body and face lists stream: plain subscribers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import zenoh
+import zenoh.ext
+
+from . import ros2_types
+from .people import KINDS, PERSON_LINKS, People, TfInput, Update
+from .ros2_wire import Wire
+from .schemas import Rejected, Rejection
+from .tf_buffer import Transform
+
+#: (topic pattern, type, transient-local?)
+TOPICS = (
+    ("/tf", ros2_types.TF_MESSAGE, False),
+    ("/tf_static", ros2_types.TF_MESSAGE, True),
+    ("/humans/bodies/tracked", ros2_types.IDS_LIST, False),
+    ("/humans/faces/tracked", ros2_types.IDS_LIST, False),
+    ("/humans/persons/tracked", ros2_types.IDS_LIST, True),
+    ("/humans/persons/*/face_id", ros2_types.STRING, True),
+    ("/humans/persons/*/body_id", ros2_types.STRING, True),
+)
+
+
+@dataclass(frozen=True, slots=True)
+class RosSample:
+    """A sample from one of the robot's topics, as the zenoh callback hands it over."""
+
+    key: str
+    payload: bytes
+
+
+def route(people: People, wire: Wire, sample: RosSample) -> Update | Rejected:
+    """Decode one sample and apply it to ``people``; never raises on any input."""
+    topic = wire.topic_of(sample.key)
+    typename = _typename(topic)
+    if topic is None or typename is None:
+        return Rejected(Rejection.INVALID_KEY, "not a topic this service reads")
+    if reason := wire.check(sample.key, typename):
+        return Rejected(Rejection.TYPE_MISMATCH, reason)
+    try:
+        message = ros2_types.deserialize(sample.payload, typename)
+    except Exception as error:  # rosbags raises several kinds on truncated or bad CDR
+        return Rejected(Rejection.MALFORMED_CDR, f"{type(error).__name__}: {error}"[:200])
+    if typename == ros2_types.TF_MESSAGE:
+        return people.on_tf(tf_inputs(message), static=topic == "/tf_static")
+    if typename == ros2_types.IDS_LIST:
+        return people.on_tracked(topic, list(message.ids))
+    _, _, _, person_id, link = topic.split("/")
+    return people.on_person_link(person_id, link, message.data)
+
+
+def _typename(topic: str | None) -> str | None:
+    if topic is None:
+        return None
+    if topic in ("/tf", "/tf_static"):
+        return ros2_types.TF_MESSAGE
+    if topic in KINDS:
+        return ros2_types.IDS_LIST
+    parts = topic.split("/")
+    if len(parts) == 5 and parts[1:3] == ["humans", "persons"] and parts[4] in PERSON_LINKS:
+        return ros2_types.STRING
+    return None
+
+
+def tf_inputs(message: Any) -> list[TfInput]:
+    """A TFMessage's transforms as plain values."""
+    inputs = []
+    for t in message.transforms:
+        tr, rot = t.transform.translation, t.transform.rotation
+        inputs.append(
+            TfInput(
+                t.header.frame_id,
+                t.child_frame_id,
+                t.header.stamp.sec * 1_000_000_000 + t.header.stamp.nanosec,
+                Transform((tr.x, tr.y, tr.z), (rot.x, rot.y, rot.z, rot.w)),
+            )
+        )
+    return inputs
+
+
+class Ros2Subscriptions:
+    """The robot's topics on a zenoh session; each sample goes to ``hand_off`` as a
+    RosSample (the service's inbox). Close it to undeclare everything."""
+
+    def __init__(
+        self, session: zenoh.Session, wire: Wire, hand_off: Callable[[RosSample], None]
+    ) -> None:
+        def on_sample(sample: zenoh.Sample) -> None:
+            if sample.kind == zenoh.SampleKind.PUT:
+                hand_off(RosSample(str(sample.key_expr), sample.payload.to_bytes()))
+
+        self.keys: list[str] = []
+        self._entities: list[Any] = []
+        try:
+            for topic, typename, transient_local in TOPICS:
+                key = wire.subscription(topic, typename)
+                self.keys.append(key)
+                if transient_local:
+                    history = zenoh.ext.HistoryConfig(detect_late_publishers=True)
+                    entity = zenoh.ext.declare_advanced_subscriber(
+                        session, key, on_sample, history=history
+                    )
+                else:
+                    entity = session.declare_subscriber(key, on_sample)
+                self._entities.append(entity)
+        except BaseException:
+            self.close()
+            raise
+
+    def close(self) -> None:
+        for entity in self._entities:
+            entity.undeclare()
+        self._entities = []
