@@ -205,7 +205,7 @@ def summary(rows: list[Row]) -> dict[str, float | int | None]:
         "engaged_or_not": round(statistics.mean(r.engaged_or_not for r in rows), 3),
         "final": sum(r.final_ok for r in rows),
         "of": len(rows),
-        "first_engaged_s": None if median is None or math.isinf(median) else median,
+        "first_engaged_s": None if median is None or math.isinf(median) else round(median, 2),
         "changes": sum(r.changes for r in rows),
     }
 

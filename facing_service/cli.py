@@ -11,6 +11,7 @@ import argparse
 import io
 import json
 import logging
+import math
 import os
 import signal
 import sys
@@ -34,6 +35,8 @@ from .config import (
     zenoh_config,
 )
 from .disclosure import public_zenoh_error
+from .replay import Replay
+from .ros2_wire import RosFormat, Wire
 from .router import router_config, serve
 from .schemas import ServiceStatus, json_schemas
 from .service import FacingService
@@ -245,6 +248,22 @@ def build_parser() -> argparse.ArgumentParser:
     router.add_argument("--log-level", help=f"log level ({_default('log_level')})")
     add_zenoh_arguments(router)
 
+    replay = commands.add_parser(
+        "replay",
+        help="play a ROS 2 bag (.db3 or .mcap) onto zenoh as the robot published it",
+        description="Messages go out unchanged at the recorded pace (times --rate), in "
+        "rmw_zenoh's format or the bridge's; transient-local topics (/tf_static...) are "
+        "served from publication caches, so a service started meanwhile still gets them.",
+    )
+    replay.add_argument("bag", type=Path, help="a rosbag2 folder, or its .db3/.mcap file")
+    replay.add_argument("--rate", type=float, default=1.0, help="speed factor (default 1)")
+    replay.add_argument(
+        "--ros-format", choices=["rmw_zenoh", "bridge"], help=f"({_default('ros_format')})"
+    )
+    replay.add_argument("--ros-domain-id", type=int, help=f"({_default('ros_domain_id')})")
+    replay.add_argument("--ros-namespace", help=f"({_default('ros_namespace')})")
+    add_zenoh_arguments(replay)
+
     simulate = commands.add_parser(
         "simulate",
         help="publish a synthetic scene of people, like a body tracker would",
@@ -424,6 +443,41 @@ def _router(args: argparse.Namespace) -> int:
     return 0
 
 
+def _replay(args: argparse.Namespace) -> int:
+    if not args.bag.exists():
+        print(
+            f"facing-service replay: BAG {str(args.bag)!r}: no such file or folder", file=sys.stderr
+        )
+        return 2
+    if not (math.isfinite(args.rate) and args.rate > 0):
+        print(f"facing-service replay: --rate {args.rate}: must be a number > 0", file=sys.stderr)
+        return 2
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    stop = _stop_on_signals()
+    wire = Wire(RosFormat(settings.ros_format), settings.ros_domain_id, settings.ros_namespace)
+    where = f"domain {wire.domain_id}, " if wire.format is RosFormat.RMW_ZENOH else ""
+    namespace = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
+    print(
+        f"replaying {args.bag} at {args.rate:g}x in {wire.format.value} format ({where}{namespace})"
+    )
+    try:
+        with zenoh.open(zenoh_config(settings)) as session, Replay(session, args.bag, wire) as bag:
+            stats = bag.run(args.rate, should_stop=stop.is_set)
+    except zenoh.ZError as error:
+        print(f"facing-service replay: {public_zenoh_error(error)}", file=sys.stderr)
+        return 1
+    except Exception as error:  # rosbags' errors for a folder that is not a bag
+        print(f"facing-service replay: {args.bag}: {error}", file=sys.stderr)
+        return 1
+    print(
+        f"sent {stats.messages} messages on {stats.topics} topics ({stats.duration_s:.1f} s "
+        f"recorded) in {stats.elapsed_s:.1f} s"
+    )
+    return 0
+
+
 def _publisher(session: zenoh.Session) -> Callable[[str, bytes | None], None]:
     """Publish a pose (or, for None, DELETE the key) as a tracker should: BLOCK."""
 
@@ -563,6 +617,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "run": _run,
         "health": _health,
         "router": _router,
+        "replay": _replay,
         "simulate": _simulate,
         "watch": _watch,
         "demo": _demo,
