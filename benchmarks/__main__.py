@@ -39,10 +39,22 @@ TARGETS = {
 }
 
 
+#: The ROS 2 path may cost this much more CPU per pose than a JSON pose.
+ROS_CPU_RATIO_MAX = 1.5
+
+
 def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]:
-    if kind == "service":  # through its CLI, as users run it
+    if kind.startswith("service"):  # through its CLI, as users run it
+        ros = ("--input", "ros2", "--base-frame", "base_link") if kind == "service-ros" else ()
         return running_cli(
-            "run", "-l", endpoint(port), *LOOPBACK_FLAGS, "--log-level", "WARNING", capture=False
+            "run",
+            "-l",
+            endpoint(port),
+            *LOOPBACK_FLAGS,
+            "--log-level",
+            "WARNING",
+            *ros,
+            capture=False,
         )
     return running_cli("-l", endpoint(port), module="benchmarks.relay", capture=False)
 
@@ -62,9 +74,10 @@ def measure(kind: str, args: argparse.Namespace) -> dict:
         start(kind, port) as proc,
         zenoh.open(loopback_config(connect=[endpoint(port)])) as session,
     ):
-        driver = Driver(session)
+        driver = Driver(session, ros=kind == "service-ros")
         try:
             wait_ready(session)
+            driver.announce(max(args.burst_bodies, args.soak_bodies, 1))
             driver.latency(args.warmup, first_sec=1)  # warm-up: imports, caches, links
             result = {"latency": driver.latency(args.latency_n, first_sec=1_000_000)}
             result["burst"] = driver.burst(args.burst_n, args.burst_bodies, first_sec=2_000_000)
@@ -90,6 +103,21 @@ def ratios(relay: dict, service: dict) -> dict[str, float]:
     }
 
 
+def ros_ratios(json_path: dict, ros_path: dict) -> dict[str, float]:
+    """The ROS 2 path against the JSON path of the same service: CPU per pose in the soak
+    (both at the same rate), burst throughput and soak latency."""
+
+    def per_pose(run: dict) -> float:
+        return run["soak"]["cpu_percent"] / max(run["soak"]["received"], 1)
+
+    return {
+        "ros_cpu_per_pose": per_pose(ros_path) / per_pose(json_path),
+        "ros_burst_throughput": ros_path["burst"]["results_per_s"]
+        / json_path["burst"]["results_per_s"],
+        "ros_soak_p99": ros_path["soak"]["p99_ms"] / json_path["soak"]["p99_ms"],
+    }
+
+
 def verdicts(report: dict) -> dict[str, bool]:
     rat, service = report["ratios"], report["service"]
     big = [row for row in report["core"] if row["n"] >= 10_000]
@@ -98,6 +126,9 @@ def verdicts(report: dict) -> dict[str, bool]:
         "latency_p99": rat["latency_p99"] <= TARGETS["latency_p99_ratio_max"],
         "burst_throughput": rat["burst_throughput"] >= TARGETS["burst_throughput_ratio_min"],
         "burst_zero_loss": service["burst"]["lost"] == 0,
+        "ros_cpu_per_pose": rat["ros_cpu_per_pose"] <= ROS_CPU_RATIO_MAX,
+        "ros_zero_loss": report["service_ros"]["burst"]["lost"] == 0
+        and report["service_ros"]["soak"]["received"] == report["service_ros"]["soak"]["sent"],
         "soak_cpu": service["soak"]["cpu_percent"] <= TARGETS["soak_cpu_percent_max"],
         "core_speedup": bool(big)
         and all(row["speedup"] >= TARGETS["core_speedup_min"] for row in big),
@@ -159,6 +190,31 @@ def table(report: dict) -> str:
             if isinstance(a, float)
             else f"{name:26}{a:>12}{b:>12}{'' if ratio is None else f'{ratio:>9.2f}'}"
         )
+    ros, rr = report["service_ros"], report["ratios"]
+    lines.append("")
+    lines.append(f"{'ROS 2 path vs JSON path':26}{'json':>12}{'ros2':>12}{'ratio':>9}")
+    for name, a, b, ratio in (
+        (
+            "soak CPU % of one core",
+            service["soak"]["cpu_percent"],
+            ros["soak"]["cpu_percent"],
+            rr["ros_cpu_per_pose"],
+        ),
+        (
+            "burst results/s",
+            service["burst"]["results_per_s"],
+            ros["burst"]["results_per_s"],
+            rr["ros_burst_throughput"],
+        ),
+        ("burst lost", float(service["burst"]["lost"]), float(ros["burst"]["lost"]), None),
+        (
+            "soak p99 latency (ms)",
+            service["soak"]["p99_ms"],
+            ros["soak"]["p99_ms"],
+            rr["ros_soak_p99"],
+        ),
+    ):
+        lines.append(f"{name:26}{a:>12.3f}{b:>12.3f}{'' if ratio is None else f'{ratio:>9.2f}'}")
     lines.append("")
     lines.append(f"{'core: bodies/s':26}{'vectorized':>12}{'loop':>12}{'speedup':>9}")
     for row in report["core"]:
@@ -203,9 +259,12 @@ def main() -> None:
         "parameters": {k: v for k, v in vars(args).items() if k != "out"} | {"out": str(args.out)},
         "relay": measure("relay", args),
         "service": measure("service", args),
+        "service_ros": measure("service-ros", args),
         "core": core.measure(sizes, min_time=0.05 if args.quick else 0.3),
     }
-    report["ratios"] = ratios(report["relay"], report["service"])
+    report["ratios"] = ratios(report["relay"], report["service"]) | ros_ratios(
+        report["service"], report["service_ros"]
+    )
     report["verdicts"] = verdicts(report)
     report["targets"] = TARGETS
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import zenoh
 
+from facing_service import ros2_types
 from facing_service.schemas import ServiceStatus
 from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
 
@@ -37,6 +38,37 @@ def pose_payload(body: str, frame: str, x: float, y: float, yaw_deg: float, sec:
             },
         }
     ).encode()
+
+
+def tf_payload(body: str, frame: str, x: float, y: float, yaw_deg: float, sec: int) -> bytes:
+    """The same pose as ``pose_payload``, as a robot sends it: a one-body TFMessage (CDR)."""
+    half = math.radians(yaw_deg) / 2
+    t = ros2_types.message_type
+    message = t(ros2_types.TF_MESSAGE)(
+        transforms=[
+            t("geometry_msgs/msg/TransformStamped")(
+                header=t("std_msgs/msg/Header")(
+                    stamp=t("builtin_interfaces/msg/Time")(sec=sec, nanosec=0), frame_id=frame
+                ),
+                child_frame_id=f"body_{body}",
+                transform=t("geometry_msgs/msg/Transform")(
+                    translation=t("geometry_msgs/msg/Vector3")(x=x, y=y, z=0.0),
+                    rotation=t("geometry_msgs/msg/Quaternion")(
+                        x=0.0, y=0.0, z=math.sin(half), w=math.cos(half)
+                    ),
+                ),
+            )
+        ]
+    )
+    return ros2_types.serialize(message, ros2_types.TF_MESSAGE)
+
+
+def ids_payload(ids: list[str]) -> bytes:
+    t = ros2_types.message_type
+    header = t("std_msgs/msg/Header")(
+        stamp=t("builtin_interfaces/msg/Time")(sec=0, nanosec=0), frame_id=""
+    )
+    return ros2_types.serialize(t(ros2_types.IDS_LIST)(header=header, ids=ids), ros2_types.IDS_LIST)
 
 
 def send(session: zenoh.Session, key: str, payload: bytes) -> None:

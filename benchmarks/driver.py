@@ -21,7 +21,10 @@ from pathlib import Path
 import numpy as np
 import zenoh
 
-from .common import pose_payload, rss_mb
+from facing_service import ros2_types
+from facing_service.ros2_wire import GID_SIZE, Wire, attachment
+
+from .common import ids_payload, pose_payload, rss_mb, tf_payload
 
 _STAMP = re.compile(rb'"sec":\s*(\d+)')
 _TICKS = os.sysconf("SC_CLK_TCK")
@@ -43,6 +46,7 @@ class _Results:
     arrivals: dict[tuple[str, int], float] = field(default_factory=dict)
     event: threading.Event = field(default_factory=threading.Event)
     keep_times: bool = False
+    body_prefix: str = ""  # ROS 2 mode: results are keyed body_<id>
 
     def on_sample(self, sample: zenoh.Sample) -> None:
         now = time.perf_counter()
@@ -52,7 +56,7 @@ class _Results:
             self.count += 1
             self.last = now
             if self.keep_times:
-                body = str(sample.key_expr).split("/")[-3]
+                body = str(sample.key_expr).split("/")[-3].removeprefix(self.body_prefix)
                 match = _STAMP.search(sample.payload.to_bytes())
                 if match:
                     self.arrivals[(body, int(match.group(1)))] = now
@@ -65,12 +69,18 @@ def percentiles(values_s: list[float]) -> dict[str, float]:
 
 
 class Driver:
-    """One zenoh session that feeds a target and records its results."""
+    """One zenoh session that feeds a target and records its results: JSON poses, or
+    (with ``ros``) the same poses as a ROS 2 robot sends them, one-body TFMessages on
+    rmw_zenoh keys with their attachment."""
 
-    def __init__(self, session: zenoh.Session, namespace: str = "hri") -> None:
+    def __init__(self, session: zenoh.Session, namespace: str = "hri", ros: bool = False) -> None:
         self.session = session
         self.ns = namespace
-        self.results = _Results()
+        self.ros = ros
+        self._wire = Wire()
+        self._gid = os.urandom(GID_SIZE)
+        self._sequence_number = 0
+        self.results = _Results(body_prefix="body_" if ros else "")
         self._subscriber = session.declare_subscriber(
             f"{namespace}/bodies/*/facing/*", self.results.on_sample
         )
@@ -79,12 +89,30 @@ class Driver:
     def close(self) -> None:
         self._subscriber.undeclare()
 
+    def announce(self, bodies: int) -> None:
+        """ROS 2 mode: the tracker's list of who exists (/humans/bodies/tracked)."""
+        if self.ros:
+            key = self._wire.key("/humans/bodies/tracked", ros2_types.IDS_LIST)
+            self._send(key, ids_payload([f"b{i}" for i in range(bodies)]))
+
     def _put(self, body: int, sec: int, off_deg: float) -> None:
-        key = f"{self.ns}/bodies/b{body}/pose/base_link"
         x, y = 1.0 + body % 7, (body % 5) - 2.0
-        yaw = np.degrees(np.arctan2(-y, -x)) + off_deg
-        payload = pose_payload(f"b{body}", "base_link", x, y, float(yaw), sec)
-        self.session.put(key, payload, congestion_control=zenoh.CongestionControl.BLOCK)
+        yaw = float(np.degrees(np.arctan2(-y, -x)) + off_deg)
+        if self.ros:
+            key = self._wire.key("/tf", ros2_types.TF_MESSAGE)
+            self._send(key, tf_payload(f"b{body}", "base_link", x, y, yaw, sec))
+        else:
+            key = f"{self.ns}/bodies/b{body}/pose/base_link"
+            self._send(key, pose_payload(f"b{body}", "base_link", x, y, yaw, sec))
+
+    def _send(self, key: str, payload: bytes) -> None:
+        extra = None
+        if self.ros:
+            self._sequence_number += 1
+            extra = attachment(self._sequence_number, time.time_ns(), self._gid)
+        self.session.put(
+            key, payload, attachment=extra, congestion_control=zenoh.CongestionControl.BLOCK
+        )
 
     def reset(self, keep_times: bool = False) -> None:
         with self.results.lock:

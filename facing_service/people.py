@@ -63,6 +63,7 @@ class People:
         self._tracked: dict[str, set[str]] = {topic: set() for topic in KINDS}
         self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}  # person -> id
         self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
+        self._by_frame: dict[str, set[str]] | None = None  # frame -> subjects; None: stale
 
     # -- inputs --------------------------------------------------------------------------
 
@@ -78,15 +79,26 @@ class People:
             else:
                 update.refused.append((f"tf_{reason}", f"{t.parent} -> {t.child}"))
         if changed:
-            base_chain = set(self.tf.parent_chain(self.base_frame))
-            concerned = [
-                subject
-                for subject in self.subjects()
-                if (frame := self._frame_of(subject)) is not None
-                and (base_chain | set(self.tf.parent_chain(frame))) & changed
-            ]
-            self._resolve(concerned, update)
+            self._resolve(self._concerned(changed), update)
         return update
+
+    def _concerned(self, changed: set[str]) -> list[str]:
+        """The subjects whose lookup a change of these frames can change: all of them when
+        the base frame's chain moved, else those whose frame is at or below a changed one
+        (an index, not a scan: a robot's /tf is mostly one body per message)."""
+        if changed.intersection(self.tf.parent_chain(self.base_frame)):
+            return self.subjects()
+        by_frame = self._subjects_by_frame()
+        frames = set().union(*(self.tf.descendants(frame) for frame in changed))
+        return sorted({s for frame in frames for s in by_frame.get(frame, ())})
+
+    def _subjects_by_frame(self) -> dict[str, set[str]]:
+        if self._by_frame is None:
+            self._by_frame = {}
+            for subject in self.subjects():
+                if (frame := self._frame_of(subject)) is not None:
+                    self._by_frame.setdefault(frame, set()).add(subject)
+        return self._by_frame
 
     def on_tracked(self, topic: str, ids: Sequence[str]) -> Update:
         update = Update()
@@ -100,6 +112,8 @@ class People:
         current = self._tracked[topic]
         gone, new = current - valid, valid - current
         self._tracked[topic] = valid
+        if gone or new:
+            self._by_frame = None
         for ros_id in sorted(gone):
             subject = prefix + ros_id
             self._last.pop(subject, None)
@@ -120,6 +134,7 @@ class People:
             links[person_id] = target
         else:
             links.pop(person_id, None)
+        self._by_frame = None
         if person_id in self._tracked["/humans/persons/tracked"]:
             self._resolve(["person_" + person_id], update)
         return update

@@ -255,12 +255,10 @@ def check_transform(parent: str, child: str, transform: Transform) -> str | None
         return "no_child_frame_id"
     if not parent:
         return "no_frame_id"
-    values = (*transform.translation, *transform.rotation)
-    if any(math.isnan(v) for v in values):
-        return "nan"
-    if any(math.isinf(v) for v in values):
+    if not all(map(math.isfinite, (*transform.translation, *transform.rotation))):
         return "nan"  # tf2 lets infinities through to poison lookups; we refuse them alike
-    norm2 = sum(c * c for c in transform.rotation)
+    x, y, z, w = transform.rotation
+    norm2 = x * x + y * y + z * z + w * w
     if not abs(norm2 - 1.0) < QUATERNION_NORMALIZATION_TOLERANCE:
         return "denormalized_quaternion"
     return None
@@ -273,6 +271,7 @@ class TfBuffer:
         self.cache_time_ns = cache_time_ns
         self._caches: dict[str, _StaticCache | _TimeCache] = {}
         self._frames: set[str] = set()  # every frame named so far, as child or parent
+        self._children: dict[str, set[str]] = {}  # by each child's latest parent
 
     def set_transform(
         self, parent: str, child: str, stamp_ns: int, transform: Transform, *, static: bool
@@ -285,10 +284,28 @@ class TfBuffer:
             cache = _StaticCache() if static else _TimeCache(self.cache_time_ns)
             self._caches[child] = cache
         self._frames.update((child, parent))
-        return cache.insert(_Stored(stamp_ns, parent, transform))
+        before = cache.latest()[1]
+        refused = cache.insert(_Stored(stamp_ns, parent, transform))
+        after = cache.latest()[1]
+        if after != before:
+            if before is not None:
+                self._children[before].discard(child)
+            self._children.setdefault(after, set()).add(child)  # type: ignore[arg-type]
+        return refused
 
     def has_frame(self, frame: str) -> bool:
         return frame in self._frames
+
+    def descendants(self, frame: str) -> set[str]:
+        """``frame`` and every frame below it, by latest parents: whose lookups a change of
+        ``frame``'s transform can change."""
+        found, todo = {frame}, [frame]
+        while todo:
+            for child in self._children.get(todo.pop(), ()):
+                if child not in found:
+                    found.add(child)
+                    todo.append(child)
+        return found
 
     def parent_chain(self, frame: str) -> list[str]:
         """``frame`` and its ancestors by their latest parents (for "does a change of X

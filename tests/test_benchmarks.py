@@ -22,10 +22,11 @@ def test_quick_benchmark_run_writes_every_figure(tmp_path):
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     report = json.loads(out.read_text())
-    for target in ("relay", "service"):
+    for target in ("relay", "service", "service_ros"):
         assert report[target]["latency"]["n"] == 50
         assert report[target]["burst"]["received"] > 0
         assert report[target]["soak"]["received"] > 0
     assert set(report["ratios"]) >= {"latency_p50", "latency_p99", "burst_throughput"}
+    assert "ros_cpu_per_pose" in report["ratios"] and "ros_zero_loss" in report["verdicts"]
     assert [row["n"] for row in report["core"]] == [1, 100, 10_000]
     assert "targets:" in proc.stdout

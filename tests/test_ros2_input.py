@@ -347,3 +347,22 @@ def _face_toward_origin(pitch_q):
         yw * pz + yx * py - yy * px + yz * pw,
         yw * pw - yx * px - yy * py - yz * pz,
     )
+
+
+def test_a_moving_camera_updates_every_body_below_it_and_only_those():
+    people = People("base_link")
+    people.on_tracked("/humans/bodies/tracked", ["a", "b", "c"])
+    people.on_tf(
+        [
+            tf_in("base_link", "cam", 1),
+            tf_in("cam", "body_a", 1),
+            tf_in("cam", "body_b", 1),
+            tf_in("base_link", "body_c", 1),
+        ],
+        static=False,
+    )
+    update = people.on_tf(
+        [tf_in("base_link", "cam", 2), tf_in("cam", "body_a", 2), tf_in("cam", "body_b", 2)],
+        static=False,
+    )
+    assert sorted(p.body_id for p in update.poses) == ["body_a", "body_b"]

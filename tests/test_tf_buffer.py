@@ -264,3 +264,13 @@ def test_the_recordings_answer_as_tf2_does(name):
     assert sum(op[0] == "lookup" for op in ops) > 100
     (expected,) = oracle([ops])
     assert_same(expected, ours(ops), ops)
+
+
+def test_descendants_follow_reparenting():
+    b = TfBuffer()
+    b.set_transform("map", "base", S, tf(), static=False)
+    b.set_transform("base", "cam", 0, tf(), static=True)
+    b.set_transform("cam", "body_1", S, tf(), static=False)
+    assert b.descendants("base") == {"base", "cam", "body_1"}
+    b.set_transform("map", "cam", 0, tf(), static=True)  # cam now hangs from map
+    assert b.descendants("base") == {"base"} and b.descendants("map") >= {"cam", "body_1"}
