@@ -16,6 +16,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType
@@ -35,7 +36,6 @@ from .config import (
     zenoh_config,
 )
 from .disclosure import public_zenoh_error
-from .replay import Replay
 from .ros2_wire import RosFormat, Wire
 from .router import router_config, serve
 from .schemas import ServiceStatus, json_schemas
@@ -209,6 +209,30 @@ def build_parser() -> argparse.ArgumentParser:
         "--ros-namespace",
         help=f"ROS namespace (or the bridge's) prefixing every topic ({_default('ros_namespace')})",
     )
+    ros_out = run.add_argument_group(
+        "ROS 2 output: our results on the robot's own topics, beside the JSON keys"
+    )
+    ros_out.add_argument(
+        "--output",
+        choices=["json", "ros2"],
+        help=f"ros2 also publishes /humans/persons/<id>/engagement_status and the facing "
+        f"lists, in --ros-format ({_default('output')})",
+    )
+    ros_out.add_argument(
+        "--ros-node-name", help=f"our ROS node's name ({_default('ros_node_name')})"
+    )
+    ros_out.add_argument(
+        "--ros-engagement-rate-hz",
+        type=float,
+        help=f"engagement_status is republished this often, as hri_engagement does "
+        f"({_default('ros_engagement_rate_hz')})",
+    )
+    ros_out.add_argument(
+        "--ros-intents",
+        action="store_true",
+        default=None,
+        help="publish an ENGAGE_WITH intent on /intents when a person becomes ENGAGED",
+    )
     run.add_argument("--log-level", help=f"log level ({_default('log_level')})")
     add_zenoh_arguments(run)
 
@@ -257,6 +281,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     replay.add_argument("bag", type=Path, help="a rosbag2 folder, or its .db3/.mcap file")
     replay.add_argument("--rate", type=float, default=1.0, help="speed factor (default 1)")
+    replay.add_argument(
+        "--record",
+        type=Path,
+        metavar="OUT",
+        help="write what the service publishes on the robot's topics (run --output ros2) "
+        "into a new ROS 2 bag: a folder (sqlite3), or OUT.mcap",
+    )
     replay.add_argument(
         "--ros-format", choices=["rmw_zenoh", "bridge"], help=f"({_default('ros_format')})"
     )
@@ -452,9 +483,16 @@ def _replay(args: argparse.Namespace) -> int:
     if not (math.isfinite(args.rate) and args.rate > 0):
         print(f"facing-service replay: --rate {args.rate}: must be a number > 0", file=sys.stderr)
         return 2
+    if args.record is not None and (args.record.exists() or not args.record.parent.is_dir()):
+        why = "exists (a recording never overwrites)" if args.record.exists() else "no such folder"
+        print(f"facing-service replay: --record {str(args.record)!r}: {why}", file=sys.stderr)
+        return 2
     settings = _session_settings(args)
     if settings is None:
         return 2
+    from .record import Recording  # rosbags: only for the commands that read or write bags
+    from .replay import Replay
+
     stop = _stop_on_signals()
     wire = Wire(RosFormat(settings.ros_format), settings.ros_domain_id, settings.ros_namespace)
     where = f"domain {wire.domain_id}, " if wire.format is RosFormat.RMW_ZENOH else ""
@@ -464,7 +502,12 @@ def _replay(args: argparse.Namespace) -> int:
     )
     try:
         with zenoh.open(zenoh_config(settings)) as session, Replay(session, args.bag, wire) as bag:
+            recording = Recording(session, wire, args.record) if args.record else None
             stats = bag.run(args.rate, should_stop=stop.is_set)
+            if recording is not None:
+                time.sleep(0.5)  # the service's last answers on their way
+                recorded, topics = recording.close()
+                print(f"recorded {recorded} messages on {topics} topics to {args.record}")
     except zenoh.ZError as error:
         print(f"facing-service replay: {public_zenoh_error(error)}", file=sys.stderr)
         return 1

@@ -68,6 +68,11 @@ class Settings(BaseModel):
     ros_format: Literal["rmw_zenoh", "bridge"] = "rmw_zenoh"
     ros_domain_id: int = Field(default=0, ge=0, le=232)
     ros_namespace: str = ""
+    # Output: our JSON keys always; with "ros2", also the robot's own topics.
+    output: Literal["json", "ros2"] = "json"
+    ros_node_name: str = Field(default="facing_service", pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")
+    ros_engagement_rate_hz: float = Field(default=10.0, gt=0.0, le=1000.0)
+    ros_intents: bool = False
     instance: str = Field(default_factory=default_instance)
     log_level: LogLevel = "INFO"
     # zenoh session; None means "as the config file says, else zenoh's default (peer)".

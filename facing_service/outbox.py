@@ -31,13 +31,15 @@ class Kind(str, Enum):
     ENGAGEMENT = "engagement"  # per-body engagement level: never superseded
     EVENT = "event"  # a change of engagement level: never superseded
     DELETE = "delete"  # a body lost: a state change, never superseded
+    ROS = "ros"  # a message on the robot's own topics (--output ros2): never superseded
 
 
 @dataclass(frozen=True, slots=True)
 class Publication:
-    key: str
-    payload: bytes | None  # None for a DELETE
+    key: str  # a zenoh key; for Kind.ROS, the ROS topic
+    payload: bytes | None  # None for a DELETE (for Kind.ROS: undeclare the topic)
     kind: Kind
+    typename: str | None = None  # Kind.ROS: the message type
 
 
 class Outbox:
@@ -68,6 +70,10 @@ class Outbox:
     def add_change(self, key: str, payload: bytes, kind: Kind) -> None:
         """A state change (aggregate, engagement, event): kept, in order, never conflated."""
         self._add_change(Publication(key, payload, kind))
+
+    def add_ros(self, topic: str, typename: str, payload: bytes | None) -> None:
+        """A message for the robot's topics: kept, in order, never conflated."""
+        self._add_change(Publication(topic, payload, Kind.ROS, typename))
 
     def add_delete(self, key: str) -> None:
         """A body lost: kept, in order, never conflated."""

@@ -41,6 +41,7 @@ from .engagement import Level
 from .outbox import Kind, Outbox, Publication
 from .people import People
 from .ros2_input import Ros2Subscriptions, RosSample, route
+from .ros2_output import RosMessage, RosOutput, RosPublishers
 from .ros2_wire import RosFormat, Wire
 from .schemas import (
     EngagementEvent,
@@ -81,6 +82,7 @@ COUNTERS = (
     "queries_refused",
     "publish_errors",
     "tf_lookups_unresolved",
+    "ros_published",
 )
 
 _STOP = object()
@@ -186,6 +188,11 @@ class FacingService:
         )
         self._people = People(settings.ros_base_frame)
         self._ros: Ros2Subscriptions | None = None
+        self._ros_out = (
+            RosOutput(settings.ros_engagement_rate_hz, settings.ros_intents)
+            if settings.output == "ros2"
+            else None
+        )
         self._inbox: queue.Queue[tuple[float, object]] = queue.Queue(maxsize=INBOX_SIZE)
         self._outbox = Outbox()
         self._closing = threading.Event()
@@ -348,6 +355,7 @@ class FacingService:
             try:
                 self._handle(batch)
                 self._expire()
+                self._ros_tick()
                 self._rejection_log.maybe_log()
                 with self._counts_lock:
                     self._tracked = self._tracker.tracked_per_frame()
@@ -371,7 +379,11 @@ class FacingService:
     def _idle_timeout(self) -> float | None:
         deadlines = [
             d
-            for d in (self._tracker.next_expiry(), self._rejection_log.next_due())
+            for d in (
+                self._tracker.next_expiry(),
+                self._rejection_log.next_due(),
+                self._ros_out.next_tick if self._ros_out is not None else None,
+            )
             if d is not None
         ]
         if not deadlines:
@@ -387,6 +399,12 @@ class FacingService:
         """
         now = self._clock() if self._inbox.empty() else self._horizon
         self._publish(self._tracker.expire(now))
+
+    def _ros_tick(self) -> None:
+        """--output ros2: every tracked person's level at hri_engagement's rate."""
+        if self._ros_out is not None:
+            for message in self._ros_out.tick(self._tracker.engagements(), self._clock()):
+                self._outbox.add_ros(message.topic, message.typename, message.payload)
 
     def _handle(self, batch: list[tuple[float, object]]) -> None:
         """Handle inbox items in order; consecutive poses go to the core together."""
@@ -513,6 +531,9 @@ class FacingService:
             self._outbox.add_change(
                 keys.frame_key(ns, frame.frame_id), frame.model_dump_json().encode(), Kind.FRAME
             )
+        if self._ros_out is not None:
+            for message in self._ros_out.on_changes(changes):
+                self._outbox.add_ros(message.topic, message.typename, message.payload)
 
     def _answer(self, item: _QueryItem) -> None:
         """Reply with the current state of every matching key, one reply per key."""
@@ -556,6 +577,9 @@ class FacingService:
         session = self._session
         assert session is not None
         publishers = _Publishers(session)
+        ros = None
+        if self._ros_out is not None:
+            ros = RosPublishers(session, self._wire, self.settings.ros_node_name)
         try:
             while True:
                 publications = self._outbox.take()
@@ -563,7 +587,12 @@ class FacingService:
                     return
                 for p in publications:
                     try:
-                        counter = self._send_one(session, publishers, p)
+                        if p.kind is Kind.ROS:
+                            assert ros is not None and p.typename is not None
+                            ros.send(RosMessage(p.key, p.typename, p.payload))
+                            counter = "ros_published"
+                        else:
+                            counter = self._send_one(session, publishers, p)
                     except zenoh.ZError:
                         if self._closing.is_set():
                             return  # the session closed under a blocked put: shutting down
@@ -574,6 +603,8 @@ class FacingService:
                     self._outbox.sent()  # after counting: depth 0 means every count is in
         finally:
             publishers.close()
+            if ros is not None:
+                ros.close()
 
     @staticmethod
     def _send_one(session: zenoh.Session, publishers: _Publishers, p: Publication) -> str:

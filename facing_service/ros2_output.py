@@ -1,0 +1,235 @@
+"""Our results on the robot's own topics (``--output ros2``), beside our JSON keys, so a
+ROS4HRI robot can replace hri_engagement with this service, unchanged.
+
+Topics (under ``--ros-namespace``; messages from the upstream ``.msg`` files in ``msg/``):
+
+    /humans/persons/<id>/engagement_status   hri_msgs/msg/EngagementLevel
+        as hri_engagement publishes it: at once on a change of level, and every
+        1/--ros-engagement-rate-hz s (10 Hz, its rate) while the person is tracked;
+        UNKNOWN once when the person is lost, then the publisher is undeclared.
+    /intents                                 hri_actions_msgs/msg/Intent (--ros-intents)
+        ENGAGE_WITH, data {"recipient": "<person id>"}, when a person becomes ENGAGED.
+    /humans/{bodies,faces,persons}/facing    hri_msgs/msg/IdsList
+        the ids facing the robot in the base frame, whenever that set changes.
+
+The pure part (``RosOutput``) turns the tracker's changes into messages; ``RosPublishers``
+(the publisher thread's) sends them in the robot's format: in rmw_zenoh's, every sample
+carries the attachment its subscriptions require, and the node and each publisher hold
+the liveliness tokens ``ros2 node list`` / ``ros2 topic list`` read.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import zenoh
+
+from . import ros2_types
+from .engagement import Level
+from .ros2_wire import RosFormat, Wire, attachment
+from .schemas import FrameFacing
+from .tracker import Changes, EngagementUpdate
+
+ENGAGEMENT_LEVEL = "hri_msgs/msg/EngagementLevel"
+INTENT = "hri_actions_msgs/msg/Intent"
+ENGAGE_WITH = "__intent_engage_with__"
+#: Our subject prefixes -> the ROS4HRI kind whose facing list they go to. Subjects from
+#: JSON input have no prefix: they are bodies.
+FACING_TOPICS = {
+    "body_": "/humans/bodies/facing",
+    "face_": "/humans/faces/facing",
+    "person_": "/humans/persons/facing",
+}
+PERSON = "person_"
+
+
+@dataclass(frozen=True, slots=True)
+class RosMessage:
+    """One message for the robot: a topic, its type, CDR bytes (None: undeclare the
+    topic's publisher, the person is gone)."""
+
+    topic: str
+    typename: str
+    payload: bytes | None
+
+
+def _stamp(stamp: tuple[int, int]) -> Any:
+    return ros2_types.message_type("builtin_interfaces/msg/Time")(sec=stamp[0], nanosec=stamp[1])
+
+
+def _header(frame_id: str, stamp: tuple[int, int]) -> Any:
+    return ros2_types.message_type("std_msgs/msg/Header")(stamp=_stamp(stamp), frame_id=frame_id)
+
+
+def engagement_status(update: EngagementUpdate) -> RosMessage:
+    person = update.body_id.removeprefix(PERSON)
+    message = ros2_types.message_type(ENGAGEMENT_LEVEL)(
+        header=_header(update.frame_id, update.stamp), level=int(update.level)
+    )
+    return RosMessage(
+        f"/humans/persons/{person}/engagement_status",
+        ENGAGEMENT_LEVEL,
+        ros2_types.serialize(message, ENGAGEMENT_LEVEL),
+    )
+
+
+def engage_intent(person: str) -> RosMessage:
+    message = ros2_types.message_type(INTENT)(
+        action=ENGAGE_WITH,
+        data=json.dumps({"recipient": person}),
+        source=person,  # REP 155: the person expressing the intent, by person id
+        modality="other",
+        priority=128,
+        confidence=1.0,
+    )
+    return RosMessage("/intents", INTENT, ros2_types.serialize(message, INTENT))
+
+
+def facing_lists(frame: FrameFacing) -> list[RosMessage]:
+    """The facing ids of one base frame, one IdsList per kind (empty lists included: a
+    kind nobody faces any more is said so)."""
+    ids: dict[str, list[str]] = {topic: [] for topic in FACING_TOPICS.values()}
+    for subject in frame.bodies_facing:
+        prefix = next((p for p in FACING_TOPICS if subject.startswith(p)), "")
+        ids[FACING_TOPICS.get(prefix, "/humans/bodies/facing")].append(subject[len(prefix) :])
+    stamp = (frame.stamp.sec, frame.stamp.nanosec) if frame.stamp else (0, 0)
+    out = []
+    for topic, facing in ids.items():
+        message = ros2_types.message_type(ros2_types.IDS_LIST)(
+            header=_header(frame.frame_id, stamp), ids=facing
+        )
+        out.append(
+            RosMessage(
+                topic, ros2_types.IDS_LIST, ros2_types.serialize(message, ros2_types.IDS_LIST)
+            )
+        )
+    return out
+
+
+class RosOutput:
+    """Which messages the tracker's changes call for, and when the periodic
+    engagement_status is due (the caller's clock, seconds)."""
+
+    def __init__(self, rate_hz: float, intents: bool) -> None:
+        self.period_s = 1.0 / rate_hz
+        self.intents = intents
+        self.next_tick: float | None = None
+
+    def on_changes(self, changes: Changes) -> list[RosMessage]:
+        out: list[RosMessage] = []
+        for update in changes.engagement:
+            if not update.body_id.startswith(PERSON) or update.previous is None:
+                continue  # unchanged levels go out on the periodic tick
+            out.append(engagement_status(update))
+            if update.level is Level.UNKNOWN:  # lost: said once, then the topic goes
+                out.append(RosMessage(out[-1].topic, ENGAGEMENT_LEVEL, None))
+            elif update.level is Level.ENGAGED and self.intents:
+                out.append(engage_intent(update.body_id.removeprefix(PERSON)))
+        for frame in changes.frames:
+            out.extend(facing_lists(frame))
+        return out
+
+    def tick(self, engagements: list[EngagementUpdate], now: float) -> list[RosMessage]:
+        """Every period: each tracked person's current level, as hri_engagement does."""
+        if self.next_tick is not None and now < self.next_tick:
+            return []
+        self.next_tick = now + self.period_s
+        return [engagement_status(e) for e in engagements if e.body_id.startswith(PERSON)]
+
+
+class RosPublishers:
+    """The publisher thread's ROS 2 publishers, in the robot's format."""
+
+    def __init__(self, session: zenoh.Session, wire: Wire, node_name: str) -> None:
+        self.session = session
+        self.wire = wire
+        self.node_name = node_name
+        self._publishers: dict[str, _TopicPublisher] = {}
+        self._next_entity_id = 1  # 0 is the node's
+        self._node_token = None
+        if wire.format is RosFormat.RMW_ZENOH:
+            self._node_token = session.liveliness().declare_token(self.node_token_key())
+
+    def _prefix(self, entity_id: int, kind: str) -> str:
+        ns = _mangle("/" + self.wire.namespace) if self.wire.namespace else "%"
+        return (
+            f"@ros2_lv/{self.wire.domain_id}/{self.session.zid()}/0/{entity_id}/{kind}/%/{ns}/"
+            f"{_mangle(self.node_name)}"
+        )
+
+    def node_token_key(self) -> str:
+        return self._prefix(0, "NN")
+
+    def publisher_token_key(self, entity_id: int, topic: str, typename: str) -> str:
+        full_topic = f"/{self.wire.namespace}{topic}" if self.wire.namespace else topic
+        return (
+            f"{self._prefix(entity_id, 'MP')}/{_mangle(full_topic)}/"
+            f"{ros2_types.dds_type_name(typename)}/{ros2_types.type_hash(typename)}/{QOS_DEFAULT}"
+        )
+
+    def send(self, message: RosMessage) -> None:
+        publisher = self._publishers.get(message.topic)
+        if message.payload is None:  # the topic's subject is gone
+            if publisher is not None:
+                publisher.undeclare()
+                del self._publishers[message.topic]
+            return
+        if publisher is None:
+            token = None
+            if self.wire.format is RosFormat.RMW_ZENOH:
+                key = self.publisher_token_key(
+                    self._next_entity_id, message.topic, message.typename
+                )
+                token = self.session.liveliness().declare_token(key)
+            self._next_entity_id += 1
+            publisher = _TopicPublisher(self.session, self.wire, message, token)
+            self._publishers[message.topic] = publisher
+        publisher.put(message.payload)
+
+    def close(self) -> None:
+        for publisher in self._publishers.values():
+            publisher.undeclare()
+        self._publishers.clear()
+        if self._node_token is not None:
+            self._node_token.undeclare()
+            self._node_token = None
+
+
+#: rmw_zenoh's QoS string for a default publisher (reliable, volatile, keep last 10):
+#: an empty field is the default; the depth is written out, as rmw_zenoh peers do.
+QOS_DEFAULT = "::,10:,:,:,,"
+
+
+def _mangle(name: str) -> str:
+    """rmw_zenoh's liveliness names: '/' becomes '%'."""
+    return name.replace("/", "%")
+
+
+class _TopicPublisher:
+    def __init__(self, session: zenoh.Session, wire: Wire, message: RosMessage, token: Any) -> None:
+        key = wire.key(message.topic, message.typename)
+        self._publisher = session.declare_publisher(
+            key,
+            encoding=zenoh.Encoding("application/cdr"),
+            congestion_control=zenoh.CongestionControl.BLOCK,
+        )
+        self._rmw = wire.format is RosFormat.RMW_ZENOH
+        self._token = token
+        # A GID per publisher: rmw_zenoh hashes the liveliness key (XXH3-128); a SHA-256
+        # prefix of it is as unique, which is all a GID must be.
+        self.gid = hashlib.sha256(key.encode() + str(id(self)).encode()).digest()[:16]
+        self.sequence_number = 0
+
+    def put(self, payload: bytes) -> None:
+        self.sequence_number += 1
+        extra = attachment(self.sequence_number, time.time_ns(), self.gid) if self._rmw else None
+        self._publisher.put(payload, attachment=extra)
+
+    def undeclare(self) -> None:
+        self._publisher.undeclare()
+        if self._token is not None:
+            self._token.undeclare()

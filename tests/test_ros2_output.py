@@ -1,0 +1,267 @@
+"""ROS 2 output: our results on the robot's own topics, checked by independent
+implementations of the wire: zenoh-ros2-sdk (its own rmw_zenoh keys, type hashes,
+attachments and liveliness parsing) and rosbags (its own CDR)."""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+from pathlib import Path
+
+import pytest
+import zenoh
+from test_tf_buffer import BAGS
+
+from facing_service import ros2_types
+from facing_service.engagement import Level, Zone
+from facing_service.replay import Replay
+from facing_service.ros2_output import ENGAGEMENT_LEVEL, INTENT, RosOutput, engage_intent
+from facing_service.ros2_wire import ATTACHMENT_SIZE, RosFormat, Wire, parse_attachment
+from facing_service.schemas import FrameFacing, Stamp
+from facing_service.tracker import Changes, EngagementUpdate
+
+from loopback import endpoint
+
+RECORDING = BAGS / "1p_AA_eng_1"  # one person, rorql, labelled ENGAGED
+STANDARD_MSGS = {  # ROS 2's own definitions, for the SDK's offline registry
+    "std_msgs/msg/Header": "builtin_interfaces/Time stamp\nstring frame_id\n",
+    "builtin_interfaces/msg/Time": "int32 sec\nuint32 nanosec\n",
+}
+
+
+#: The upstream definitions (ros4hri/hri_msgs, ros4hri/hri_actions_msgs), copied here on
+#: their own, comments left out: the package's copies in facing_service/msg must agree.
+UPSTREAM = {
+    ENGAGEMENT_LEVEL: "std_msgs/Header header\nuint8 UNKNOWN=0\nuint8 DISENGAGED=1\n"
+    "uint8 ENGAGING=2\nuint8 ENGAGED=3\nuint8 DISENGAGING=4\nuint8 level\n",
+    ros2_types.IDS_LIST: "std_msgs/Header header\nstring[] ids\n",
+    INTENT: 'string action\nstring ENGAGE_WITH = "__intent_engage_with__"\nstring data\n'
+    "string source\nstring modality\nuint8 priority\nfloat32 confidence\n",
+}
+
+
+def upstream(typename: str) -> str:
+    return UPSTREAM[typename]
+
+
+# -- types and messages, without a network -----------------------------------------------
+
+
+@pytest.mark.parametrize("typename", [ENGAGEMENT_LEVEL, INTENT, ros2_types.IDS_LIST])
+def test_type_hashes_agree_with_an_independent_implementation(typename):
+    """rosbags' RIHS01 against zenoh-ros2-sdk's own (its parser, its type description)."""
+    from zenoh_ros2_sdk.utils import compute_type_hash_from_msg
+
+    theirs = compute_type_hash_from_msg(typename, upstream(typename), STANDARD_MSGS)
+    assert ros2_types.type_hash(typename) == theirs
+
+
+def update(body: str, level: Level, previous: Level | None) -> EngagementUpdate:
+    return EngagementUpdate(body, "base_link", (5, 0), level, 0.9, Zone.SOCIAL, (4, 0), previous)
+
+
+def test_levels_go_out_on_change_and_on_every_tick_like_hri_engagement():
+    out = RosOutput(rate_hz=10.0, intents=True)
+    changes = Changes(
+        engagement=[
+            update("person_p1", Level.ENGAGED, Level.ENGAGING),
+            update("body_b1", Level.ENGAGED, Level.ENGAGING),  # not a person: no topic
+        ]
+    )
+    messages = out.on_changes(changes)
+    assert [m.topic for m in messages] == ["/humans/persons/p1/engagement_status", "/intents"]
+    status = ros2_types.deserialize(messages[0].payload, ENGAGEMENT_LEVEL)
+    assert status.level == 3 and status.header.stamp.sec == 5
+    intent = ros2_types.deserialize(messages[1].payload, INTENT)
+    assert intent.action == "__intent_engage_with__"
+    assert json.loads(intent.data) == {"recipient": "p1"}
+    tracked = [update("person_p1", Level.ENGAGED, None), update("face_f1", Level.ENGAGED, None)]
+    assert [m.topic for m in out.tick(tracked, now=0.0)] == ["/humans/persons/p1/engagement_status"]
+    assert out.tick(tracked, now=0.05) == []  # not due before 1/10 s
+    assert len(out.tick(tracked, now=0.1)) == 1
+
+
+def test_a_lost_person_is_said_unknown_once_and_its_topic_goes():
+    out = RosOutput(rate_hz=10.0, intents=False)
+    lost = out.on_changes(Changes(engagement=[update("person_p1", Level.UNKNOWN, Level.ENGAGED)]))
+    assert [(m.topic, m.payload is None) for m in lost] == [
+        ("/humans/persons/p1/engagement_status", False),
+        ("/humans/persons/p1/engagement_status", True),  # undeclare
+    ]
+    assert ros2_types.deserialize(lost[0].payload, ENGAGEMENT_LEVEL).level == 0
+
+
+def test_facing_lists_per_kind():
+    frame = FrameFacing(
+        frame_id="base_link",
+        stamp=Stamp(sec=7, nanosec=0),
+        bodies_facing=["body_b1", "face_f1", "person_p1", "plain"],
+        bodies_tracked=[],
+    )
+    messages = RosOutput(10.0, False).on_changes(Changes(frames=[frame]))
+    lists = {m.topic: ros2_types.deserialize(m.payload, ros2_types.IDS_LIST).ids for m in messages}
+    assert lists == {
+        "/humans/bodies/facing": ["b1", "plain"],
+        "/humans/faces/facing": ["f1"],
+        "/humans/persons/facing": ["p1"],
+    }
+    assert engage_intent("p1").typename == INTENT
+
+
+# -- end to end: a real recording through the service, read back by others ------------------
+
+
+@pytest.fixture
+def sdk(tmp_path, monkeypatch, net):
+    """zenoh-ros2-sdk, offline (message definitions from a local folder) and on loopback
+    (its singleton session closed afterwards)."""
+    from zenoh_ros2_sdk import message_registry
+    from zenoh_ros2_sdk.session import ZenohSession
+
+    folder = tmp_path / "msgs"
+    for typename, text in {
+        **STANDARD_MSGS,
+        ENGAGEMENT_LEVEL: upstream(ENGAGEMENT_LEVEL),
+        ros2_types.IDS_LIST: upstream(ros2_types.IDS_LIST),
+    }.items():
+        package, kind, name = typename.split("/")
+        (folder / package / kind).mkdir(parents=True, exist_ok=True)
+        (folder / package / kind / f"{name}.msg").write_text(text)
+    monkeypatch.setattr(
+        message_registry, "_registry", message_registry.MessageRegistry(str(folder))
+    )
+    monkeypatch.setenv(
+        "ZENOH_CONFIG_OVERRIDE", 'mode="client";scouting/multicast/enabled=false;scouting/delay=0'
+    )
+    yield
+    if ZenohSession._instance is not None:
+        ZenohSession._instance.close()
+        ZenohSession._instance = None
+
+
+def run_recording(net, fmt: RosFormat, **settings):
+    """A router, the service with ROS 2 input and output, and the recording replayed."""
+    router = net.router()
+    ep = endpoint(router.port)
+    service, _ = net.service(
+        mode="client",
+        connect=[ep],
+        listen=[],
+        input="ros2",
+        output="ros2",
+        ros_format=fmt.value,
+        base_frame="camera_link",
+        **settings,
+    )
+    robot = net.client(ep, mode="client")
+
+    def play() -> None:
+        time.sleep(0.5)  # subscribers of the caller get declared and propagated
+        with Replay(robot, RECORDING, Wire(fmt)) as replay:
+            replay.run(rate=4.0)
+
+    return router.port, service, play
+
+
+def test_rmw_zenoh_subscribers_get_engagement_status_with_valid_attachments(net, sdk):
+    from zenoh_ros2_sdk import ROS2Subscriber
+    from zenoh_ros2_sdk.discovery import get_topic_names_and_types
+    from zenoh_ros2_sdk.session import ZenohSession
+
+    port, service, play = run_recording(net, RosFormat.RMW_ZENOH, ros_intents=True)
+    topic = "/humans/persons/rorql/engagement_status"
+    levels: list[int] = []
+    store = ZenohSession.get_instance("127.0.0.1", port)
+    for typename in ("builtin_interfaces/msg/Time", "std_msgs/msg/Header"):  # nested types
+        store.register_message_type(STANDARD_MSGS[typename], typename)
+    ros_sdk = ROS2Subscriber(
+        topic,
+        ENGAGEMENT_LEVEL,
+        lambda message: levels.append(message.level),
+        msg_definition=upstream(ENGAGEMENT_LEVEL),
+        router_port=port,
+    )
+    raw: list[zenoh.Sample] = []
+    lock = threading.Lock()
+    consumer = net.client(endpoint(port), mode="client")
+
+    def keep(sample: zenoh.Sample) -> None:
+        with lock:
+            raw.append(sample)
+
+    net_sub = consumer.declare_subscriber(Wire().key(topic, ENGAGEMENT_LEVEL), keep)
+    try:
+        play()
+        deadline = time.monotonic() + 10
+        while Level.ENGAGED not in levels and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert Level.ENGAGED in levels, f"the SDK subscriber saw {levels}"
+        # The graph, as `ros2 topic list` / `ros2 node list` build it from liveliness.
+        topics = dict(get_topic_names_and_types(0, router_port=port, timeout=2.0))
+        assert ENGAGEMENT_LEVEL in topics.get(topic, []), topics  # our publisher's token
+        nodes = [
+            str(r.ok.key_expr)
+            for r in consumer.liveliness().get("@ros2_lv/0/**", timeout=2)
+            if r.ok is not None and "/NN/" in str(r.ok.key_expr)
+        ]
+        assert any(n.endswith("/facing_service") for n in nodes), nodes
+        assert service.status().counters["ros_published"] > 0
+    finally:
+        ros_sdk.destroy() if hasattr(ros_sdk, "destroy") else None
+        net_sub.undeclare()
+    with lock:
+        samples = list(raw)
+    numbers = []
+    for sample in samples:
+        decoded = ros2_types.deserialize(sample.payload.to_bytes(), ENGAGEMENT_LEVEL)  # rosbags
+        assert decoded.level in {int(level) for level in Level}
+        assert len(sample.attachment.to_bytes()) == ATTACHMENT_SIZE
+        numbers.append(parse_attachment(sample.attachment.to_bytes())[0])
+    assert numbers and numbers == list(range(numbers[0], numbers[0] + len(numbers)))
+    assert numbers[0] == 1  # from 1 per publisher
+
+
+def test_bridge_subscribers_get_engagement_status_as_raw_cdr(net):
+    port, _service, play = run_recording(net, RosFormat.BRIDGE)
+    consumer = net.client(endpoint(port), mode="client")
+    samples = net.recorder(consumer, "humans/persons/rorql/engagement_status")
+    facing = net.recorder(consumer, "humans/persons/facing")
+    play()
+    samples.wait_for(
+        lambda i: ros2_types.deserialize(i.payload, ENGAGEMENT_LEVEL).level == Level.ENGAGED
+    )
+    (first,) = facing.wait_for(lambda i: True)
+    facing_list = ros2_types.deserialize(first.payload, ros2_types.IDS_LIST)
+    # rorql engages (within 24 deg) without ever being inside the strict 16 deg facing cone
+    assert facing_list.header.frame_id == "camera_link" and facing_list.ids == []
+
+
+def test_replay_records_what_the_service_published(net, tmp_path):
+    """--record: the service's ROS 2 output written into a bag that ROS tools (and
+    rosbags) open afterwards."""
+    from facing_service.testing import LOOPBACK_FLAGS, running_cli
+
+    router = net.router()
+    ep = endpoint(router.port)
+    net.service(
+        mode="client",
+        connect=[ep],
+        listen=[],
+        input="ros2",
+        output="ros2",
+        base_frame="camera_link",
+    )
+    out = tmp_path / "run"
+    flags = ("--rate", "4", "--record", str(out), "-m", "client", "-e", ep, *LOOPBACK_FLAGS)
+    with running_cli("replay", str(RECORDING), *flags) as proc:
+        assert proc.wait(timeout=60) == 0, proc.stdout.read()
+        output = proc.stdout.read()
+    assert "recorded" in output
+    levels = [
+        message.level
+        for topic, _, message in ros2_types.read_bag(out)
+        if topic == "/humans/persons/rorql/engagement_status"
+    ]
+    assert Level.ENGAGED in levels
+    assert Path(out, "metadata.yaml").is_file()
