@@ -381,6 +381,7 @@ class FacingService:
             d
             for d in (
                 self._tracker.next_expiry(),
+                self._tracker.next_due(),
                 self._rejection_log.next_due(),
                 self._ros_out.next_tick if self._ros_out is not None else None,
             )
@@ -399,6 +400,7 @@ class FacingService:
         """
         now = self._clock() if self._inbox.empty() else self._horizon
         self._publish(self._tracker.expire(now))
+        self._publish(self._tracker.advance(now))
 
     def _ros_tick(self) -> None:
         """--output ros2: every tracked person's level at hri_engagement's rate."""
@@ -442,7 +444,7 @@ class FacingService:
         if update.lost:
             self._flush(poses)
             for subject in update.lost:
-                self._publish(self._tracker.lose(self._people.base_frame, subject))
+                self._publish(self._tracker.lose(self._people.base_frame, subject, self._horizon))
 
     def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
         key = str(sample.key_expr)
@@ -490,7 +492,7 @@ class FacingService:
             self._reject(Rejection.INVALID_KEY, key, "DELETE on an invalid key")
             return
         body_id, frame_id = parsed
-        self._publish(self._tracker.lose(frame_id, body_id))
+        self._publish(self._tracker.lose(frame_id, body_id, self._horizon))
 
     def _reject(self, reason: Rejection, key: str, detail: str) -> None:
         with self._counts_lock:

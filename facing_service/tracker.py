@@ -14,10 +14,22 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import detector
-from .engagement import Engagement, EngagementParams, Level, Zone, facing_score, step, zone
+from .engagement import (
+    Engagement,
+    EngagementParams,
+    Level,
+    Zone,
+    advance,
+    facing_score,
+    step,
+    zone,
+)
 from .schemas import FrameFacing, Pose, Stamp, facing_state_json
 
 BodyKey = tuple[str, str]  # (frame_id, body_id)
+#: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
+#: from reordered or replayed traffic arrive within well under this.
+TOMBSTONE_S = 30.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -204,6 +216,11 @@ class Tracker:
         self._tracks: OrderedDict[BodyKey, _Track] = OrderedDict()
         self._declared = frozenset(frames)
         self._frames: dict[str, _Frame] = {frame: _Frame() for frame in self._declared}
+        # After a DELETE: the last accepted stamp, and when the tombstone expires (the
+        # caller's clock). Oldest first; at most max_bodies of them.
+        self._tombstones: OrderedDict[BodyKey, tuple[tuple[int, int], float]] = OrderedDict()
+        # Bodies whose level will change with time alone (DISENGAGING's dwell): when.
+        self._due: dict[BodyKey, float] = {}
 
     def __len__(self) -> int:
         return len(self._tracks)
@@ -225,6 +242,11 @@ class Tracker:
             last = newest.get(key)
             if last is None and (track := self._tracks.get(key)) is not None:
                 last = track.pose.stamp
+            if last is None and (tomb := self._tombstones.get(key)) is not None:
+                if sample.pose.stamp <= tomb[0]:  # a late pose of a deleted body
+                    changes.out_of_order.append(sample)
+                    continue
+                del self._tombstones[key]  # newer than the DELETE: the body is back
             if last is None:  # a new body
                 if room <= 0:
                     changes.over_capacity.append(sample)
@@ -259,16 +281,50 @@ class Tracker:
         changes.frames = self._frame_changes(touched)
         return changes
 
-    def lose(self, frame_id: str, body_id: str) -> Changes:
-        """The tracker said the body is gone (an input DELETE)."""
+    def lose(self, frame_id: str, body_id: str, now: float = 0.0) -> Changes:
+        """The tracker said the body is gone (an input DELETE). Poses of it stamped at or
+        before its last accepted one are refused for ``TOMBSTONE_S`` after (a late pose
+        must not bring back a body its tracker deleted)."""
         changes = Changes()
-        if (frame_id, body_id) in self._tracks:
-            self._remove((frame_id, body_id), changes)
+        key = (frame_id, body_id)
+        if (track := self._tracks.get(key)) is not None:
+            self._tombstones[key] = (track.pose.stamp, now + TOMBSTONE_S)
+            self._tombstones.move_to_end(key)
+            while len(self._tombstones) > self.max_bodies:
+                self._tombstones.popitem(last=False)
+            self._remove(key, changes)
             changes.frames = self._frame_changes({frame_id})
         return changes
 
+    def advance(self, now: float) -> Changes:
+        """Level changes that time alone makes (DISENGAGING -> DISENGAGED after its dwell)
+        for bodies whose tracker went silent: their engagement clock moves on from their
+        last stamp by the caller's elapsed time."""
+        changes = Changes()
+        for key, due in list(self._due.items()):
+            if due > now:
+                continue
+            del self._due[key]
+            track = self._tracks.get(key)
+            if track is None or track.engagement.last is None:
+                continue
+            before = track.engagement.level
+            t = track.engagement.last + (now - track.last_seen)
+            track.engagement = advance(track.engagement, t, track.profile.engagement)
+            if track.engagement.level is not before:
+                track.engagement_published = now
+                changes.engagement.append(self._engagement_update(track, before))
+        return changes
+
+    def next_due(self) -> float | None:
+        """When ``advance`` has something to do (caller's clock), or None."""
+        return min(self._due.values(), default=None)
+
     def expire(self, now: float) -> Changes:
-        """Lose every body with no accepted sample for ``stale_after_s`` before ``now``."""
+        """Lose every body with no accepted sample for ``stale_after_s`` before ``now``,
+        and forget expired tombstones."""
+        while self._tombstones and next(iter(self._tombstones.values()))[1] <= now:
+            self._tombstones.popitem(last=False)
         changes = Changes()
         deadline = now - self.stale_after_s
         while self._tracks:
@@ -364,6 +420,12 @@ class Tracker:
             track.engagement, t, facing_score(state.angle_deg, state.distance_m, p), p
         )
         changed = track.engagement.level is not before
+        key = (state.frame_id, state.body_id)
+        if track.engagement.level is Level.DISENGAGING:  # dwell running: due even if silent
+            left = track.engagement.since + p.disengage_dwell_s - t
+            self._due[key] = now + max(0.0, left)
+        else:
+            self._due.pop(key, None)
         if not changed and now - track.engagement_published < self.engagement_period_s:
             return None
         track.engagement_published = now
@@ -388,6 +450,7 @@ class Tracker:
 
     def _remove(self, key: BodyKey, changes: Changes) -> None:
         track = self._tracks.pop(key)
+        self._due.pop(key, None)
         if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
             update = self._engagement_update(track, track.engagement.level)
             changes.engagement.append(replace(update, level=Level.UNKNOWN, since=update.stamp))

@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from facing_service.engagement import Level
 from facing_service.schemas import Pose
 from facing_service.tracker import PoseSample, Tracker
 
@@ -187,3 +188,50 @@ def test_undeclared_frames_are_forgotten_when_empty_declared_ones_are_kept():
     assert {f.frame_id: f.bodies_tracked for f in changes.frames} == {"cam": [], "tmp": []}
     assert t.tracked_per_frame() == {"cam": 0}
     assert [f.frame_id for f in t.frames()] == ["cam"]
+
+
+# -- no ghosts: tombstones, and time that moves without samples --------------------------
+
+
+def test_a_late_pose_never_brings_back_a_deleted_body():
+    t = tracker()
+    t.ingest([sample(sec=5)], now=0.0)
+    t.lose("cam", "a", now=1.0)
+    late = t.ingest([sample(sec=4), sample(sec=5)], now=2.0)
+    assert late.results == [] and len(late.out_of_order) == 2
+    back = t.ingest([sample(sec=6)], now=3.0)  # newer than the DELETE: really back
+    assert [s.body_id for s in back.results] == ["a"]
+
+
+def test_tombstones_are_bounded_in_number_and_time():
+    t = tracker(max_bodies=3)
+    for i in range(10):
+        t.ingest([sample(body=f"b{i}", sec=5)], now=0.0)
+        t.lose("cam", f"b{i}", now=0.0)
+    assert len(t._tombstones) == 3  # the oldest ones went first
+    assert t.ingest([sample(body="b0", sec=5)], now=1.0).results  # b0's tombstone is gone
+    t.expire(now=10_000.0)
+    assert len(t._tombstones) == 0
+
+
+def test_a_silent_body_disengages_on_time():
+    """ENGAGED, then looking away (DISENGAGING), then the tracker stops publishing: the
+    level still reaches DISENGAGED after its dwell, on the caller's clock."""
+    t = tracker(stale_after_s=60.0)
+    now = 0.0
+    levels = []
+    for i in range(60):  # 2 s facing at 30 Hz
+        now = i / 30
+        changes = t.ingest([sample(sec=0, nanosec=int(now * 1e9))], now=now)
+        levels += [u.level for u in changes.engagement if u.previous is not None]
+    for i in range(60, 75):  # turns away for 0.5 s
+        now = i / 30
+        changes = t.ingest([sample(off_deg=90.0, sec=int(now), nanosec=int(now % 1 * 1e9))], now)
+        levels += [u.level for u in changes.engagement if u.previous is not None]
+    assert levels[-1] is Level.DISENGAGING
+    due = t.next_due()
+    assert due is not None and due > now  # the dwell, from the last sample
+    assert t.advance(now=due - 0.01).engagement == []
+    (update,) = t.advance(now=due + 0.01).engagement
+    assert update.level is Level.DISENGAGED and update.previous is Level.DISENGAGING
+    assert t.next_due() is None
