@@ -75,7 +75,15 @@ class FacingClient:
         self._session: zenoh.Session | None = None
         self._subscriber: zenoh.Subscriber[None] | None = None
         self._events_subscriber: zenoh.Subscriber[None] | None = None
+        self._liveliness_subscriber: zenoh.Subscriber[None] | None = None
         self._dispatcher: threading.Thread | None = None
+        # Who vouches for what: the live service instances (their liveliness tokens), and
+        # for each cached body the instances whose results it came from. A body no live
+        # instance vouches for is lost: a dead service leaves no ghost.
+        self._live: set[str] = set()
+        self._vouchers: dict[tuple[str, str], set[str]] = {}
+        self._engaged: dict[tuple[str, str], EngagementEvent] = {}  # last ENGAGED event
+        self.dropped_from_dead = 0  # results of an instance with no live token, refused
 
     # -- lifecycle -------------------------------------------------------------------
 
@@ -85,8 +93,12 @@ class FacingClient:
             target=self._dispatch, name="facing-client", daemon=True
         )
         self._dispatcher.start()
-        # Subscribe first, then seed: a result arriving meanwhile is newer than the
-        # query's answer and is kept (states only ever move forward in stamp order).
+        # Liveliness first (with the tokens already there), so results are judged by
+        # who is alive; then subscribe, then seed: a result arriving meanwhile is newer
+        # than the query's answer and is kept (states only move forward in stamp order).
+        self._liveliness_subscriber = self._session.liveliness().declare_subscriber(
+            keys.service_token(self.namespace, "*"), self._on_token, history=True
+        )
         self._subscriber = self._session.declare_subscriber(
             keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame), self._on_sample
         )
@@ -94,8 +106,7 @@ class FacingClient:
             keys.event_key(self.namespace, self.frame), self._on_event
         )
         if self._wait_for_service():
-            for state in self._ask(None, None):
-                self._apply(state)
+            self._reseed()
         else:
             log.warning(
                 "no facing service seen within %.1f s; the cache fills as results arrive",
@@ -111,18 +122,27 @@ class FacingClient:
         token = keys.service_token(self.namespace, "*")
         deadline = time.monotonic() + self.timeout_s
         while True:
+            found = False
             for reply in self._session.liveliness().get(token, timeout=0.2):
                 if reply.ok is not None:
-                    return True
+                    with self._lock:
+                        self._live.add(_instance_of(str(reply.ok.key_expr)))
+                    found = True
+            if found:
+                return True
             if time.monotonic() >= deadline:
                 return False
             time.sleep(0.05)
 
     def close(self) -> None:
-        for subscriber in (self._subscriber, self._events_subscriber):
+        for subscriber in (
+            self._subscriber,
+            self._events_subscriber,
+            self._liveliness_subscriber,
+        ):
             if subscriber is not None:
                 subscriber.undeclare()
-        self._subscriber = self._events_subscriber = None
+        self._subscriber = self._events_subscriber = self._liveliness_subscriber = None
         if self._dispatcher is not None:
             self._events.put(_STOP)
             self._dispatcher.join(timeout=2.0)
@@ -214,7 +234,57 @@ class FacingClient:
                 raise ValueError(f"{error.error}: {error.detail}")
         return states
 
+    @property
+    def live_instances(self) -> set[str]:
+        """The service instances whose liveliness token is seen now."""
+        with self._lock:
+            return set(self._live)
+
     # -- zenoh side: keep the cache, queue the callbacks -------------------------------
+
+    def _on_token(self, sample: zenoh.Sample) -> None:
+        """A service instance appeared or vanished (killed, partitioned, stopped)."""
+        instance = _instance_of(str(sample.key_expr))
+        if sample.kind == zenoh.SampleKind.PUT:
+            with self._lock:
+                new = instance not in self._live
+                self._live.add(instance)
+            if new:  # re-seed from the dispatcher: never query from a zenoh callback
+                self._events.put((self._reseed, ()))
+            return
+        with self._lock:
+            self._live.discard(instance)
+            orphans = []
+            for key, vouchers in list(self._vouchers.items()):
+                vouchers.discard(instance)
+                if not vouchers:
+                    orphans.append(key)
+            lost = [(key, self._forget(key)) for key in orphans]
+            lost_callbacks = list(self._on["lost"])
+            disengaged_callbacks = list(self._on["disengaged"])
+        for (frame_id, body_id), engaged in lost:
+            if engaged is not None:
+                gone = engaged.model_copy(
+                    update={"previous": engaged.level, "level": "UNKNOWN", "level_value": 0}
+                )
+                self._queue(disengaged_callbacks, (gone,))
+            self._queue(lost_callbacks, (body_id, frame_id))
+
+    def _forget(self, key: tuple[str, str]) -> EngagementEvent | None:
+        """Drop a body from the cache (lock held); its last ENGAGED event, if engaged."""
+        self._states.pop(key, None)
+        self._vouchers.pop(key, None)
+        return self._engaged.pop(key, None)
+
+    def _reseed(self) -> None:
+        """The cache from a query: at start, and when a service (re)appears."""
+        try:
+            states = self._ask(None, None)
+        except Exception:
+            log.exception("facing client: could not query the service")
+            return
+        for state in states:
+            self._apply(state)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         try:
@@ -223,7 +293,8 @@ class FacingClient:
                 return
             body_id, frame_id = keys.body_and_frame(str(sample.key_expr))
             with self._lock:
-                known = self._states.pop((frame_id, body_id), None) is not None
+                known = (frame_id, body_id) in self._states
+                self._forget((frame_id, body_id))
                 callbacks = list(self._on["lost"]) if known else []
             self._queue(callbacks, (body_id, frame_id))
         except Exception:  # a bad sample must never break the subscription
@@ -237,6 +308,15 @@ class FacingClient:
             return
         level, previous = Level[event.level], Level[event.previous]
         was_engaged = previous in (Level.ENGAGED, Level.DISENGAGING)
+        key = (event.frame_id, event.body_id)
+        with self._lock:
+            if event.instance is not None and event.instance not in self._live:
+                self.dropped_from_dead += 1
+                return
+            if level is Level.ENGAGED:
+                self._engaged[key] = event
+            elif level in (Level.DISENGAGED, Level.UNKNOWN):
+                self._engaged.pop(key, None)
         if level is Level.ENGAGED and not was_engaged:
             self._queue(list(self._on["engaged"]), (event,))
         elif level in (Level.DISENGAGED, Level.UNKNOWN) and was_engaged:
@@ -245,10 +325,15 @@ class FacingClient:
     def _apply(self, state: FacingState) -> None:
         key = (state.frame_id, state.body_id)
         with self._lock:
+            if state.instance is not None and state.instance not in self._live:
+                self.dropped_from_dead += 1  # said by an instance no longer (or not yet) alive
+                return
             previous = self._states.get(key)
             if previous is not None and _stamp(previous) > _stamp(state):
                 return  # older than what we have (the seeding query raced a result)
             self._states[key] = state
+            if state.instance is not None:
+                self._vouchers.setdefault(key, set()).add(state.instance)
             was_facing = previous is not None and previous.facing
             callbacks = list(self._on["change"])
             if state.facing and not was_facing:
@@ -268,6 +353,11 @@ class FacingClient:
                 callback(*args)
             except Exception:
                 log.exception("facing client: a callback raised")
+
+
+def _instance_of(token_key: str) -> str:
+    """``NS/services/facing/<instance>`` -> ``<instance>``."""
+    return token_key.rsplit("/", 1)[-1]
 
 
 def _stamp(state: FacingState) -> tuple[int, int]:

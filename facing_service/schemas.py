@@ -94,6 +94,11 @@ class FacingState(BaseModel):
     )
     robot_in_body: Point = Field(description="The robot origin in the body frame.")
     threshold_deg: float = Field(description="Half-angle of the facing cone applied.")
+    instance: str | None = Field(
+        default=None,
+        description="The service instance that produced it (its token is "
+        "NS/services/facing/<instance>): consumers drop what a dead instance said.",
+    )
 
 
 def facing_state_json(
@@ -105,6 +110,7 @@ def facing_state_json(
     distance_m: float | None,
     robot_in_body: tuple[float, float, float],
     threshold_deg: float,
+    instance: str | None = None,
 ) -> bytes:
     """The JSON of a ``FacingState``, written directly: the service's hot path.
 
@@ -120,7 +126,8 @@ def facing_state_json(
         f'"angle_deg":{"null" if angle_deg is None else repr(angle_deg)},'
         f'"distance_m":{"null" if distance_m is None else repr(distance_m)},'
         f'"robot_in_body":{{"x":{x!r},"y":{y!r},"z":{z!r}}},'
-        f'"threshold_deg":{threshold_deg!r}}}'
+        f'"threshold_deg":{threshold_deg!r},'
+        f'"instance":{"null" if instance is None else chr(34) + instance + chr(34)}}}'
     ).encode()
 
 
@@ -133,6 +140,11 @@ class FrameFacing(BaseModel):
     )
     bodies_facing: list[str]
     bodies_tracked: list[str]
+    instance: str | None = Field(
+        default=None,
+        description="The service instance that produced it (its token is "
+        "NS/services/facing/<instance>): consumers drop what a dead instance said.",
+    )
 
 
 class EngagementState(BaseModel):
@@ -147,6 +159,11 @@ class EngagementState(BaseModel):
     score: float = Field(description="The smoothed facing score, in [0, 1].")
     zone: str = Field(description="Proxemic zone: intimate, personal, social or public.")
     since: Stamp = Field(description="Stamp at which the current level began.")
+    instance: str | None = Field(
+        default=None,
+        description="The service instance that produced it (its token is "
+        "NS/services/facing/<instance>): consumers drop what a dead instance said.",
+    )
 
 
 class EngagementEvent(BaseModel):
@@ -160,6 +177,11 @@ class EngagementEvent(BaseModel):
     level_value: int
     score: float
     zone: str
+    instance: str | None = Field(
+        default=None,
+        description="The service instance that produced it (its token is "
+        "NS/services/facing/<instance>): consumers drop what a dead instance said.",
+    )
 
 
 class ServiceStatus(BaseModel):

@@ -46,6 +46,7 @@ from .ros2_wire import RosFormat, Wire
 from .schemas import (
     EngagementEvent,
     EngagementState,
+    FrameFacing,
     QueryError,
     Rejected,
     Rejection,
@@ -507,23 +508,23 @@ class FacingService:
     def _publish(self, changes: Changes) -> None:
         """Hand the publications to the outbox, in the order they must be sent: the worker
         never waits on the network (a stuck consumer only ever stalls the publisher)."""
-        ns = self.settings.namespace
+        ns, me = self.settings.namespace, self.settings.instance
         if changes.results:
             self._outbox.add_results(
-                (keys.facing_key(ns, state.body_id, state.frame_id), state.to_json())
+                (keys.facing_key(ns, state.body_id, state.frame_id), state.to_json(me))
                 for state in changes.results
             )
         for update in changes.engagement:
             if update.level is not Level.UNKNOWN:
                 self._outbox.add_change(
                     keys.engagement_key(ns, update.body_id, update.frame_id),
-                    _engagement_state(update).model_dump_json().encode(),
+                    _engagement_state(update, me).model_dump_json().encode(),
                     Kind.ENGAGEMENT,
                 )
             if update.previous is not None:
                 self._outbox.add_change(
                     keys.event_key(ns, update.frame_id),
-                    _engagement_event(update).model_dump_json().encode(),
+                    _engagement_event(update, me).model_dump_json().encode(),
                     Kind.EVENT,
                 )
         for frame_id, body_id in changes.lost:
@@ -531,7 +532,9 @@ class FacingService:
             self._outbox.add_delete(keys.engagement_key(ns, body_id, frame_id))
         for frame in changes.frames:
             self._outbox.add_change(
-                keys.frame_key(ns, frame.frame_id), frame.model_dump_json().encode(), Kind.FRAME
+                keys.frame_key(ns, frame.frame_id),
+                _mine(frame, me).model_dump_json().encode(),
+                Kind.FRAME,
             )
         if self._ros_out is not None:
             for message in self._ros_out.on_changes(changes):
@@ -554,16 +557,18 @@ class FacingService:
             states, frames = self._tracker.states(), self._tracker.frames()
         else:
             states, frames = self._tracker.evaluate(threshold)
-        ns = self.settings.namespace
+        ns, me = self.settings.namespace, self.settings.instance
         if item.space == "facing":
-            replies = [(keys.facing_key(ns, s.body_id, s.frame_id), s.to_json()) for s in states]
+            replies = [(keys.facing_key(ns, s.body_id, s.frame_id), s.to_json(me)) for s in states]
         elif item.space == "frame":
-            replies = [(keys.frame_key(ns, f.frame_id), f.model_dump_json()) for f in frames]
+            replies = [
+                (keys.frame_key(ns, f.frame_id), _mine(f, me).model_dump_json()) for f in frames
+            ]
         else:
             replies = [
                 (
                     keys.engagement_key(ns, e.body_id, e.frame_id),
-                    _engagement_state(e).model_dump_json(),
+                    _engagement_state(e, me).model_dump_json(),
                 )
                 for e in self._tracker.engagements()
             ]
@@ -629,8 +634,13 @@ _COUNTER = {
 }
 
 
-def _engagement_state(update: EngagementUpdate) -> EngagementState:
+def _mine(frame: FrameFacing, instance: str) -> FrameFacing:
+    return frame.model_copy(update={"instance": instance})
+
+
+def _engagement_state(update: EngagementUpdate, instance: str) -> EngagementState:
     return EngagementState(
+        instance=instance,
         body_id=update.body_id,
         frame_id=update.frame_id,
         stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
@@ -642,9 +652,10 @@ def _engagement_state(update: EngagementUpdate) -> EngagementState:
     )
 
 
-def _engagement_event(update: EngagementUpdate) -> EngagementEvent:
+def _engagement_event(update: EngagementUpdate, instance: str) -> EngagementEvent:
     assert update.previous is not None
     return EngagementEvent(
+        instance=instance,
         body_id=update.body_id,
         frame_id=update.frame_id,
         stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),

@@ -65,7 +65,7 @@ class BodyState:
     robot_in_body: tuple[float, float, float]
     threshold_deg: float
 
-    def to_json(self) -> bytes:
+    def to_json(self, instance: str | None = None) -> bytes:
         return facing_state_json(
             self.body_id,
             self.frame_id,
@@ -75,6 +75,7 @@ class BodyState:
             self.distance_m,
             self.robot_in_body,
             self.threshold_deg,
+            instance,
         )
 
 

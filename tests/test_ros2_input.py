@@ -8,7 +8,6 @@ import math
 import time
 
 import pytest
-from ros_messages import Robot, S, ids_list, string, tf_message, transform, yaw_q
 from test_tf_buffer import oracle
 
 from facing_service import ros2_types
@@ -27,6 +26,7 @@ from facing_service.schemas import Rejected, Rejection
 from facing_service.tf_buffer import Transform
 
 from loopback import endpoint
+from ros_messages import Robot, S, ids_list, string, tf_message, transform, yaw_q
 
 TF_HASH = "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"
 

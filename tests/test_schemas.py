@@ -210,11 +210,14 @@ finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
     st.none() | finite,
     st.tuples(finite, finite, finite),
     st.floats(0.001, 179.999),
+    st.none() | names,
 )
 def test_hand_written_facing_state_json_matches_the_model(
-    body, frame, sec, nanosec, facing, angle, distance, r, threshold
+    body, frame, sec, nanosec, facing, angle, distance, r, threshold, instance
 ):
-    fast = facing_state_json(body, frame, (sec, nanosec), facing, angle, distance, r, threshold)
+    fast = facing_state_json(
+        body, frame, (sec, nanosec), facing, angle, distance, r, threshold, instance
+    )
     model = FacingState(
         body_id=body,
         frame_id=frame,
@@ -224,6 +227,7 @@ def test_hand_written_facing_state_json_matches_the_model(
         distance_m=distance,
         robot_in_body=Point(x=r[0], y=r[1], z=r[2]),
         threshold_deg=threshold,
+        instance=instance,
     )
     assert json.loads(fast) == json.loads(model.model_dump_json())
     assert FacingState.model_validate_json(fast) == model

@@ -1,0 +1,59 @@
+"""A TCP proxy on loopback that can stop forwarding without closing anything: a network
+partition (a cable pulled, a Wi-Fi dropout) as a link sees it, with no FIN or RST."""
+
+from __future__ import annotations
+
+import select
+import socket
+import threading
+
+
+class Proxy:
+    """Forwards ``127.0.0.1:<port>`` to ``127.0.0.1:<target>`` until ``cut()``."""
+
+    def __init__(self, target: int) -> None:
+        self.target = target
+        self._listener = socket.create_server(("127.0.0.1", 0))
+        self.port = self._listener.getsockname()[1]
+        self._forwarding = threading.Event()
+        self._forwarding.set()
+        self._closed = threading.Event()
+        self._sockets: list[socket.socket] = []
+        self._thread = threading.Thread(target=self._accept, daemon=True)
+        self._thread.start()
+
+    def cut(self) -> None:
+        """Stop forwarding; both sides keep their connection open and hear nothing."""
+        self._forwarding.clear()
+
+    def close(self) -> None:
+        self._closed.set()
+        self._listener.close()
+        for s in self._sockets:
+            s.close()
+        self._thread.join(timeout=2)
+
+    def _accept(self) -> None:
+        while not self._closed.is_set():
+            try:
+                client, _ = self._listener.accept()
+            except OSError:
+                return
+            upstream = socket.create_connection(("127.0.0.1", self.target))
+            self._sockets += [client, upstream]
+            threading.Thread(target=self._pump, args=(client, upstream), daemon=True).start()
+
+    def _pump(self, a: socket.socket, b: socket.socket) -> None:
+        peers = {a: b, b: a}
+        while not self._closed.is_set():
+            try:
+                ready, _, _ = select.select([a, b], [], [], 0.1)
+                if not self._forwarding.is_set():
+                    continue  # partitioned: read nothing, send nothing, close nothing
+                for s in ready:
+                    data = s.recv(65536)
+                    if not data:
+                        return
+                    peers[s].sendall(data)
+            except OSError:
+                return
