@@ -3,12 +3,18 @@ late poses, or the service itself dies."""
 
 from __future__ import annotations
 
+import contextlib
+import json
+import os
+import random
+import statistics
 import threading
 import time
 
 import zenoh
 from test_engagement_service import replay
 
+from benchmarks.common import rss_mb
 from facing_service import FacingClient
 from facing_service.testing import LOOPBACK_FLAGS, loopback_config, running_cli
 
@@ -65,11 +71,12 @@ def service_process(ep: str, *flags: str):
     )
 
 
-class Tracker:
-    """Streams alice facing the robot at 30 Hz from a thread, stamps always increasing."""
+class Crowd:
+    """A tracker streaming ``bodies`` at 30 Hz, facing the robot, from a thread; it carries
+    on through a router's absence as a tracker does."""
 
-    def __init__(self, session: zenoh.Session) -> None:
-        self.session = session
+    def __init__(self, session: zenoh.Session, bodies: list[str]) -> None:
+        self.session, self.bodies = session, bodies
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
@@ -79,8 +86,11 @@ class Tracker:
         while not self._stop.wait(1 / 30):
             i += 1
             sec, nanosec = divmod(1_000_000_000 + i * 33_333_333, 1_000_000_000)
-            pose = pose_json("alice", "cam", sec=sec, nanosec=nanosec)
-            send(self.session, "hri/bodies/alice/pose/cam", pose)
+            for n, body in enumerate(self.bodies):
+                x, y = 1.5 + n % 4, n % 5 - 2.0
+                pose = pose_json(body, "cam", x=x, y=y, sec=sec, nanosec=nanosec)
+                with contextlib.suppress(zenoh.ZError):
+                    send(self.session, f"hri/bodies/{body}/pose/cam", pose)
 
     def close(self) -> None:
         self._stop.set()
@@ -99,7 +109,7 @@ def wait_until(predicate, timeout: float = 10.0) -> float:
 def test_a_killed_service_leaves_no_ghost_and_a_restarted_one_reseeds(net):
     router = net.router()
     ep = endpoint(router.port)
-    tracker = Tracker(net.client(ep, mode="client"))
+    tracker = Crowd(net.client(ep, mode="client"), ["alice"])
     lost: list[tuple[str, str]] = []
     config = loopback_config(connect=[ep], mode="client")
     try:
@@ -128,7 +138,7 @@ def test_a_partitioned_service_is_noticed_within_its_lease(net):
     usual --cfg), and consumers lose what it said."""
     router = net.router()
     proxy = Proxy(router.port)
-    tracker = Tracker(net.client(endpoint(router.port), mode="client"))
+    tracker = Crowd(net.client(endpoint(router.port), mode="client"), ["alice"])
     config = loopback_config(connect=[endpoint(router.port)], mode="client")
     lease = ("--cfg", "transport/link/tx/lease:1000", "--cfg", "transport/link/tx/keep_alive:4")
     try:
@@ -144,3 +154,88 @@ def test_a_partitioned_service_is_noticed_within_its_lease(net):
     finally:
         tracker.close()
         proxy.close()
+
+
+def test_chaos_kills_and_restarts_leave_no_ghost(net):
+    """20 bodies at 30 Hz; the service SIGKILLed and restarted 10 times at random moments,
+    the router killed and restarted once. No body is ever reported facing by the client
+    while no live service vouches for it, and no result of a dead instance reaches a raw
+    subscriber after its token vanished."""
+    rng = random.Random(13)
+    router = net.router()
+    ep = endpoint(router.port)
+    crowd = Crowd(net.client(ep, mode="client"), [f"p{b}" for b in range(20)])
+    observer = net.client(ep, mode="client")
+    lock = threading.Lock()
+    gone_at: dict[str, float] = {}  # instance -> when its token vanished
+    late: list[str] = []  # results of an instance received after its token vanished
+
+    def on_token(sample: zenoh.Sample) -> None:
+        if sample.kind == zenoh.SampleKind.DELETE:
+            with lock:
+                gone_at[str(sample.key_expr).rsplit("/", 1)[-1]] = time.monotonic()
+
+    def on_result(sample: zenoh.Sample) -> None:
+        if sample.kind == zenoh.SampleKind.PUT:
+            instance = json.loads(sample.payload.to_bytes())["instance"]
+            with lock:
+                if instance in gone_at:
+                    late.append(instance)
+
+    tokens = observer.liveliness().declare_subscriber("hri/services/facing/*", on_token)
+    raw = observer.declare_subscriber("hri/bodies/*/facing/cam", on_result)
+    ghosts, checks = 0, 0
+    kill_to_lost, restart_to_fresh, service_rss = [], [], []
+    config = loopback_config(connect=[ep], mode="client")
+    client_rss_start = rss_mb(os.getpid())
+    try:
+        with FacingClient("hri", "cam", session_config=config, timeout_s=0.2) as client:
+            stop_watch = threading.Event()
+
+            def watch() -> None:  # the invariant, checked every 5 ms
+                nonlocal ghosts, checks
+                while not stop_watch.wait(0.005):
+                    with client._lock:  # one consistent view of cache and tokens
+                        facing = any(s.facing for s in client._states.values())
+                        live = bool(client._live)
+                    checks += 1
+                    ghosts += facing and not live
+
+            watcher = threading.Thread(target=watch, daemon=True)
+            watcher.start()
+            for cycle in range(10):
+                if cycle == 5:  # the router too, once: the service reconnects by itself
+                    router.kill()
+                    time.sleep(0.3)
+                    router.start()
+                with service_process(ep) as proc:
+                    wait_until(lambda: client.live_instances, timeout=20)
+                    up = time.monotonic()
+                    wait_until(lambda: len(client.bodies_facing("cam")) == 20, timeout=10)
+                    restart_to_fresh.append(time.monotonic() - up)
+                    time.sleep(rng.uniform(0.2, 1.5))
+                    service_rss.append(rss_mb(proc.pid))
+                    proc.kill()
+                    killed = time.monotonic()
+                    wait_until(lambda: client.bodies("cam") == {}, timeout=5)
+                    kill_to_lost.append(time.monotonic() - killed)
+                    proc.wait()
+            stop_watch.set()
+            watcher.join()
+            time.sleep(0.3)  # anything late would have arrived by now
+    finally:
+        crowd.close()
+        raw.undeclare()
+        tokens.undeclare()
+    client_rss_end = rss_mb(os.getpid())
+    print(
+        f"\nchaos: kill -> client lost: max {max(kill_to_lost):.3f} s, "
+        f"median {statistics.median(kill_to_lost):.3f} s; restart -> 20 fresh bodies: "
+        f"max {max(restart_to_fresh):.3f} s, median {statistics.median(restart_to_fresh):.3f} s; "
+        f"ghosts {ghosts} in {checks} checks; late results from dead instances {len(late)}; "
+        f"client process RSS {client_rss_start:.0f} -> {client_rss_end:.0f} MB; "
+        f"service RSS {min(service_rss):.0f}-{max(service_rss):.0f} MB"
+    )
+    assert ghosts == 0 and late == [] and checks > 1000
+    assert max(kill_to_lost) <= 1.0
+    assert max(restart_to_fresh) <= 1.0
