@@ -20,12 +20,13 @@ import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType
+from typing import NoReturn
 
 import zenoh
 from rich.console import Console
 from rich.live import Live
 
-from . import __version__, keys
+from . import __version__, health, keys
 from .client import FacingClient
 from .config import (
     Settings,
@@ -35,16 +36,27 @@ from .config import (
     probe_config,
     zenoh_config,
 )
-from .disclosure import public_zenoh_error
+from .disclosure import public_endpoint, public_zenoh_error
 from .ros2_wire import RosFormat, Wire
 from .router import router_config, serve
-from .schemas import ServiceStatus, json_schemas
+from .schemas import json_schemas
 from .service import FacingService
 from .sim import Scene, simulate
 from .testing import free_port, loopback_config
 from .watch import Watcher
 
 log = logging.getLogger("facing_service")
+
+#: Our log levels as zenoh's: one level quieter (its log is verbose), and never its debug
+#: or trace, which print the session's whole config, passwords and keys included
+#: (zenoh::api::session, measured). RUST_LOG, set by an operator who knows, still wins.
+_ZENOH_LEVELS = {
+    "DEBUG": "info",
+    "INFO": "warn",
+    "WARNING": "warn",
+    "ERROR": "error",
+    "CRITICAL": "error",
+}
 
 #: The health check's own zenoh config file, in place of FACING_CONFIG and FACING_CFG.
 HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
@@ -53,6 +65,37 @@ HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
 def _default(field: str) -> str:
     value = Settings.model_fields[field].default
     return f"env {env_name(field)}; default {value if value not in (None, []) else 'none'}"
+
+
+class _Parser(argparse.ArgumentParser):
+    """One line for a bad argument, naming it (argparse would print the whole usage
+    first); no abbreviated flags (``--threshold 30`` is not ``--threshold-deg 30``)."""
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        super().__init__(*args, allow_abbrev=False, **kwargs)  # type: ignore[arg-type]
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: {message} (see {self.prog} --help)\n")
+
+
+def _number(minimum: float, *, strict: bool, integer: bool = False) -> Callable[[str], float]:
+    """An argparse type: a finite number above (or from) ``minimum``."""
+
+    def parse(text: str) -> float:
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        if not math.isfinite(value) or value < minimum or (strict and value == minimum):
+            bound = f"> {minimum:g}" if strict else f">= {minimum:g}"
+            raise argparse.ArgumentTypeError(f"must be a number {bound}, got {text}")
+        return value
+
+    return parse
+
+
+POSITIVE = _number(0, strict=True)
+NON_NEGATIVE = _number(0, strict=False)
 
 
 def add_zenoh_arguments(parser: argparse.ArgumentParser) -> None:
@@ -105,18 +148,23 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--base-frame", default="base_link", help="frame of the poses (default base_link)"
     )
-    parser.add_argument("--people", type=int, default=5, help="people in the scene (5)")
-    parser.add_argument("--rate-hz", type=float, default=30.0, help="poses per second (30)")
+    parser.add_argument(
+        "--people",
+        type=_number(1, strict=False, integer=True),
+        default=5,
+        help="people in the scene (5)",
+    )
+    parser.add_argument("--rate-hz", type=POSITIVE, default=30.0, help="poses per second (30)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (0)")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="facing-service",
         description="Which tracked bodies are oriented toward the robot, over zenoh.",
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    commands = parser.add_subparsers(dest="command", required=True)
+    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     run = commands.add_parser("run", help="run the service")
     run.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
@@ -250,7 +298,10 @@ def build_parser() -> argparse.ArgumentParser:
         help=f"the instance to check, or '*' for any (env {env_name('instance')}; default *)",
     )
     health.add_argument(
-        "--timeout", type=float, default=3.0, help="seconds to wait for answers (default 3)"
+        "--timeout",
+        type=POSITIVE,
+        default=3.0,
+        help="seconds to wait for a service to be discovered and answer (default 3)",
     )
     health.add_argument(
         "--health-config",
@@ -280,7 +331,7 @@ def build_parser() -> argparse.ArgumentParser:
         "served from publication caches, so a service started meanwhile still gets them.",
     )
     replay.add_argument("bag", type=Path, help="a rosbag2 folder, or its .db3/.mcap file")
-    replay.add_argument("--rate", type=float, default=1.0, help="speed factor (default 1)")
+    replay.add_argument("--rate", type=POSITIVE, default=1.0, help="speed factor (default 1)")
     replay.add_argument(
         "--record",
         type=Path,
@@ -303,7 +354,7 @@ def build_parser() -> argparse.ArgumentParser:
         "for a given --seed.",
     )
     _add_scene_arguments(simulate)
-    simulate.add_argument("--duration-s", type=float, help="stop after this long")
+    simulate.add_argument("--duration-s", type=POSITIVE, help="stop after this long")
     add_zenoh_arguments(simulate)
 
     watch = commands.add_parser(
@@ -315,7 +366,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     watch.add_argument("--once", action="store_true", help="print one frame and exit")
     watch.add_argument(
-        "--wait-s", type=float, default=1.0, help="with --once: gather data this long first"
+        "--wait-s", type=NON_NEGATIVE, default=1.0, help="with --once: gather data this long first"
     )
     watch.add_argument("--svg", type=Path, help="also save the last frame as an SVG image")
     add_zenoh_arguments(watch)
@@ -327,7 +378,7 @@ def build_parser() -> argparse.ArgumentParser:
         "publishing people into it, and the watch view of the results. Ctrl-C ends it.",
     )
     _add_scene_arguments(demo)
-    demo.add_argument("--duration-s", type=float, help="end by itself after this long")
+    demo.add_argument("--duration-s", type=POSITIVE, help="end by itself after this long")
     demo.add_argument("--svg", type=Path, help="save the last frame as an SVG image")
 
     export = commands.add_parser(
@@ -363,10 +414,12 @@ def _session_settings(args: argparse.Namespace) -> Settings | None:
 
 
 def _log_to_stderr(settings: Settings) -> None:
+    """Our log, and zenoh's own at the same level (RUST_LOG, when set, still wins)."""
     logging.basicConfig(
         level=settings.log_level,
         format="%(asctime)s %(levelname)s %(name)s: %(message)s",
     )
+    zenoh.init_log_from_env_or(_ZENOH_LEVELS[settings.log_level])
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -402,23 +455,30 @@ def _run(args: argparse.Namespace) -> int:
         )
         return 1
     try:
-        stop.wait()
+        _warn_while_unreachable(service, settings, stop)
     finally:
         service.close()
     log.info("stopped")
     return 0
 
 
-def query_status(
-    session: zenoh.Session, namespace: str, instance: str, timeout: float
-) -> list[ServiceStatus]:
-    """The status of every running service matching ``instance`` (``*`` for all)."""
-    selector = keys.status_key(namespace, instance)
-    return [
-        ServiceStatus.model_validate_json(reply.ok.payload.to_bytes())
-        for reply in session.get(selector, timeout=timeout)
-        if reply.ok is not None
-    ]
+#: How often ``run`` says that its connect endpoints are still unreachable.
+UNREACHABLE_WARNING_S = 10.0
+
+
+def _warn_while_unreachable(
+    service: FacingService, settings: Settings, stop: threading.Event
+) -> None:
+    """Until ``stop``: zenoh retries unreachable endpoints forever and says nothing, so
+    ``run`` says it, every UNREACHABLE_WARNING_S while the session has nobody."""
+    while not stop.wait(UNREACHABLE_WARNING_S):
+        links = service.connected()
+        if settings.connect and not (links["routers"] or links["peers"]):
+            log.warning(
+                "no router or peer reachable at %s yet (zenoh keeps trying); results reach "
+                "nobody meanwhile",
+                ", ".join(public_endpoint(e) for e in settings.connect),
+            )
 
 
 def _health(args: argparse.Namespace) -> int:
@@ -439,7 +499,7 @@ def _health(args: argparse.Namespace) -> int:
         return 2
     try:
         with zenoh.open(config) as session:
-            answers = query_status(session, settings.namespace, instance, args.timeout)
+            answers = health.statuses(session, settings.namespace, instance, args.timeout)
     except zenoh.ZError as error:
         print(
             f"facing-service health: cannot reach zenoh: {public_zenoh_error(error)}",
@@ -479,9 +539,6 @@ def _replay(args: argparse.Namespace) -> int:
         print(
             f"facing-service replay: BAG {str(args.bag)!r}: no such file or folder", file=sys.stderr
         )
-        return 2
-    if not (math.isfinite(args.rate) and args.rate > 0):
-        print(f"facing-service replay: --rate {args.rate}: must be a number > 0", file=sys.stderr)
         return 2
     if args.record is not None and (args.record.exists() or not args.record.parent.is_dir()):
         why = "exists (a recording never overwrites)" if args.record.exists() else "no such folder"
@@ -544,9 +601,13 @@ def _simulate(args: argparse.Namespace) -> int:
         return 2
     stop = _stop_on_signals()
     scene = Scene(people=args.people, seed=args.seed)
+    key = keys.pose_key(settings.namespace, "<id>", args.base_frame)
+    until = f" for {args.duration_s:g} s" if args.duration_s else " until Ctrl-C"
+    print(f"simulating {args.people} people: poses on {key} at {args.rate_hz:g} Hz{until}")
     with zenoh.open(zenoh_config(settings)) as session:
-        simulate(
-            _publisher(session),
+        publish = _CountingPublisher(_publisher(session))
+        frames = simulate(
+            publish,
             scene,
             args.base_frame,
             settings.namespace,
@@ -554,7 +615,32 @@ def _simulate(args: argparse.Namespace) -> int:
             args.duration_s,
             should_stop=stop.is_set,
         )
+    print(f"published {publish.poses} poses and {publish.deletes} deletes in {frames} frames")
     return 0
+
+
+class _CountingPublisher:
+    """Wraps a publish function, counting what went out; says so every ``every_s``."""
+
+    def __init__(self, publish: Callable[[str, bytes | None], None], every_s: float = 5.0) -> None:
+        self._publish = publish
+        self.poses = self.deletes = 0
+        self._every_s = every_s
+        self._started = self._said = time.monotonic()
+
+    def __call__(self, key: str, payload: bytes | None) -> None:
+        self._publish(key, payload)
+        if payload is None:
+            self.deletes += 1
+        else:
+            self.poses += 1
+        if (now := time.monotonic()) - self._said >= self._every_s:
+            self._said = now
+            rate = self.poses / (now - self._started)
+            print(
+                f"published {self.poses} poses ({rate:.0f}/s) and {self.deletes} deletes",
+                flush=True,
+            )
 
 
 def _watch(args: argparse.Namespace) -> int:
@@ -648,9 +734,14 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _export_schemas(args: argparse.Namespace) -> int:
-    args.directory.mkdir(parents=True, exist_ok=True)
-    for name, schema in json_schemas().items():
-        (args.directory / name).write_text(json.dumps(schema, indent=2) + "\n")
+    try:
+        args.directory.mkdir(parents=True, exist_ok=True)
+        for name, schema in json_schemas().items():
+            (args.directory / name).write_text(json.dumps(schema, indent=2) + "\n")
+    except OSError as error:
+        print(f"facing-service export-schemas: {args.directory}: {error.strerror}", file=sys.stderr)
+        return 2
+    print(f"wrote {len(json_schemas())} JSON Schemas to {args.directory}")
     return 0
 
 

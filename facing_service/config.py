@@ -21,7 +21,7 @@ import zenoh
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from . import keys
-from .disclosure import public_cfg_entry, public_value
+from .disclosure import public_cfg_entry, public_endpoint, public_value
 from .engagement import EngagementParams
 from .schemas import DEFAULT_MAX_PAYLOAD_BYTES
 from .tracker import Profile
@@ -98,6 +98,14 @@ class Settings(BaseModel):
     def _base_frame(cls, value: str) -> str:
         return keys.validate_frame_filter(value)
 
+    @field_validator("connect", "listen")
+    @classmethod
+    def _endpoints(cls, value: list[str], info: Any) -> list[str]:
+        for endpoint in value:
+            if reason := endpoint_problem(endpoint, listen=info.field_name == "listen"):
+                raise ValueError(f"{public_endpoint(endpoint)}: {reason}")
+        return value
+
     @field_validator("ros_namespace")
     @classmethod
     def _ros_namespace(cls, value: str) -> str:
@@ -166,6 +174,30 @@ class Settings(BaseModel):
             if not (sep and key):  # the entry itself is not quoted: it may be a secret
                 raise ValueError(f"entry {position} is not KEY:VALUE")
         return value
+
+
+#: zenoh's link protocols; those of them that take ``host:port``.
+_PROTOCOLS = {"tcp", "udp", "tls", "quic", "ws", "unixsock-stream", "unixpipe", "serial", "vsock"}
+_HOST_PORT = {"tcp", "udp", "tls", "quic", "ws"}
+
+
+def endpoint_problem(endpoint: str, *, listen: bool = False) -> str | None:
+    """Why zenoh could never use ``endpoint`` (zenoh itself only finds out when it tries,
+    and a peer then retries forever in silence), or None."""
+    locator = endpoint.split("#", 1)[0].split("?", 1)[0]
+    protocol, sep, address = locator.partition("/")
+    if not sep or protocol not in _PROTOCOLS:
+        return f"not <protocol>/<address>, protocol one of {', '.join(sorted(_PROTOCOLS))}"
+    if protocol not in _HOST_PORT:
+        return None if address else "no address"
+    host, colon, port = address.rpartition(":")
+    if not colon or not host or not port.isdigit():
+        return "not <protocol>/<host>:<port>"
+    if not (0 if listen else 1) <= int(port) <= 65535:
+        return f"port {port} out of range"
+    if host.startswith("[") != host.endswith("]"):
+        return "an IPv6 address goes in [brackets]"
+    return None
 
 
 class SettingsError(ValueError):

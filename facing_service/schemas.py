@@ -204,6 +204,11 @@ class ServiceStatus(BaseModel):
         "publish_errors."
     )
     rejected: dict[str, int] = Field(description="Rejected samples per reason (all reasons).")
+    connected: dict[str, list[str]] = Field(
+        default_factory=dict,
+        description="zenoh ids of the routers and peers this service's session is "
+        "connected to now: empty while its endpoints are unreachable.",
+    )
     inbox_depth: int = Field(description="Samples and queries received, not yet handled.")
     outbox_depth: int = Field(description="Publications decided, not yet sent.")
 

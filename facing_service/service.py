@@ -23,6 +23,7 @@ merely slower than the burst, and made nothing faster; see benchmarks.)
 from __future__ import annotations
 
 import contextlib
+import json
 import logging
 import math
 import queue
@@ -36,7 +37,7 @@ import zenoh
 
 from . import __version__, keys
 from .config import Settings, zenoh_config
-from .disclosure import public_settings
+from .disclosure import public_endpoint, public_settings
 from .engagement import Level
 from .outbox import Kind, Outbox, Publication
 from .people import People
@@ -250,12 +251,13 @@ class FacingService:
             self.close()
             raise
         log.info(
-            "facing-service %s started: instance %s, zenoh id %s; poses from %s; results on "
-            "%s and %s (queryable); status on %s; threshold %.1f deg, hysteresis %.1f deg, "
+            "facing-service %s started: instance %s, zenoh id %s, %s; poses from %s; results "
+            "on %s and %s (queryable); status on %s; threshold %.1f deg, hysteresis %.1f deg, "
             "stale after %.1f s, at most %d bodies",
             __version__,
             s.instance,
             session.zid(),
+            self._links(),
             subscription,
             body_space,
             frame_space,
@@ -266,6 +268,18 @@ class FacingService:
             s.max_bodies,
         )
         return self
+
+    def _links(self) -> str:
+        """Mode and endpoints, as the start line says them (no secret: see disclosure)."""
+        conf = zenoh_config(self.settings)
+        mode = json.loads(conf.get_json("mode")) or "peer"  # zenoh's default
+        endpoints = {}
+        for kind in ("connect", "listen"):
+            value = json.loads(conf.get_json(f"{kind}/endpoints"))
+            if isinstance(value, dict):  # per-mode lists
+                value = value.get(mode, [])
+            endpoints[kind] = ", ".join(public_endpoint(e) for e in value) or "none"
+        return f"mode {mode}, connect {endpoints['connect']}, listen {endpoints['listen']}"
 
     def close(self) -> None:
         """Stop taking input, stop the threads, close the session. Idempotent.
@@ -306,6 +320,16 @@ class FacingService:
         assert self._session is not None, "service not started"
         return str(self._session.zid())
 
+    def connected(self) -> dict[str, list[str]]:
+        """The routers and peers the session is connected to now (zenoh ids)."""
+        session = self._session
+        if session is None:
+            return {"routers": [], "peers": []}
+        return {
+            "routers": sorted(str(z) for z in session.info.routers_zid()),
+            "peers": sorted(str(z) for z in session.info.peers_zid()),
+        }
+
     def status(self) -> ServiceStatus:
         """A consistent snapshot of health, counters and state sizes; thread-safe."""
         # Depth before counters: the publisher counts a publication before reporting it
@@ -328,6 +352,7 @@ class FacingService:
             bodies_tracked_total=sum(tracked.values()),
             counters=counts,
             rejected=rejected,
+            connected=self.connected(),
             inbox_depth=self._inbox.qsize(),
             outbox_depth=outbox_depth,
         )

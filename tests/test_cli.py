@@ -6,6 +6,7 @@ import json
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
@@ -100,3 +101,90 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
         output = proc.stdout.read()
     assert code == 0, output
     assert elapsed < 2.0, f"took {elapsed:.2f} s"  # the contract's deadline
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["simulate", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
+        (["simulate", "--rate-hz", "-5"], "argument --rate-hz: must be a number > 0, got -5"),
+        (["demo", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
+        (["simulate", "--people", "-1"], "argument --people: must be a number >= 1, got -1"),
+        (["health", "--timeout", "-1"], "argument --timeout: must be a number > 0, got -1"),
+        (["watch", "--wait-s", "nan"], "argument --wait-s: must be a number >= 0, got nan"),
+        (["export-schemas", "/proc/nope"], "export-schemas: /proc/nope: No such file or directory"),
+        (
+            ["run", "-e", "tcp/nohost:99999"],
+            "--connect=['tcp/nohost:99999']: tcp/nohost:99999: port",
+        ),
+        (["run", "-e", "nohost:7447"], "not <protocol>/<address>"),
+        (["run", "-l", "tcp/[::1:7447"], "--listen="),
+        (["run", "-c", "/no/such.json5"], "--config '/no/such.json5': no such file"),
+        (["run", "-c", "/tmp"], "--config '/tmp': not a file"),
+        (["run", "--threshold", "30"], "unrecognized arguments: --threshold 30"),
+    ],
+)
+def test_every_number_path_and_endpoint_is_checked_in_one_line(args, message):
+    proc = subprocess.run(
+        [sys.executable, "-m", "facing_service", *args], capture_output=True, text=True, timeout=30
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert message in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+
+
+def test_simulate_says_what_it_publishes(net):
+    _, ep = net.service()
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "facing_service",
+            "simulate",
+            "--duration-s",
+            "0.3",
+            "-e",
+            ep,
+            *LOOPBACK_FLAGS,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
+    assert proc.returncode == 0, proc.stderr
+    first, last = proc.stdout.strip().splitlines()
+    assert first.startswith("simulating 5 people: poses on hri/bodies/<id>/pose/base_link at 30 Hz")
+    assert last.startswith("published ") and " poses and " in last
+
+
+def test_run_warns_while_its_endpoints_stay_unreachable(monkeypatch, caplog):
+    from facing_service import cli
+    from facing_service.config import Settings
+    from facing_service.service import FacingService
+
+    monkeypatch.setattr(cli, "UNREACHABLE_WARNING_S", 0.2)
+    settings = Settings(
+        connect=[endpoint(free_port())], no_multicast_scouting=True, cfg=["scouting/delay:0"]
+    )
+    stop = threading.Event()
+    with FacingService(settings) as service:
+        timer = threading.Timer(0.7, stop.set)
+        timer.start()
+        cli._warn_while_unreachable(service, settings, stop)
+    assert "no router or peer reachable at tcp/127.0.0.1:" in caplog.text
+
+
+def test_log_level_reaches_zenohs_own_log_but_never_its_debug(monkeypatch):
+    """--log-level DEBUG shows zenoh's own log (its info level), never zenoh's debug,
+    which prints the session's config, secrets included (see test_secure)."""
+    # An unreachable endpoint: zenoh itself has something to say about it.
+    flags = ("-e", endpoint(free_port()), *LOOPBACK_FLAGS, "--log-level", "DEBUG")
+    monkeypatch.delenv("RUST_LOG", raising=False)  # set, it would decide instead
+    with running_cli("run", *flags) as proc:
+        time.sleep(2.0)
+        proc.send_signal(signal.SIGTERM)
+        output, _ = proc.communicate(timeout=10)
+    zenohs = [line for line in output.splitlines() if "zenoh::" in line or "zenoh_" in line]
+    assert zenohs, "zenoh's own log is not shown"
+    assert not any("DEBUG" in line or "TRACE" in line for line in zenohs)
+    assert "facing-service 0" in output

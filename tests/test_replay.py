@@ -20,8 +20,8 @@ RECORDING = BAGS / "1p_AA_eng_1"
     ("args", "message"),
     [
         (["/no/such/bag"], "BAG '/no/such/bag': no such file or folder"),
-        ([str(RECORDING), "--rate", "0"], "--rate 0.0: must be a number > 0"),
-        ([str(RECORDING), "--rate", "nan"], "--rate nan: must be a number > 0"),
+        ([str(RECORDING), "--rate", "0"], "argument --rate: must be a number > 0, got 0"),
+        ([str(RECORDING), "--rate", "nan"], "argument --rate: must be a number > 0, got nan"),
         ([str(RECORDING), "--ros-domain-id", "-1"], "--ros-domain-id=-1: "),
     ],
 )

@@ -357,8 +357,7 @@ def test_the_status_and_logs_disclose_no_credential(deployment, door):
         replies = list(consumer.get("hri/services/facing/*/status"))
         (raw,) = [r.ok.payload.to_string() for r in replies if r.ok is not None]
         proc.send_signal(signal.SIGTERM)  # its whole log, shutdown included
-        proc.wait(timeout=10)
-        output = proc.stdout.read() if proc.stdout else ""
+        output, _ = proc.communicate(timeout=10)  # read while it writes: DEBUG is verbose
     key_body = Path(key_path).read_text().splitlines()[1]  # a line of the key's base64
     for secret in (PASSWORDS["facing-service"], key_path, key_body):
         assert secret not in raw, f"the status discloses {secret!r}"
