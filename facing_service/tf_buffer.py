@@ -413,6 +413,14 @@ class TfBuffer:
             _add(_rotate(inv, src_vec), _rotate(inv, _neg(tgt_vec))), _qmul(inv, src_quat)
         )
 
+    def _latest_link(self, frame: str) -> tuple[int, str] | None:
+        """``(latest stamp, parent)`` of ``frame`` (stamp 0 when static); None at a root."""
+        cache = self._caches.get(frame)
+        if cache is None:
+            return None
+        stamp, parent = cache.latest()
+        return None if parent is None else (stamp, parent)
+
     def latest_common_time(self, target: str, source: str) -> int:
         """tf2's ``getLatestCommonTime``: the newest time every dynamic link between the two
         frames has data for (0 when the chain is all static)."""
@@ -423,13 +431,8 @@ class TfBuffer:
         common: float = never
         seen: list[tuple[int, str]] = []  # (latest stamp, parent) walking up from the source
         frame, depth = source, 0
-        while True:
-            cache = self._caches.get(frame)
-            if cache is None:
-                break
-            stamp, parent = cache.latest()
-            if parent is None:
-                break
+        while (link := self._latest_link(frame)) is not None:
+            stamp, parent = link
             if stamp:
                 common = min(common, stamp)
             seen.append((stamp, parent))
@@ -441,13 +444,8 @@ class TfBuffer:
                 raise LookupError_("The tf tree is invalid because it contains a loop.")
         frame, depth, common = target, 0, never
         common_parent: str | None = None
-        while True:
-            cache = self._caches.get(frame)
-            if cache is None:
-                break
-            stamp, parent = cache.latest()
-            if parent is None:
-                break
+        while (link := self._latest_link(frame)) is not None:
+            stamp, parent = link
             if stamp:
                 common = min(common, stamp)
             if any(p == parent for _, p in seen):

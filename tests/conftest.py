@@ -31,6 +31,13 @@ class Network:
         self._closers.append(service.close)
         return service, ep
 
+    def robot_service(self, router: str, **settings: Any) -> FacingService:
+        """A service reading a ROS 2 robot's topics (``--input ros2``) through the router
+        at ``router``, in client mode, as it runs beside a robot."""
+        params = {"mode": "client", "connect": [router], "listen": [], "input": "ros2"}
+        service, _ = self.service(**(params | settings))
+        return service
+
     def client(self, connect: str, mode: str = "peer") -> zenoh.Session:
         session = zenoh.open(loopback_config(connect=[connect], mode=mode))
         self._closers.append(session.close)

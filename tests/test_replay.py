@@ -41,14 +41,7 @@ def test_replay_feeds_the_service_like_the_robot_did(net):
     becomes ENGAGED, and nothing the robot sent is refused."""
     router = net.router()
     ep = endpoint(router.port)
-    service, _ = net.service(
-        mode="client",
-        connect=[ep],
-        listen=[],
-        input="ros2",
-        ros_format="bridge",
-        base_frame="camera_link",
-    )
+    service = net.robot_service(ep, ros_format="bridge", base_frame="camera_link")
     consumer = net.client(ep, mode="client")
     events = net.recorder(consumer, "hri/events/engagement/camera_link")
     flags = ("--rate", "8", "--ros-format", "bridge", "-m", "client", "-e", ep, *LOOPBACK_FLAGS)

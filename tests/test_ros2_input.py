@@ -179,16 +179,7 @@ def robot_site(net):
     made: list[Robot] = []
 
     def start(fmt: RosFormat = RosFormat.RMW_ZENOH, **settings):
-        service, _ = net.service(
-            mode="client",
-            connect=[ep],
-            listen=[],
-            input="ros2",
-            base_frame="base_link",
-            ros_format=fmt.value,
-            **settings,
-        )
-        return service
+        return net.robot_service(ep, base_frame="base_link", ros_format=fmt.value, **settings)
 
     def robot(fmt: RosFormat = RosFormat.RMW_ZENOH, **wire) -> Robot:
         r = Robot(net.client(ep, mode="client"), Wire(fmt, **wire))

@@ -144,15 +144,8 @@ def run_recording(net, fmt: RosFormat, **settings):
     """A router, the service with ROS 2 input and output, and the recording replayed."""
     router = net.router()
     ep = endpoint(router.port)
-    service, _ = net.service(
-        mode="client",
-        connect=[ep],
-        listen=[],
-        input="ros2",
-        output="ros2",
-        ros_format=fmt.value,
-        base_frame="camera_link",
-        **settings,
+    service = net.robot_service(
+        ep, output="ros2", ros_format=fmt.value, base_frame="camera_link", **settings
     )
     robot = net.client(ep, mode="client")
 
@@ -244,14 +237,7 @@ def test_replay_records_what_the_service_published(net, tmp_path):
 
     router = net.router()
     ep = endpoint(router.port)
-    net.service(
-        mode="client",
-        connect=[ep],
-        listen=[],
-        input="ros2",
-        output="ros2",
-        base_frame="camera_link",
-    )
+    net.robot_service(ep, output="ros2", base_frame="camera_link")
     out = tmp_path / "run"
     flags = ("--rate", "4", "--record", str(out), "-m", "client", "-e", ep, *LOOPBACK_FLAGS)
     with running_cli("replay", str(RECORDING), *flags) as proc:
