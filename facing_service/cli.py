@@ -37,6 +37,7 @@ from .config import (
     zenoh_config,
 )
 from .disclosure import public_endpoint, public_zenoh_error
+from .record import Recording, bag_folder
 from .ros2_wire import RosFormat, Wire
 from .router import router_config, serve
 from .schemas import json_schemas
@@ -540,15 +541,20 @@ def _replay(args: argparse.Namespace) -> int:
             f"facing-service replay: BAG {str(args.bag)!r}: no such file or folder", file=sys.stderr
         )
         return 2
-    if args.record is not None and (args.record.exists() or not args.record.parent.is_dir()):
-        why = "exists (a recording never overwrites)" if args.record.exists() else "no such folder"
-        print(f"facing-service replay: --record {str(args.record)!r}: {why}", file=sys.stderr)
-        return 2
+    if args.record is not None:
+        folder = bag_folder(args.record)
+        if folder.exists() or not folder.parent.is_dir():
+            why = (
+                f"{folder} exists (a recording never overwrites)"
+                if folder.exists()
+                else ("no such folder")
+            )
+            print(f"facing-service replay: --record {str(args.record)!r}: {why}", file=sys.stderr)
+            return 2
     settings = _session_settings(args)
     if settings is None:
         return 2
-    from .record import Recording  # rosbags: only for the commands that read or write bags
-    from .replay import Replay
+    from .replay import Replay  # rosbags: only for the commands that read bags
 
     stop = _stop_on_signals()
     wire = Wire(RosFormat(settings.ros_format), settings.ros_domain_id, settings.ros_namespace)
@@ -564,7 +570,7 @@ def _replay(args: argparse.Namespace) -> int:
             if recording is not None:
                 time.sleep(0.5)  # the service's last answers on their way
                 recorded, topics = recording.close()
-                print(f"recorded {recorded} messages on {topics} topics to {args.record}")
+                print(f"recorded {recorded} messages on {topics} topics to {recording.path}")
     except zenoh.ZError as error:
         print(f"facing-service replay: {public_zenoh_error(error)}", file=sys.stderr)
         return 1

@@ -27,14 +27,21 @@ OUTPUT_TOPICS = (
 )
 
 
+def bag_folder(out: Path) -> Path:
+    """The rosbag2 folder a recording to ``out`` makes: ``OUT/``, or for ``OUT.mcap``
+    the folder ``OUT/`` holding ``OUT.mcap``."""
+    return out.with_suffix("") if out.suffix == ".mcap" else out
+
+
 class Recording:
     """Subscribes to the service's ROS 2 output on ``session``; ``close`` writes the bag
     and returns how many messages it holds."""
 
     def __init__(self, session: zenoh.Session, wire: Wire, out: Path) -> None:
-        if out.exists():
-            raise FileExistsError(f"{out} exists: a recording never overwrites")
         self.out = out
+        self.path = bag_folder(out)
+        if self.path.exists():
+            raise FileExistsError(f"{self.path} exists: a recording never overwrites")
         self.wire = wire
         self._lock = threading.Lock()
         self._samples: list[tuple[str, str, int, bytes]] = []
@@ -62,9 +69,8 @@ class Recording:
         with self._lock:
             samples = sorted(self._samples, key=lambda s: s[2])
         storage = StoragePlugin.MCAP if self.out.suffix == ".mcap" else StoragePlugin.SQLITE3
-        path = self.out.with_suffix("") if self.out.suffix == ".mcap" else self.out
         connections = {}
-        with Writer(path, version=8, storage_plugin=storage) as writer:
+        with Writer(self.path, version=8, storage_plugin=storage) as writer:
             for topic, typename, timestamp, payload in samples:
                 if topic not in connections:
                     connections[topic] = writer.add_connection(

@@ -24,6 +24,7 @@ from facing_service.tracker import Changes, EngagementUpdate
 from loopback import endpoint
 
 RECORDING = BAGS / "1p_AA_eng_1"  # one person, rorql, labelled ENGAGED
+TWO_PEOPLE = BAGS / "2p_AA_FV_eng_1"  # eloek and ghfbv, both labelled ENGAGED
 STANDARD_MSGS = {  # ROS 2's own definitions, for the SDK's offline registry
     "std_msgs/msg/Header": "builtin_interfaces/Time stamp\nstring frame_id\n",
     "builtin_interfaces/msg/Time": "int32 sec\nuint32 nanosec\n",
@@ -140,7 +141,7 @@ def sdk(tmp_path, monkeypatch, net):
         ZenohSession._instance = None
 
 
-def run_recording(net, fmt: RosFormat, **settings):
+def run_recording(net, fmt: RosFormat, recording: Path = RECORDING, **settings):
     """A router, the service with ROS 2 input and output, and the recording replayed."""
     router = net.router()
     ep = endpoint(router.port)
@@ -151,7 +152,7 @@ def run_recording(net, fmt: RosFormat, **settings):
 
     def play() -> None:
         time.sleep(0.5)  # subscribers of the caller get declared and propagated
-        with Replay(robot, RECORDING, Wire(fmt)) as replay:
+        with Replay(robot, recording, Wire(fmt)) as replay:
             replay.run(rate=4.0)
 
     return router.port, service, play
@@ -162,19 +163,21 @@ def test_rmw_zenoh_subscribers_get_engagement_status_with_valid_attachments(net,
     from zenoh_ros2_sdk.discovery import get_topic_names_and_types
     from zenoh_ros2_sdk.session import ZenohSession
 
-    port, service, play = run_recording(net, RosFormat.RMW_ZENOH, ros_intents=True)
-    topic = "/humans/persons/rorql/engagement_status"
-    levels: list[int] = []
+    port, service, play = run_recording(net, RosFormat.RMW_ZENOH, TWO_PEOPLE, ros_intents=True)
+    topic = "/humans/persons/eloek/engagement_status"
     store = ZenohSession.get_instance("127.0.0.1", port)
     for typename in ("builtin_interfaces/msg/Time", "std_msgs/msg/Header"):  # nested types
         store.register_message_type(STANDARD_MSGS[typename], typename)
-    ros_sdk = ROS2Subscriber(
-        topic,
-        ENGAGEMENT_LEVEL,
-        lambda message: levels.append(message.level),
-        msg_definition=upstream(ENGAGEMENT_LEVEL),
-        router_port=port,
-    )
+    seen: dict[str, list[int]] = {"eloek": [], "ghfbv": []}
+    for person, person_levels in seen.items():  # the SDK's session owns them (fixture)
+        ROS2Subscriber(
+            f"/humans/persons/{person}/engagement_status",
+            ENGAGEMENT_LEVEL,
+            lambda message, into=person_levels: into.append(message.level),
+            msg_definition=upstream(ENGAGEMENT_LEVEL),
+            router_port=port,
+        )
+    levels = seen["eloek"]
     raw: list[zenoh.Sample] = []
     lock = threading.Lock()
     consumer = net.client(endpoint(port), mode="client")
@@ -190,6 +193,7 @@ def test_rmw_zenoh_subscribers_get_engagement_status_with_valid_attachments(net,
         while Level.ENGAGED not in levels and time.monotonic() < deadline:
             time.sleep(0.05)
         assert Level.ENGAGED in levels, f"the SDK subscriber saw {levels}"
+        assert all(seen.values()), f"a listed person got no engagement_status: {seen}"
         # The graph, as `ros2 topic list` / `ros2 node list` build it from liveliness.
         topics = dict(get_topic_names_and_types(0, router_port=port, timeout=2.0))
         assert ENGAGEMENT_LEVEL in topics.get(topic, []), topics  # our publisher's token
@@ -201,7 +205,6 @@ def test_rmw_zenoh_subscribers_get_engagement_status_with_valid_attachments(net,
         assert any(n.endswith("/facing_service") for n in nodes), nodes
         assert service.status().counters["ros_published"] > 0
     finally:
-        ros_sdk.destroy() if hasattr(ros_sdk, "destroy") else None
         net_sub.undeclare()
     with lock:
         samples = list(raw)
@@ -251,3 +254,26 @@ def test_replay_records_what_the_service_published(net, tmp_path):
     ]
     assert Level.ENGAGED in levels
     assert Path(out, "metadata.yaml").is_file()
+
+
+def test_a_recording_written_as_mcap_replays(net, tmp_path):
+    """--record OUT.mcap writes an mcap bag; replay reads it back (both storage formats
+    rosbag2 uses: the shared recordings are sqlite3)."""
+    from facing_service.record import Recording
+
+    router = net.router()
+    ep = endpoint(router.port)
+    net.robot_service(ep, output="ros2", base_frame="camera_link")
+    robot = net.client(ep, mode="client")
+    out = tmp_path / "run.mcap"
+    recording = Recording(robot, Wire(), out)
+    time.sleep(0.5)
+    with Replay(robot, RECORDING, Wire()) as replay:
+        replay.run(rate=4.0)
+    time.sleep(0.5)
+    recorded, _ = recording.close()
+    (bag,) = [p for p in tmp_path.iterdir() if p.name.startswith("run")]
+    assert recorded > 0 and list(bag.glob("*.mcap"))
+    with Replay(robot, bag, Wire(RosFormat.BRIDGE)) as replay:
+        stats = replay.run(rate=50.0)
+    assert stats.messages == recorded
