@@ -22,11 +22,9 @@ merely slower than the burst, and made nothing faster; see benchmarks.)
 
 from __future__ import annotations
 
-import contextlib
 import json
 import logging
 import math
-import queue
 import threading
 import time
 from collections import Counter
@@ -39,6 +37,7 @@ from . import __version__, keys
 from .config import Settings, zenoh_config
 from .disclosure import public_endpoint, public_settings
 from .engagement import Level
+from .inbox import Inbox
 from .outbox import Kind, Outbox, Publication
 from .people import People
 from .ros2_input import Ros2Subscriptions, RosSample, route
@@ -86,8 +85,6 @@ COUNTERS = (
     "tf_lookups_unresolved",
     "ros_published",
 )
-
-_STOP = object()
 
 
 class _Publishers:
@@ -195,7 +192,7 @@ class FacingService:
             if settings.output == "ros2"
             else None
         )
-        self._inbox: queue.Queue[tuple[float, object]] = queue.Queue(maxsize=INBOX_SIZE)
+        self._inbox: Inbox[tuple[float, object]] = Inbox(INBOX_SIZE)
         self._outbox = Outbox()
         self._closing = threading.Event()
         # Guards what other threads read: counters, rejections, the per-frame snapshot.
@@ -298,9 +295,8 @@ class FacingService:
         if self._ros is not None:
             self._ros.close()
             self._ros = None
-        # Wake an idle worker; a busy one (full inbox) sees the closing flag after its batch.
-        with contextlib.suppress(queue.Full):
-            self._inbox.put_nowait((0.0, _STOP))
+        # Wake an idle worker; a busy one sees the closing flag after its batch.
+        self._inbox.wake()
         self._outbox.close()
         for thread in self._threads:
             thread.join(timeout=0.7)
@@ -353,20 +349,14 @@ class FacingService:
             counters=counts,
             rejected=rejected,
             connected=self.connected(),
-            inbox_depth=self._inbox.qsize(),
+            inbox_depth=len(self._inbox),
             outbox_depth=outbox_depth,
         )
 
     # -- zenoh callbacks: hand off, nothing else ---------------------------------------
 
     def _enqueue(self, item: object) -> None:
-        entry = (self._clock(), item)
-        while not self._closing.is_set():
-            try:
-                self._inbox.put(entry, timeout=0.1)
-                return
-            except queue.Full:
-                continue  # push back on zenoh until the worker makes room
+        self._inbox.put((self._clock(), item), self._closing)  # waits while full
 
     def _on_status(self, query: zenoh.Query) -> None:
         key = keys.status_key(self.settings.namespace, self.settings.instance)
@@ -390,17 +380,8 @@ class FacingService:
         self._rejection_log.maybe_log(force=True)
 
     def _next_batch(self) -> list[tuple[float, object]]:
-        """Wait for the first item (or the next deadline), then take what is queued."""
-        try:
-            batch = [self._inbox.get(timeout=self._idle_timeout())]
-        except queue.Empty:
-            return []
-        while len(batch) < MAX_BATCH:
-            try:
-                batch.append(self._inbox.get_nowait())
-            except queue.Empty:
-                break
-        return batch
+        """What is queued (at most MAX_BATCH), waiting for it until the next deadline."""
+        return self._inbox.take(self._idle_timeout(), MAX_BATCH)
 
     def _idle_timeout(self) -> float | None:
         deadlines = [
@@ -424,7 +405,7 @@ class FacingService:
         handled: a body whose next sample is already queued is not stale, however long
         the worker took to get to it.
         """
-        now = self._clock() if self._inbox.empty() else self._horizon
+        now = self._clock() if not self._inbox else self._horizon
         self._publish(self._tracker.expire(now))
         self._publish(self._tracker.advance(now))
 
