@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import zenoh
@@ -50,7 +51,9 @@ class Recording:
             for topic, typename in OUTPUT_TOPICS
         ]
 
-    def _keep(self, typename: str):
+    def _keep(self, typename: str) -> Callable[[zenoh.Sample], None]:
+        """The callback keeping the samples of one output topic (of ``typename``)."""
+
         def on_sample(sample: zenoh.Sample) -> None:
             topic = self.wire.topic_of(str(sample.key_expr))
             if topic is None or sample.kind != zenoh.SampleKind.PUT:
