@@ -277,6 +277,16 @@ def probe_config(settings: Settings) -> zenoh.Config:
     return conf
 
 
+def mode_and_endpoints(conf: zenoh.Config, kind: str) -> tuple[str, list[str]]:
+    """The session's mode (zenoh's default: peer) and its ``kind`` ("connect" or "listen")
+    endpoints in force for that mode: zenoh keeps either a list or a map of lists per mode."""
+    mode = json.loads(conf.get_json("mode")) or "peer"
+    value = json.loads(conf.get_json(f"{kind}/endpoints"))
+    if isinstance(value, dict):
+        value = value.get(mode, [])
+    return mode, [str(e) for e in value] if isinstance(value, list) else []
+
+
 def zenoh_config(settings: Settings) -> zenoh.Config:
     """The zenoh session config; SettingsError on an unreadable file, unknown key or bad
     value, naming the flag and never echoing a secret value (zenoh's own messages quote

@@ -24,9 +24,8 @@ from rosbags.highlevel import AnyReader
 from rosbags.interfaces import Qos, QosDurability
 
 from . import ros2_types
-from .ros2_wire import GID_SIZE, RosFormat, Wire, attachment
-
-CDR = zenoh.Encoding("application/cdr")
+from .ros2_output import CDR, TopicWriter
+from .ros2_wire import GID_SIZE, Wire
 
 
 @dataclass
@@ -37,39 +36,25 @@ class ReplayStats:
     elapsed_s: float = 0.0  # of the replay
 
 
-class _Publisher:
-    """One topic's publisher: plain or advanced (transient-local), numbering its samples."""
-
-    def __init__(self, session: zenoh.Session, key: str, wire: Wire, qos: list[Qos]) -> None:
-        self.wire = wire
-        self.gid = os.urandom(GID_SIZE)
-        self.sequence_number = 0
-        block = zenoh.CongestionControl.BLOCK
-        if any(q.durability == QosDurability.TRANSIENT_LOCAL for q in qos):
-            depth = max([q.depth for q in qos] + [1])
-            self._entity: Any = zenoh.ext.declare_advanced_publisher(
-                session,
-                key,
-                encoding=CDR,
-                congestion_control=block,
-                cache=zenoh.ext.CacheConfig(depth),
-                # Sequence numbers order the cache (as rmw_zenoh's publishers do), so the
-                # session needs no timestamping enabled.
-                sample_miss_detection=zenoh.ext.MissDetectionConfig(),
-                publisher_detection=True,
-            )
-        else:
-            self._entity = session.declare_publisher(key, encoding=CDR, congestion_control=block)
-
-    def put(self, payload: bytes) -> None:
-        self.sequence_number += 1
-        extra = None
-        if self.wire.format is RosFormat.RMW_ZENOH:
-            extra = attachment(self.sequence_number, time.time_ns(), self.gid)
-        self._entity.put(payload, attachment=extra)
-
-    def undeclare(self) -> None:
-        self._entity.undeclare()
+def _writer(session: zenoh.Session, key: str, wire: Wire, qos: list[Qos]) -> TopicWriter:
+    """One topic's writer: advanced with a cache when the topic was recorded transient-local
+    (as rmw_zenoh publishes it), plain otherwise."""
+    block = zenoh.CongestionControl.BLOCK
+    if any(q.durability == QosDurability.TRANSIENT_LOCAL for q in qos):
+        entity: Any = zenoh.ext.declare_advanced_publisher(
+            session,
+            key,
+            encoding=CDR,
+            congestion_control=block,
+            cache=zenoh.ext.CacheConfig(max([q.depth for q in qos] + [1])),
+            # Sequence numbers order the cache (as rmw_zenoh's publishers do), so the
+            # session needs no timestamping enabled.
+            sample_miss_detection=zenoh.ext.MissDetectionConfig(),
+            publisher_detection=True,
+        )
+    else:
+        entity = session.declare_publisher(key, encoding=CDR, congestion_control=block)
+    return TopicWriter(entity, wire, os.urandom(GID_SIZE))
 
 
 class Replay:
@@ -80,7 +65,7 @@ class Replay:
         self.session = session
         self.bag = Path(bag)
         self.wire = wire
-        self._publishers: dict[str, _Publisher] = {}
+        self._publishers: dict[str, TopicWriter] = {}
 
     def run(
         self,
@@ -104,7 +89,7 @@ class Replay:
                 if publisher is None:
                     key = self.wire.key(connection.topic, connection.msgtype)
                     qos = getattr(connection.ext, "offered_qos_profiles", [])
-                    publisher = _Publisher(self.session, key, self.wire, qos)
+                    publisher = _writer(self.session, key, self.wire, qos)
                     self._publishers[connection.topic] = publisher
                 publisher.put(bytes(raw))
                 stats.messages += 1

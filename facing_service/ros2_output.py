@@ -45,6 +45,7 @@ FACING_TOPICS = {
     "person_": "/humans/persons/facing",
 }
 PERSON = "person_"
+CDR = zenoh.Encoding("application/cdr")
 
 
 @dataclass(frozen=True, slots=True)
@@ -148,7 +149,7 @@ class RosPublishers:
         self.session = session
         self.wire = wire
         self.node_name = node_name
-        self._publishers: dict[str, _TopicPublisher] = {}
+        self._publishers: dict[str, TopicWriter] = {}
         self._next_entity_id = 1  # 0 is the node's
         self._node_token = None
         if wire.format is RosFormat.RMW_ZENOH:
@@ -186,7 +187,14 @@ class RosPublishers:
                 )
                 token = self.session.liveliness().declare_token(key)
             self._next_entity_id += 1
-            publisher = _TopicPublisher(self.session, self.wire, message, token)
+            data_key = self.wire.key(message.topic, message.typename)
+            entity = self.session.declare_publisher(
+                data_key, encoding=CDR, congestion_control=zenoh.CongestionControl.BLOCK
+            )
+            # rmw_zenoh hashes the liveliness key into the GID (XXH3-128); a SHA-256 prefix
+            # of the data key and entity number is as unique, which is all a GID must be.
+            gid = hashlib.sha256(f"{data_key}#{self._next_entity_id}".encode()).digest()[:16]
+            publisher = TopicWriter(entity, self.wire, gid, token)
             self._publishers[message.topic] = publisher
         publisher.put(message.payload)
 
@@ -209,27 +217,23 @@ def _mangle(name: str) -> str:
     return name.replace("/", "%")
 
 
-class _TopicPublisher:
-    def __init__(self, session: zenoh.Session, wire: Wire, message: RosMessage, token: Any) -> None:
-        key = wire.key(message.topic, message.typename)
-        self._publisher = session.declare_publisher(
-            key,
-            encoding=zenoh.Encoding("application/cdr"),
-            congestion_control=zenoh.CongestionControl.BLOCK,
-        )
+class TopicWriter:
+    """Puts samples on one topic's declared publisher (plain or zenoh-ext advanced) as the
+    robot's format wants them: in rmw_zenoh's, each with its attachment, numbered from 1."""
+
+    def __init__(self, entity: Any, wire: Wire, gid: bytes, token: Any = None) -> None:
+        self._entity = entity
         self._rmw = wire.format is RosFormat.RMW_ZENOH
-        self._token = token
-        # A GID per publisher: rmw_zenoh hashes the liveliness key (XXH3-128); a SHA-256
-        # prefix of it is as unique, which is all a GID must be.
-        self.gid = hashlib.sha256(key.encode() + str(id(self)).encode()).digest()[:16]
+        self.gid = gid
+        self._token = token  # the publisher's liveliness token, if it holds one
         self.sequence_number = 0
 
     def put(self, payload: bytes) -> None:
         self.sequence_number += 1
         extra = attachment(self.sequence_number, time.time_ns(), self.gid) if self._rmw else None
-        self._publisher.put(payload, attachment=extra)
+        self._entity.put(payload, attachment=extra)
 
     def undeclare(self) -> None:
-        self._publisher.undeclare()
+        self._entity.undeclare()
         if self._token is not None:
             self._token.undeclare()

@@ -14,7 +14,7 @@ import threading
 
 import zenoh
 
-from .config import Settings, zenoh_config
+from .config import Settings, mode_and_endpoints, zenoh_config
 from .disclosure import public_endpoint
 
 log = logging.getLogger("facing_service.router")
@@ -29,21 +29,14 @@ def router_config(settings: Settings) -> zenoh.Config:
 
 def serve(config: zenoh.Config, stop: threading.Event) -> None:
     """Run a router with ``config`` until ``stop`` is set."""
-    listen = json.loads(config.get_json("listen/endpoints"))
+    _, listen = mode_and_endpoints(config, "listen")
     acl = json.loads(config.get_json("access_control/enabled"))
     with zenoh.open(config) as session:
         log.info(
             "zenoh router started: zenoh id %s, listening on %s, access control %s",
             session.zid(),
-            ", ".join(public_endpoint(e) for e in _endpoint_list(listen)) or "nothing",
+            ", ".join(public_endpoint(e) for e in listen) or "nothing",
             "on" if acl else "off",
         )
         stop.wait()
     log.info("zenoh router stopped")
-
-
-def _endpoint_list(listen: object) -> list[str]:
-    """zenoh's ``listen/endpoints`` is a list, or a map of lists per mode."""
-    if isinstance(listen, dict):
-        listen = listen.get("router", [])
-    return [str(e) for e in listen] if isinstance(listen, list) else []

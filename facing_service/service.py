@@ -22,7 +22,6 @@ merely slower than the burst, and made nothing faster; see benchmarks.)
 
 from __future__ import annotations
 
-import json
 import logging
 import math
 import threading
@@ -34,7 +33,7 @@ from dataclasses import dataclass
 import zenoh
 
 from . import __version__, keys
-from .config import Settings, zenoh_config
+from .config import Settings, mode_and_endpoints, zenoh_config
 from .disclosure import public_endpoint, public_settings
 from .engagement import Level
 from .inbox import Inbox
@@ -269,14 +268,11 @@ class FacingService:
     def _links(self) -> str:
         """Mode and endpoints, as the start line says them (no secret: see disclosure)."""
         conf = zenoh_config(self.settings)
-        mode = json.loads(conf.get_json("mode")) or "peer"  # zenoh's default
-        endpoints = {}
+        said = {}
         for kind in ("connect", "listen"):
-            value = json.loads(conf.get_json(f"{kind}/endpoints"))
-            if isinstance(value, dict):  # per-mode lists
-                value = value.get(mode, [])
-            endpoints[kind] = ", ".join(public_endpoint(e) for e in value) or "none"
-        return f"mode {mode}, connect {endpoints['connect']}, listen {endpoints['listen']}"
+            mode, endpoints = mode_and_endpoints(conf, kind)
+            said[kind] = ", ".join(public_endpoint(e) for e in endpoints) or "none"
+        return f"mode {mode}, connect {said['connect']}, listen {said['listen']}"
 
     def close(self) -> None:
         """Stop taking input, stop the threads, close the session. Idempotent.
@@ -600,12 +596,7 @@ class FacingService:
                     return
                 for p in publications:
                     try:
-                        if p.kind is Kind.ROS:
-                            assert ros is not None and p.typename is not None
-                            ros.send(RosMessage(p.key, p.typename, p.payload))
-                            counter = "ros_published"
-                        else:
-                            counter = self._send_one(session, publishers, p)
+                        counter = self._send_one(session, publishers, ros, p)
                     except zenoh.ZError:
                         if self._closing.is_set():
                             return  # the session closed under a blocked put: shutting down
@@ -620,9 +611,17 @@ class FacingService:
                 ros.close()
 
     @staticmethod
-    def _send_one(session: zenoh.Session, publishers: _Publishers, p: Publication) -> str:
+    def _send_one(
+        session: zenoh.Session,
+        publishers: _Publishers,
+        ros: RosPublishers | None,
+        p: Publication,
+    ) -> str:
         """Send one publication; returns the name of the counter it counts under."""
-        if p.kind is Kind.DELETE:  # the body is lost: so is its publisher
+        if p.kind is Kind.ROS:  # the robot's own topics (--output ros2)
+            assert ros is not None and p.typename is not None
+            ros.send(RosMessage(p.key, p.typename, p.payload))
+        elif p.kind is Kind.DELETE:  # the body is lost: so is its publisher
             publishers.forget(p.key)
             session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
         else:
@@ -637,6 +636,7 @@ _COUNTER = {
     Kind.ENGAGEMENT: "engagement_published",
     Kind.EVENT: "events_published",
     Kind.DELETE: "deletes_published",
+    Kind.ROS: "ros_published",
 }
 
 
