@@ -15,6 +15,7 @@ from enum import Enum
 from typing import Annotated, Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic_core import from_json
 
 #: tf2's tolerance on a quaternion's squared norm before it refuses to normalize it.
 QUATERNION_TOLERANCE = 0.01
@@ -28,12 +29,15 @@ Coordinate = Annotated[float, Field(ge=-MAX_TRANSLATION_M, le=MAX_TRANSLATION_M)
 QuaternionComponent = Annotated[float, Field(ge=-2.0, le=2.0)]
 
 
+_MAX_SEC, _MAX_NANOSEC = 2**31 - 1, 999_999_999
+
+
 class Stamp(BaseModel):
     """``builtin_interfaces/Time``: ROS 2 keeps ``sec`` in an int32 and never negative."""
 
     model_config = _INPUT
-    sec: int = Field(ge=0, le=2**31 - 1)
-    nanosec: int = Field(ge=0, le=999_999_999)
+    sec: int = Field(ge=0, le=_MAX_SEC)
+    nanosec: int = Field(ge=0, le=_MAX_NANOSEC)
 
 
 class Header(BaseModel):
@@ -289,6 +293,12 @@ def decode_pose(
     """
     if len(payload) > max_payload_bytes:
         return Rejected(Rejection.PAYLOAD_TOO_LARGE, f"{len(payload)} bytes > {max_payload_bytes}")
+    fast = _plainly_valid(payload, body_id, frame_id)
+    return fast if fast is not None else _decode_with_model(payload, body_id, frame_id)
+
+
+def _decode_with_model(payload: bytes, body_id: str, frame_id: str) -> Pose | Rejected:
+    """The authority: the pydantic model validates, and names what is wrong."""
     try:
         msg = TransformStamped.model_validate_json(payload)
     except ValidationError as error:
@@ -313,6 +323,62 @@ def decode_pose(
         stamp=(msg.header.stamp.sec, msg.header.stamp.nanosec),
         translation=(t.x, t.y, t.z),
         rotation=(q.x / norm, q.y / norm, q.z / norm, q.w / norm),
+    )
+
+
+_NUMBER = (int, float)
+
+
+def _plainly_valid(payload: bytes, body_id: str, frame_id: str) -> Pose | None:
+    """The pose of a payload the model would plainly accept, without building models;
+    None for anything else, which the model then judges, so that every rejection keeps
+    its exact reason and detail. Parsed by pydantic's own JSON parser (the one
+    ``model_validate_json`` uses) in well under half the time; a test checks that
+    whatever this accepts, the model accepts and decodes identically."""
+    try:
+        msg = from_json(payload)
+        header, transform = msg["header"], msg["transform"]
+        stamp, t, q = header["stamp"], transform["translation"], transform["rotation"]
+        sec, nanosec = stamp["sec"], stamp["nanosec"]
+        x, y, z = t["x"], t["y"], t["z"]
+        qx, qy, qz, qw = q["x"], q["y"], q["z"], q["w"]
+        child = msg.get("child_frame_id", "")
+    except (ValueError, TypeError, KeyError, RecursionError, AttributeError):
+        return None  # not JSON, a field missing, or a non-object where an object belongs
+    m, r = MAX_TRANSLATION_M, 2.0
+    if not (
+        type(sec) is int
+        and type(nanosec) is int
+        and 0 <= sec <= _MAX_SEC
+        and 0 <= nanosec <= _MAX_NANOSEC
+        and header.get("frame_id") == frame_id
+        and (child == "" or child == f"body_{body_id}")
+        # ints or floats, never bools (bool is an int subclass; type() is exact)
+        and type(x) in _NUMBER
+        and type(y) in _NUMBER
+        and type(z) in _NUMBER
+        and type(qx) in _NUMBER
+        and type(qy) in _NUMBER
+        and type(qz) in _NUMBER
+        and type(qw) in _NUMBER
+        # bounded, and so finite (NaN compares false)
+        and -m <= x <= m
+        and -m <= y <= m
+        and -m <= z <= m
+        and -r <= qx <= r
+        and -r <= qy <= r
+        and -r <= qz <= r
+        and -r <= qw <= r
+    ):
+        return None
+    norm2 = qx * qx + qy * qy + qz * qz + qw * qw
+    if abs(norm2 - 1.0) > QUATERNION_TOLERANCE:
+        return None
+    norm = math.sqrt(norm2)
+    return Pose(
+        (sec, nanosec),
+        (float(x), float(y), float(z)),
+        (qx / norm, qy / norm, qz / norm, qw / norm),
     )
 
 

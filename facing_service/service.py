@@ -7,11 +7,14 @@ Threads, and why:
   the senders (trackers publishing with BLOCK slow down; nothing is dropped here).
 - the worker: owns the tracker. Drains the inbox in batches (one vectorized core call per
   batch), hands publications to the outbox, answers queries in order with the samples.
-- the publisher: sends what the outbox holds, with BLOCK. A slow consumer slows it down;
-  one that stops reading blocks it (up to zenoh's ``wait_before_close``). Only this
-  thread waits, while the worker keeps ingesting, deciding and answering (see ``outbox``).
-- the status queryable answers from a snapshot in its callback, so a health check gets an
+- the publisher (``publisher``): sends what the outbox holds, with BLOCK. A slow consumer
+  slows it down; one that stops reading blocks it (up to zenoh's ``wait_before_close``).
+  Only this thread waits, while the worker keeps ingesting, deciding and answering.
+- the status queryable answers from the ledger in its callback, so a health check gets an
   answer even when the worker is behind a backlog.
+
+What is said is built by pure functions (``publications``); what is counted, and how it is
+read consistently, lives in ``ledger``.
 
 Congestion control (see the README): every output is BLOCK and sent by the publisher
 thread only, so nothing is dropped silently. Per-body results are superseded (counted)
@@ -23,41 +26,31 @@ merely slower than the burst, and made nothing faster; see benchmarks.)
 from __future__ import annotations
 
 import logging
-import math
 import threading
 import time
-from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import zenoh
 
 from . import __version__, keys
 from .config import Settings, mode_and_endpoints, zenoh_config
 from .disclosure import public_endpoint, public_settings
-from .engagement import Level
 from .inbox import Inbox
-from .outbox import Kind, Outbox, Publication
+from .ledger import Ledger
+from .outbox import Outbox, Publication
 from .people import People
+from .publications import publications, query_replies, ros_publications, threshold_parameter
+from .publisher import JSON, Publisher
 from .ros2_input import Ros2Subscriptions, RosSample, route
-from .ros2_output import RosMessage, RosOutput, RosPublishers
+from .ros2_output import RosOutput, RosPublishers
 from .ros2_wire import RosFormat, Wire
-from .schemas import (
-    EngagementEvent,
-    EngagementState,
-    FrameFacing,
-    QueryError,
-    Rejected,
-    Rejection,
-    ServiceStatus,
-    Stamp,
-    decode_pose,
-)
-from .tracker import Changes, EngagementUpdate, PoseSample, Tracker
+from .schemas import QueryError, Rejected, Rejection, ServiceStatus, decode_pose
+from .tracker import Changes, PoseSample, Tracker
 
 log = logging.getLogger("facing_service")
 
-JSON = zenoh.Encoding.APPLICATION_JSON
 #: Most inbox items handled per batch: bounds the latency a backlog adds to a query.
 MAX_BATCH = 1024
 #: Inbox bound before the callbacks push back. Queued zenoh samples hold native memory:
@@ -65,97 +58,12 @@ MAX_BATCH = 1024
 #: RSS climb to a ~350 MB plateau; 1024 keeps it flat (~134 MB with 10 000 bodies tracked)
 #: at the same throughput, since batches are at most MAX_BATCH anyway.
 INBOX_SIZE = 1024
-#: Rejections are summarized in the log at most this often, never one line per sample.
-REJECTION_LOG_PERIOD_S = 5.0
-#: Selector parameters the queryable understands; zenoh reserves names starting with "_".
-QUERY_PARAMETERS = frozenset({"threshold_deg"})
-#: Every counter the service reports, present from the start (at 0).
-COUNTERS = (
-    "samples_accepted",
-    "results_published",
-    "results_superseded",
-    "deletes_published",
-    "frames_published",
-    "engagement_published",
-    "events_published",
-    "queries_answered",
-    "queries_refused",
-    "publish_errors",
-    "tf_lookups_unresolved",
-    "ros_published",
-)
-
-
-class _Publishers:
-    """Declared publishers, one per output key: a put through one costs a third of a
-    session.put (1.2 vs 3.2 us, measured). A body's publisher is undeclared when the body
-    is lost, so they never outnumber the bodies tracked (plus the frames)."""
-
-    def __init__(self, session: zenoh.Session) -> None:
-        self._session = session
-        self._publishers: dict[str, zenoh.Publisher] = {}
-
-    def put(self, key: str, payload: bytes) -> None:
-        publisher = self._publishers.get(key)
-        if publisher is None:
-            publisher = self._session.declare_publisher(
-                key, encoding=JSON, congestion_control=zenoh.CongestionControl.BLOCK
-            )
-            self._publishers[key] = publisher
-        publisher.put(payload)
-
-    def forget(self, key: str) -> None:
-        if (publisher := self._publishers.pop(key, None)) is not None:
-            publisher.undeclare()
-
-    def close(self) -> None:
-        for publisher in self._publishers.values():
-            publisher.undeclare()
-        self._publishers.clear()
 
 
 @dataclass(frozen=True)
 class _QueryItem:
     query: zenoh.Query
     space: str  # which output key space it reached us through: facing, frame, engagement
-
-
-class _RejectionLog:
-    """Summarizes rejections in the log at most every period, with the first offending key
-    and detail of each reason seen since the last summary."""
-
-    def __init__(self, clock: Callable[[], float]) -> None:
-        self._clock = clock
-        self._since_summary: Counter[Rejection] = Counter()
-        self._first: dict[Rejection, str] = {}
-        self._last_summary = clock()
-
-    def add(self, reason: Rejection, key: str, detail: str) -> None:
-        self._since_summary[reason] += 1
-        self._first.setdefault(reason, f"{key}: {detail}")
-
-    def next_due(self) -> float | None:
-        return self._last_summary + REJECTION_LOG_PERIOD_S if self._since_summary else None
-
-    def maybe_log(self, force: bool = False) -> None:
-        """Log the summary when due (or now, with ``force``: at shutdown)."""
-        now = self._clock()
-        due = force or now >= self._last_summary + REJECTION_LOG_PERIOD_S
-        if not (self._since_summary and due):
-            return
-        parts = ", ".join(
-            f"{reason.value}={n} (first: {self._first[reason]})"
-            for reason, n in sorted(self._since_summary.items(), key=lambda kv: kv[0].value)
-        )
-        log.warning(
-            "rejected %d samples in the last %.0f s: %s",
-            sum(self._since_summary.values()),
-            now - self._last_summary,
-            parts,
-        )
-        self._since_summary.clear()
-        self._first.clear()
-        self._last_summary = now
 
 
 class FacingService:
@@ -191,15 +99,14 @@ class FacingService:
             if settings.output == "ros2"
             else None
         )
+        self._pose_key = keys.PoseKeyParser(settings.namespace, 2 * settings.max_bodies)
         self._inbox: Inbox[tuple[float, object]] = Inbox(INBOX_SIZE)
         self._outbox = Outbox()
         self._closing = threading.Event()
-        # Guards what other threads read: counters, rejections, the per-frame snapshot.
-        self._counts_lock = threading.Lock()
-        self._counts: Counter[str] = Counter(dict.fromkeys(COUNTERS, 0))
-        self._rejections: Counter[Rejection] = Counter(dict.fromkeys(Rejection, 0))
-        self._tracked: dict[str, int] = self._tracker.tracked_per_frame()
-        self._rejection_log = _RejectionLog(clock)
+        self._ledger = Ledger(clock)
+        self._said: list[Publication] = []  # decided this turn of the worker's loop
+        self._accepted = 0  # samples whose results are in _said
+        self._ledger.tracked = self._tracker.tracked_per_frame()
         self._horizon = clock()  # arrival time of the newest item the worker has handled
         self._session: zenoh.Session | None = None
         self._entities: list[zenoh.Subscriber[None] | zenoh.Queryable[None]] = []
@@ -214,9 +121,14 @@ class FacingService:
         self._session = session = zenoh.open(zenoh_config(s))
         try:
             self._publish(Changes(frames=self._tracker.frames()))
+            self._hand_over()
+            ros = None
+            if self._ros_out is not None:
+                ros = partial(RosPublishers, session, self._wire, s.ros_node_name)
+            publisher = Publisher(session, self._outbox, self._ledger, self._closing, ros)
             self._threads = [
                 threading.Thread(target=self._run, name="facing-worker", daemon=True),
-                threading.Thread(target=self._send, name="facing-publisher", daemon=True),
+                threading.Thread(target=publisher.run, name="facing-publisher", daemon=True),
             ]
             for thread in self._threads:
                 thread.start()
@@ -324,29 +236,17 @@ class FacingService:
 
     def status(self) -> ServiceStatus:
         """A consistent snapshot of health, counters and state sizes; thread-safe."""
-        # Depth before counters: the publisher counts a publication before reporting it
-        # sent, so a depth of 0 read first guarantees the counters below include it all.
-        outbox_depth = len(self._outbox)
-        with self._counts_lock:
-            counts = dict(self._counts)
-            rejected = {reason.value: n for reason, n in self._rejections.items()}
-            tracked = dict(self._tracked)
-        counts["results_superseded"] = self._outbox.superseded
         alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
-        return ServiceStatus(
+        return self._ledger.status(
+            self._outbox,
             status="ok" if alive else "failed",
             instance=self.settings.instance,
             version=__version__,
             zenoh_id=str(self._session.zid()) if self._session is not None else "",
             uptime_s=round(self._clock() - self._started_at, 3),
             config=public_settings(self.settings.model_dump(mode="json")),
-            bodies_tracked=tracked,
-            bodies_tracked_total=sum(tracked.values()),
-            counters=counts,
-            rejected=rejected,
             connected=self.connected(),
             inbox_depth=len(self._inbox),
-            outbox_depth=outbox_depth,
         )
 
     # -- zenoh callbacks: hand off, nothing else ---------------------------------------
@@ -368,16 +268,17 @@ class FacingService:
                 self._handle(batch)
                 self._expire()
                 self._ros_tick()
-                self._rejection_log.maybe_log()
-                with self._counts_lock:
-                    self._tracked = self._tracker.tracked_per_frame()
+                self._ledger.rejection_log.maybe_log()
+                self._ledger.tracked = self._tracker.tracked_per_frame()
+                self._hand_over()
             except Exception:  # the worker must outlive any single bug
                 log.exception("worker: unexpected error in a batch of %d items", len(batch))
-        self._rejection_log.maybe_log(force=True)
+        self._ledger.rejection_log.maybe_log(force=True)
 
     def _next_batch(self) -> list[tuple[float, object]]:
-        """What is queued (at most MAX_BATCH), waiting for it until the next deadline."""
-        return self._inbox.take(self._idle_timeout(), MAX_BATCH)
+        """What is queued (at most MAX_BATCH), waiting for it until the next deadline
+        (worked out only when there is nothing queued: it is the loop's dearest step)."""
+        return self._inbox.take(self._idle_timeout() if not self._inbox else 0.0, MAX_BATCH)
 
     def _idle_timeout(self) -> float | None:
         deadlines = [
@@ -385,7 +286,7 @@ class FacingService:
             for d in (
                 self._tracker.next_expiry(),
                 self._tracker.next_due(),
-                self._rejection_log.next_due(),
+                self._ledger.rejection_log.next_due(),
                 self._ros_out.next_tick if self._ros_out is not None else None,
             )
             if d is not None
@@ -402,14 +303,17 @@ class FacingService:
         the worker took to get to it.
         """
         now = self._clock() if not self._inbox else self._horizon
-        self._publish(self._tracker.expire(now))
-        self._publish(self._tracker.advance(now))
+        tracker = self._tracker
+        if (expiry := tracker.next_expiry()) is not None and expiry <= now:
+            self._publish(tracker.expire(now))
+        if (due := tracker.next_due()) is not None and due <= now:
+            self._publish(tracker.advance(now))
 
     def _ros_tick(self) -> None:
         """--output ros2: every tracked person's level at hri_engagement's rate."""
         if self._ros_out is not None:
-            for message in self._ros_out.tick(self._tracker.engagements(), self._clock()):
-                self._outbox.add_ros(message.topic, message.typename, message.payload)
+            messages = self._ros_out.tick(self._tracker.engagements(), self._clock())
+            self._said += ros_publications(messages)
 
     def _handle(self, batch: list[tuple[float, object]]) -> None:
         """Handle inbox items in order; consecutive poses go to the core together."""
@@ -442,7 +346,7 @@ class FacingService:
         for reason, what in update.refused:
             self._reject(Rejection(reason), sample.key, what)
         if update.unresolved:
-            self._count("tf_lookups_unresolved", update.unresolved)
+            self._ledger.count("tf_lookups_unresolved", update.unresolved)
         poses.extend(update.poses)
         if update.lost:
             self._flush(poses)
@@ -451,7 +355,7 @@ class FacingService:
 
     def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
         key = str(sample.key_expr)
-        parsed = keys.parse_pose_key(self.settings.namespace, key)
+        parsed = self._pose_key(key)
         if parsed is None:
             self._reject(Rejection.INVALID_KEY, key, "not NS/bodies/<id>/pose/<frame>")
             return None
@@ -486,8 +390,7 @@ class FacingService:
             )
         poses.clear()
         self._publish(changes)
-        # Counted once handed to the outbox: "all accepted and outbox empty" means all sent.
-        self._count("samples_accepted", len(changes.results))
+        self._accepted += len(changes.results)
 
     def _on_delete(self, key: str) -> None:
         parsed = keys.parse_pose_key(self.settings.namespace, key)
@@ -498,198 +401,51 @@ class FacingService:
         self._publish(self._tracker.lose(frame_id, body_id, self._horizon))
 
     def _reject(self, reason: Rejection, key: str, detail: str) -> None:
-        with self._counts_lock:
-            self._rejections[reason] += 1
-        self._rejection_log.add(reason, key, detail)
-
-    def _count(self, name: str, n: int = 1) -> None:
-        if n:
-            with self._counts_lock:
-                self._counts[name] += n
+        self._ledger.reject(reason, key, detail)
 
     def _publish(self, changes: Changes) -> None:
-        """Hand the publications to the outbox, in the order they must be sent: the worker
-        never waits on the network (a stuck consumer only ever stalls the publisher)."""
-        ns, me = self.settings.namespace, self.settings.instance
-        if changes.results:
-            self._outbox.add_results(
-                (keys.facing_key(ns, state.body_id, state.frame_id), state.to_json(me))
-                for state in changes.results
-            )
-        for update in changes.engagement:
-            if update.level is not Level.UNKNOWN:
-                self._outbox.add_change(
-                    keys.engagement_key(ns, update.body_id, update.frame_id),
-                    _engagement_state(update, me).model_dump_json().encode(),
-                    Kind.ENGAGEMENT,
-                )
-            if update.previous is not None:
-                self._outbox.add_change(
-                    keys.event_key(ns, update.frame_id),
-                    _engagement_event(update, me).model_dump_json().encode(),
-                    Kind.EVENT,
-                )
-        for frame_id, body_id in changes.lost:
-            self._outbox.add_delete(keys.facing_key(ns, body_id, frame_id))
-            self._outbox.add_delete(keys.engagement_key(ns, body_id, frame_id))
-        for frame in changes.frames:
-            self._outbox.add_change(
-                keys.frame_key(ns, frame.frame_id),
-                _mine(frame, me).model_dump_json().encode(),
-                Kind.FRAME,
-            )
+        """What the changes call for, in the order it must be sent (handed over at the end
+        of the loop's turn, see ``_hand_over``)."""
+        self._said += publications(changes, self.settings.namespace, self.settings.instance)
         if self._ros_out is not None:
-            for message in self._ros_out.on_changes(changes):
-                self._outbox.add_ros(message.topic, message.typename, message.payload)
+            self._said += ros_publications(self._ros_out.on_changes(changes))
+
+    def _hand_over(self) -> None:
+        """Give the publisher all this turn decided, in one go, as the worker is about to
+        wait: one lock and one wake-up per turn, and the publisher wakes when the worker
+        lets go of the GIL rather than waiting for it. The worker never waits on the
+        network (a stuck consumer only ever stalls the publisher).
+
+        Accepted samples are counted once their results are handed over: "all accepted and
+        the outbox empty" means all sent."""
+        if self._said:
+            self._outbox.add(self._said)
+            self._said = []
+        if self._accepted:
+            self._ledger.count("samples_accepted", self._accepted)
+            self._accepted = 0
 
     def _answer(self, item: _QueryItem) -> None:
         """Reply with the current state of every matching key, one reply per key."""
         query = item.query
         try:
-            threshold = _threshold_parameter(query.parameters)
+            threshold = threshold_parameter(dict(query.parameters))
         except ValueError as error:
             query.reply_err(
                 QueryError(error="bad_parameter", detail=str(error)).model_dump_json(),
                 encoding=JSON,
             )
             query.drop()
-            self._count("queries_refused")
+            self._ledger.count("queries_refused")
             return
         if threshold is None:
             states, frames = self._tracker.states(), self._tracker.frames()
         else:
             states, frames = self._tracker.evaluate(threshold)
+        engagements = self._tracker.engagements() if item.space == "engagement" else []
         ns, me = self.settings.namespace, self.settings.instance
-        if item.space == "facing":
-            replies = [(keys.facing_key(ns, s.body_id, s.frame_id), s.to_json(me)) for s in states]
-        elif item.space == "frame":
-            replies = [
-                (keys.frame_key(ns, f.frame_id), _mine(f, me).model_dump_json()) for f in frames
-            ]
-        else:
-            replies = [
-                (
-                    keys.engagement_key(ns, e.body_id, e.frame_id),
-                    _engagement_state(e, me).model_dump_json(),
-                )
-                for e in self._tracker.engagements()
-            ]
-        for key, payload in replies:
+        for key, payload in query_replies(item.space, ns, me, states, frames, engagements):
             if query.key_expr.intersects(zenoh.KeyExpr(key)):
                 query.reply(key, payload, encoding=JSON)
         query.drop()
-        self._count("queries_answered")
-
-    # -- publisher -------------------------------------------------------------------
-
-    def _send(self) -> None:
-        session = self._session
-        assert session is not None
-        publishers = _Publishers(session)
-        ros = None
-        if self._ros_out is not None:
-            ros = RosPublishers(session, self._wire, self.settings.ros_node_name)
-        try:
-            while True:
-                publications = self._outbox.take()
-                if not publications and self._outbox.closed:
-                    return
-                for p in publications:
-                    try:
-                        counter = self._send_one(session, publishers, ros, p)
-                    except zenoh.ZError:
-                        if self._closing.is_set():
-                            return  # the session closed under a blocked put: shutting down
-                        log.exception("publisher: could not publish on %s", p.key)
-                        counter = "publish_errors"
-                    with self._counts_lock:
-                        self._counts[counter] += 1
-                    self._outbox.sent()  # after counting: depth 0 means every count is in
-        finally:
-            publishers.close()
-            if ros is not None:
-                ros.close()
-
-    @staticmethod
-    def _send_one(
-        session: zenoh.Session,
-        publishers: _Publishers,
-        ros: RosPublishers | None,
-        p: Publication,
-    ) -> str:
-        """Send one publication; returns the name of the counter it counts under."""
-        if p.kind is Kind.ROS:  # the robot's own topics (--output ros2)
-            assert ros is not None and p.typename is not None
-            ros.send(RosMessage(p.key, p.typename, p.payload))
-        elif p.kind is Kind.DELETE:  # the body is lost: so is its publisher
-            publishers.forget(p.key)
-            session.delete(p.key, congestion_control=zenoh.CongestionControl.BLOCK)
-        else:
-            assert p.payload is not None
-            publishers.put(p.key, p.payload)
-        return _COUNTER[p.kind]
-
-
-_COUNTER = {
-    Kind.RESULT: "results_published",
-    Kind.FRAME: "frames_published",
-    Kind.ENGAGEMENT: "engagement_published",
-    Kind.EVENT: "events_published",
-    Kind.DELETE: "deletes_published",
-    Kind.ROS: "ros_published",
-}
-
-
-def _mine(frame: FrameFacing, instance: str) -> FrameFacing:
-    return frame.model_copy(update={"instance": instance})
-
-
-def _engagement_state(update: EngagementUpdate, instance: str) -> EngagementState:
-    return EngagementState(
-        instance=instance,
-        body_id=update.body_id,
-        frame_id=update.frame_id,
-        stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
-        level=update.level.name,
-        level_value=int(update.level),
-        score=update.score,
-        zone=update.zone.value,
-        since=Stamp(sec=update.since[0], nanosec=update.since[1]),
-    )
-
-
-def _engagement_event(update: EngagementUpdate, instance: str) -> EngagementEvent:
-    assert update.previous is not None
-    return EngagementEvent(
-        instance=instance,
-        body_id=update.body_id,
-        frame_id=update.frame_id,
-        stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
-        previous=update.previous.name,
-        level=update.level.name,
-        level_value=int(update.level),
-        score=update.score,
-        zone=update.zone.value,
-    )
-
-
-def _threshold_parameter(parameters: zenoh.Parameters) -> float | None:
-    """The query's ``threshold_deg``, None when absent; ValueError when it is bad."""
-    unknown = sorted(
-        name for name, _ in parameters if name not in QUERY_PARAMETERS and not name.startswith("_")
-    )
-    if unknown:
-        raise ValueError(
-            f"unknown parameter(s) {', '.join(unknown)}; known: "
-            f"{', '.join(sorted(QUERY_PARAMETERS))}"
-        )
-    raw = parameters.get("threshold_deg")
-    if raw is None:
-        return None
-    try:
-        value = float(raw)
-    except ValueError:
-        raise ValueError(f"threshold_deg must be a number, got {raw!r}") from None
-    if not (math.isfinite(value) and 0.0 < value < 180.0):
-        raise ValueError(f"threshold_deg must be in (0, 180), got {raw!r}")
-    return value
+        self._ledger.count("queries_answered")

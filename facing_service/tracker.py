@@ -337,10 +337,12 @@ class Tracker:
         return changes
 
     def next_expiry(self) -> float | None:
-        """When the oldest body goes stale (caller's clock), or None when none is tracked."""
-        if not self._tracks:
-            return None
-        return next(iter(self._tracks.values())).last_seen + self.stale_after_s
+        """When ``expire`` has something to do (caller's clock): the oldest body goes
+        stale or the oldest tombstone is forgotten; None when neither exists."""
+        when = [next(iter(self._tombstones.values()))[1]] if self._tombstones else []
+        if self._tracks:
+            when.append(next(iter(self._tracks.values())).last_seen + self.stale_after_s)
+        return min(when, default=None)
 
     def tracked_per_frame(self) -> dict[str, int]:
         """How many bodies each known frame tracks (for the status report)."""

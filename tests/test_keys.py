@@ -54,3 +54,20 @@ def test_output_key_spaces():
 def test_body_and_frame_of_any_per_body_key():
     assert keys.body_and_frame("robot1/hri/bodies/p3/engagement/base_link") == ("p3", "base_link")
     assert keys.body_and_frame(keys.facing_key("hri", "a.b", "cam")) == ("a.b", "cam")
+
+
+def test_the_remembering_parser_answers_as_the_parser_and_stays_bounded():
+    from facing_service.keys import PoseKeyParser, parse_pose_key
+
+    parse = PoseKeyParser("hri", capacity=3)
+    tried = [
+        "hri/bodies/a/pose/cam",
+        "hri/bodies/a/pose/cam",
+        "hri/bodies/b$/pose/cam",
+        "other/bodies/a/pose/cam",
+        "hri/bodies/c/pose/map",
+        "hri/bodies/a/pose/cam",
+    ]
+    for key in tried:
+        assert parse(key) == parse_pose_key("hri", key)
+        assert len(parse._known) <= 3

@@ -1,13 +1,17 @@
 import threading
 
-from facing_service.outbox import Kind, Outbox
+from facing_service.outbox import Kind, Outbox, Publication
+
+
+def result(key, payload):
+    return Publication(key, payload, Kind.RESULT)
 
 
 def test_everything_is_kept_in_order_below_the_limit():
     box = Outbox(limit=100)
     for i in range(5):
-        box.add_results([("r/a", str(i).encode())])
-    box.add_change("f", b"agg", Kind.FRAME)
+        box.add([result("r/a", str(i).encode())])
+    box.add([Publication("f", b"agg", Kind.FRAME)])
     taken = [(p.key, p.payload, p.kind.value) for p in box.take()]
     assert taken == [("r/a", str(i).encode(), "result") for i in range(5)] + [
         ("f", b"agg", "frame")
@@ -18,11 +22,11 @@ def test_everything_is_kept_in_order_below_the_limit():
 
 def test_past_the_limit_results_conflate_and_move_behind_later_changes():
     box = Outbox(limit=2)
-    box.add_results([("r/a", b"1")])
-    box.add_delete("r/a")  # the body was lost
-    box.add_results([("r/a", b"2")])  # and came back: supersedes b"1", goes after the delete
-    box.add_results([("r/a", b"3")])  # supersedes b"2"
-    box.add_results([("r/b", b"x")])
+    box.add([result("r/a", b"1")])
+    box.add([Publication("r/a", None, Kind.DELETE)])  # the body was lost
+    box.add([result("r/a", b"2")])  # and came back: supersedes b"1", goes after the delete
+    box.add([result("r/a", b"3")])  # supersedes b"2"
+    box.add([result("r/b", b"x")])
     taken = [(p.key, p.payload, p.kind.value) for p in box.take()]
     assert taken == [("r/a", None, "delete"), ("r/a", b"3", "result"), ("r/b", b"x", "result")]
     assert box.superseded == 2
@@ -31,14 +35,14 @@ def test_past_the_limit_results_conflate_and_move_behind_later_changes():
 def test_changes_never_conflate():
     box = Outbox(limit=10)
     for i in range(1000):
-        box.add_change("f", str(i).encode(), Kind.FRAME)
+        box.add([Publication("f", str(i).encode(), Kind.FRAME)])
     assert [p.payload for p in box.take()] == [str(i).encode() for i in range(1000)]
 
 
 def test_stuck_publisher_keeps_memory_bounded_by_limit_plus_bodies():
     box = Outbox(limit=500)
     for i in range(100_000):
-        box.add_results([(f"r/{i % 100}", str(i).encode())])
+        box.add([result(f"r/{i % 100}", str(i).encode())])
     assert len(box) <= 500 + 100
     latest = {p.key: p.payload for p in box.take()}
     assert latest["r/99"] == b"99999" and len(latest) == 100
@@ -49,7 +53,7 @@ def test_take_wakes_on_close_and_on_new_items():
     results = []
     reader = threading.Thread(target=lambda: results.append(box.take(timeout=10)))
     reader.start()
-    box.add_change("f", b"x", Kind.FRAME)
+    box.add([Publication("f", b"x", Kind.FRAME)])
     reader.join(timeout=5)
     assert results and results[0][0].key == "f"
     reader = threading.Thread(target=lambda: results.append(box.take(timeout=10)))
@@ -61,8 +65,8 @@ def test_take_wakes_on_close_and_on_new_items():
 
 def test_depth_counts_taken_publications_until_sent():
     box = Outbox()
-    box.add_change("f", b"1", Kind.FRAME)
-    box.add_results([("r", b"2")])
+    box.add([Publication("f", b"1", Kind.FRAME)])
+    box.add([result("r", b"2")])
     taken = box.take()
     assert len(taken) == 2 and len(box) == 2
     box.sent()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 from pathlib import Path
@@ -17,6 +18,8 @@ from facing_service.schemas import (
     Rejected,
     Rejection,
     Stamp,
+    _decode_with_model,
+    _plainly_valid,
     decode_pose,
     facing_state_json,
     json_schemas,
@@ -231,3 +234,70 @@ def test_hand_written_facing_state_json_matches_the_model(
     )
     assert json.loads(fast) == json.loads(model.model_dump_json())
     assert FacingState.model_validate_json(fast) == model
+
+
+# -- the fast decoding path: never accepts what the model would not, never differently --
+
+leaf_values = (
+    st.integers(-(2**64), 2**64)
+    | st.floats(allow_nan=True, allow_infinity=True)
+    | st.floats(-3.0, 3.0)
+    | st.booleans()
+    | st.none()
+    | st.text(max_size=5)
+    | st.sampled_from(["cam", "body_a", "", "body_b", 1.0, 0, 2**31, 999_999_999, 1e9, -1e9])
+    | st.lists(st.integers(), max_size=2)
+    | st.dictionaries(st.text(max_size=3), st.integers(), max_size=2)
+)
+LEAVES = [
+    ["header", "stamp", "sec"],
+    ["header", "stamp", "nanosec"],
+    ["header", "stamp"],
+    ["header", "frame_id"],
+    ["header"],
+    ["child_frame_id"],
+    ["transform"],
+    ["transform", "translation"],
+    ["transform", "rotation"],
+    *(["transform", "translation", c] for c in "xyz"),
+    *(["transform", "rotation", c] for c in "xyzw"),
+]
+
+
+@settings(max_examples=1500)
+@given(
+    st.lists(
+        st.tuples(st.sampled_from(LEAVES), leaf_values | st.just(...)), min_size=0, max_size=4
+    ),
+    st.floats(-180, 180),
+)
+def test_fast_path_accepts_only_what_the_model_accepts_and_decodes_it_identically(edits, yaw):
+    d = good(yaw_deg=yaw)
+    for path, value in edits:
+        # an earlier edit may have replaced a parent: this edit then has nowhere to go
+        with contextlib.suppress(KeyError, TypeError):
+            with_(d, path, value)
+    payload = encode(d)
+    fast = _plainly_valid(payload, "a", "cam")
+    model = _decode_with_model(payload, "a", "cam")
+    if fast is not None:
+        assert model == fast
+        assert [type(v) for v in (*fast.translation, *fast.rotation)] == [float] * 7
+    assert decode_pose(payload, "a", "cam") == (fast if fast is not None else model)
+
+
+@pytest.mark.parametrize(
+    "d",
+    [
+        good(),
+        good(x=3, y=-1, sec=2**31 - 1, nanosec=999_999_999),
+        with_(good(), ["child_frame_id"], ...),
+        with_(good(), ["child_frame_id"], ""),
+        {**good(), "extra": {"anything": [1, 2]}},
+        with_(good(yaw_deg=0.0), ["transform", "rotation", "w"], 1.004),
+    ],
+)
+def test_fast_path_takes_the_common_valid_payloads(d):
+    """Otherwise the fast path would silently never run and the model pay for every pose."""
+    assert _plainly_valid(encode(d), "a", "cam") == _decode_with_model(encode(d), "a", "cam")
+    assert isinstance(_plainly_valid(encode(d), "a", "cam"), Pose)
