@@ -28,19 +28,9 @@ from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback
 
 from . import core
 from .driver import Driver
+from .report import CORE_SPEEDUP_MIN, PAGE, TARGETS, render, verdicts
 
 RESULTS = Path(__file__).resolve().parent / "results" / "latest.json"
-TARGETS = {
-    "latency_p50_ratio_max": 1.3,
-    "latency_p99_ratio_max": 2.0,
-    "burst_throughput_ratio_min": 0.7,
-    "soak_cpu_percent_max": 15.0,
-    "core_speedup_min": 20.0,
-}
-
-
-#: The ROS 2 path may cost this much more CPU per pose than a JSON pose.
-ROS_CPU_RATIO_MAX = 1.5
 
 
 def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]:
@@ -118,118 +108,6 @@ def ros_ratios(json_path: dict, ros_path: dict) -> dict[str, float]:
     }
 
 
-def verdicts(report: dict) -> dict[str, bool]:
-    rat, service = report["ratios"], report["service"]
-    big = [row for row in report["core"] if row["n"] >= 10_000]
-    return {
-        "latency_p50": rat["latency_p50"] <= TARGETS["latency_p50_ratio_max"],
-        "latency_p99": rat["latency_p99"] <= TARGETS["latency_p99_ratio_max"],
-        "burst_throughput": rat["burst_throughput"] >= TARGETS["burst_throughput_ratio_min"],
-        "burst_zero_loss": service["burst"]["lost"] == 0,
-        "ros_cpu_per_pose": rat["ros_cpu_per_pose"] <= ROS_CPU_RATIO_MAX,
-        "ros_zero_loss": report["service_ros"]["burst"]["lost"] == 0
-        and report["service_ros"]["soak"]["received"] == report["service_ros"]["soak"]["sent"],
-        "soak_cpu": service["soak"]["cpu_percent"] <= TARGETS["soak_cpu_percent_max"],
-        "core_speedup": bool(big)
-        and all(row["speedup"] >= TARGETS["core_speedup_min"] for row in big),
-    }
-
-
-def table(report: dict) -> str:
-    relay, service, rat = report["relay"], report["service"], report["ratios"]
-    rows = [
-        (
-            "latency p50 (ms)",
-            relay["latency"]["p50_ms"],
-            service["latency"]["p50_ms"],
-            rat["latency_p50"],
-        ),
-        (
-            "latency p90 (ms)",
-            relay["latency"]["p90_ms"],
-            service["latency"]["p90_ms"],
-            rat["latency_p90"],
-        ),
-        (
-            "latency p99 (ms)",
-            relay["latency"]["p99_ms"],
-            service["latency"]["p99_ms"],
-            rat["latency_p99"],
-        ),
-        (
-            "burst results/s",
-            relay["burst"]["results_per_s"],
-            service["burst"]["results_per_s"],
-            rat["burst_throughput"],
-        ),
-        ("burst lost", relay["burst"]["lost"], service["burst"]["lost"], None),
-        (
-            "soak CPU % of one core",
-            relay["soak"]["cpu_percent"],
-            service["soak"]["cpu_percent"],
-            rat["soak_cpu"],
-        ),
-        (
-            "soak p99 latency (ms)",
-            relay["soak"]["p99_ms"],
-            service["soak"]["p99_ms"],
-            rat["soak_p99"],
-        ),
-        (
-            "soak RSS start (MB)",
-            relay["soak"]["rss_start_mb"],
-            service["soak"]["rss_start_mb"],
-            None,
-        ),
-        ("soak RSS end (MB)", relay["soak"]["rss_end_mb"], service["soak"]["rss_end_mb"], None),
-    ]
-    lines = [f"{'':26}{'relay':>12}{'service':>12}{'ratio':>9}"]
-    for name, a, b, ratio in rows:
-        lines.append(
-            f"{name:26}{a:>12.3f}{b:>12.3f}{'' if ratio is None else f'{ratio:>9.2f}'}"
-            if isinstance(a, float)
-            else f"{name:26}{a:>12}{b:>12}{'' if ratio is None else f'{ratio:>9.2f}'}"
-        )
-    ros, rr = report["service_ros"], report["ratios"]
-    lines.append("")
-    lines.append(f"{'ROS 2 path vs JSON path':26}{'json':>12}{'ros2':>12}{'ratio':>9}")
-    for name, a, b, ratio in (
-        (
-            "soak CPU % of one core",
-            service["soak"]["cpu_percent"],
-            ros["soak"]["cpu_percent"],
-            rr["ros_cpu_per_pose"],
-        ),
-        (
-            "burst results/s",
-            service["burst"]["results_per_s"],
-            ros["burst"]["results_per_s"],
-            rr["ros_burst_throughput"],
-        ),
-        ("burst lost", float(service["burst"]["lost"]), float(ros["burst"]["lost"]), None),
-        (
-            "soak p99 latency (ms)",
-            service["soak"]["p99_ms"],
-            ros["soak"]["p99_ms"],
-            rr["ros_soak_p99"],
-        ),
-    ):
-        lines.append(f"{name:26}{a:>12.3f}{b:>12.3f}{'' if ratio is None else f'{ratio:>9.2f}'}")
-    lines.append("")
-    lines.append(f"{'core: bodies/s':26}{'vectorized':>12}{'loop':>12}{'speedup':>9}")
-    for row in report["core"]:
-        lines.append(
-            f"{'N = ' + format(row['n'], ','):26}{row['vectorized_per_s']:>12.3g}"
-            f"{row['loop_per_s']:>12.3g}{row['speedup']:>9.1f}"
-        )
-    lines.append("")
-    lines.append(
-        "targets: "
-        + ", ".join(f"{k} {'met' if v else 'MISSED'}" for k, v in report["verdicts"].items())
-    )
-    return "\n".join(lines)
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="tiny sizes, for CI")
@@ -267,10 +145,11 @@ def main() -> None:
     )
     report["verdicts"] = verdicts(report)
     report["targets"] = TARGETS
+    report["core_speedup_min"] = CORE_SPEEDUP_MIN
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(report, indent=2) + "\n")
-    print(table(report))
-    print(f"\nwritten to {args.out}")
+    print(render(report))
+    print(f"\nwritten to {args.out}; python -m benchmarks.report puts it in {PAGE.name}")
 
 
 if __name__ == "__main__":

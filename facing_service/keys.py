@@ -79,6 +79,18 @@ def status_key(namespace: str, instance: str) -> str:
     return f"{service_token(namespace, instance)}/status"
 
 
+#: A key chunk no name can be (``~`` is outside the name alphabet): the worker's wake-ups.
+WAKE_CHUNK = "~wake"
+
+
+def wake_key(subscription: str) -> str:
+    """A key ``subscription`` matches that no valid input key is: every ``*`` chunk
+    becomes ``WAKE_CHUNK`` (a key without wildcards is its own, told apart by a token)."""
+    return "/".join(
+        WAKE_CHUNK if chunk == ALL_FRAMES else chunk for chunk in subscription.split("/")
+    )
+
+
 def pose_subscription(namespace: str, frame: str) -> str:
     """What the service subscribes to; ``frame`` may be ``*``."""
     return pose_key(namespace, ALL_FRAMES, frame)

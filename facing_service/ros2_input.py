@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import zenoh
@@ -47,15 +48,17 @@ class RosSample:
     key: str
     payload: bytes
 
+    @classmethod
+    def of(cls, sample: zenoh.Sample) -> RosSample:
+        return cls(str(sample.key_expr), sample.payload.to_bytes())
+
 
 def route(people: People, wire: Wire, sample: RosSample) -> Update | Rejected:
     """Decode one sample and apply it to ``people``; never raises on any input."""
-    topic = wire.topic_of(sample.key)
-    typename = _typename(topic)
-    if topic is None or typename is None:
-        return Rejected(Rejection.INVALID_KEY, "not a topic this service reads")
-    if reason := wire.check(sample.key, typename):
-        return Rejected(Rejection.TYPE_MISMATCH, reason)
+    read = _reading(wire, sample.key)
+    if isinstance(read, Rejected):
+        return read
+    topic, typename = read
     try:
         message = ros2_types.deserialize(sample.payload, typename)
     except Exception as error:  # rosbags raises several kinds on truncated or bad CDR
@@ -66,6 +69,19 @@ def route(people: People, wire: Wire, sample: RosSample) -> Update | Rejected:
         return people.on_tracked(topic, list(message.ids))
     _, _, _, person_id, link = topic.split("/")
     return people.on_person_link(person_id, link, message.data)
+
+
+@lru_cache(maxsize=4096)
+def _reading(wire: Wire, key: str) -> tuple[str, str] | Rejected:
+    """The topic and type a key is read as, or why it is refused. Remembered: a robot
+    repeats a handful of keys (a tenth of the ROS path's worker time went here)."""
+    topic = wire.topic_of(key)
+    typename = _typename(topic)
+    if topic is None or typename is None:
+        return Rejected(Rejection.INVALID_KEY, "not a topic this service reads")
+    if reason := wire.check(key, typename):
+        return Rejected(Rejection.TYPE_MISMATCH, reason)
+    return topic, typename
 
 
 def _typename(topic: str | None) -> str | None:
@@ -98,20 +114,27 @@ def tf_inputs(message: Any) -> list[TfInput]:
 
 
 class Ros2Subscriptions:
-    """The robot's topics on a zenoh session; each sample goes to ``hand_off`` as a
-    RosSample (the service's inbox). Close it to undeclare everything."""
+    """The robot's topics on a zenoh session, but ``skip`` (a topic the caller reads
+    itself); each sample goes to ``hand_off`` as a RosSample (the service's intake).
+    Close it to undeclare everything."""
 
     def __init__(
-        self, session: zenoh.Session, wire: Wire, hand_off: Callable[[RosSample], None]
+        self,
+        session: zenoh.Session,
+        wire: Wire,
+        hand_off: Callable[[RosSample], None],
+        skip: tuple[str, str] | None = None,
     ) -> None:
         def on_sample(sample: zenoh.Sample) -> None:
             if sample.kind == zenoh.SampleKind.PUT:
-                hand_off(RosSample(str(sample.key_expr), sample.payload.to_bytes()))
+                hand_off(RosSample.of(sample))
 
         self.keys: list[str] = []
         self._entities: list[Any] = []
         try:
             for topic, typename, transient_local in TOPICS:
+                if (topic, typename) == skip:
+                    continue
                 key = wire.subscription(topic, typename)
                 self.keys.append(key)
                 if transient_local:

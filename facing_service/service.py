@@ -1,12 +1,15 @@
 """The zenoh shell: subscribe to poses, run the core, publish results, answer queries.
 
 Threads, and why:
-- zenoh callbacks (its own threads): only stamp the arrival time and put the sample or
-  query in the inbox. A slow callback would stall every subscriber of the session. The
-  inbox is bounded; when it is full the callback waits, which pushes back through zenoh to
-  the senders (trackers publishing with BLOCK slow down; nothing is dropped here).
-- the worker: owns the tracker. Drains the inbox in batches (one vectorized core call per
-  batch), hands publications to the outbox, answers queries in order with the samples.
+- the worker: owns the tracker. Pulls input samples straight from zenoh's channel, and
+  queries (and a robot's other topics) from the side queue the callbacks fill, in arrival
+  order (see ``intake``); handles them in batches, hands publications to the outbox,
+  answers queries in order with the samples. Bounded: when the channel is full zenoh's
+  receive thread waits, which pushes back to the senders (trackers publishing with BLOCK
+  slow down; nothing is dropped here).
+- zenoh callbacks (queries, a robot's other topics): only queue the item for the worker.
+  A slow callback would stall every subscriber of the session.
+- the alarm (``intake``): wakes a waiting worker at its next deadline.
 - the publisher (``publisher``): sends what the outbox holds, with BLOCK. A slow consumer
   slows it down; one that stops reading blocks it (up to zenoh's ``wait_before_close``).
   Only this thread waits, while the worker keeps ingesting, deciding and answering.
@@ -37,7 +40,7 @@ import zenoh
 from . import __version__, keys
 from .config import Settings, mode_and_endpoints, zenoh_config
 from .disclosure import public_endpoint, public_settings
-from .inbox import Inbox
+from .intake import Intake
 from .ledger import Ledger
 from .outbox import Outbox, Publication
 from .people import People
@@ -45,6 +48,7 @@ from .publications import publications, query_replies, ros_publications, thresho
 from .publisher import JSON, Publisher
 from .ros2_input import Ros2Subscriptions, RosSample, route
 from .ros2_output import RosOutput, RosPublishers
+from .ros2_types import TF_MESSAGE
 from .ros2_wire import RosFormat, Wire
 from .schemas import QueryError, Rejected, Rejection, ServiceStatus, decode_pose
 from .tracker import Changes, PoseSample, Tracker
@@ -53,10 +57,13 @@ log = logging.getLogger("facing_service")
 
 #: Most inbox items handled per batch: bounds the latency a backlog adds to a query.
 MAX_BATCH = 1024
-#: Inbox bound before the callbacks push back. Queued zenoh samples hold native memory:
-#: under a sustained flood (python -m benchmarks.soak) an 8192-deep inbox let the service's
-#: RSS climb to a ~350 MB plateau; 1024 keeps it flat (~134 MB with 10 000 bodies tracked)
-#: at the same throughput, since batches are at most MAX_BATCH anyway.
+#: ROS 2 input: the topic read from zenoh's channel by the worker (the others stream far
+#: less, and come through callbacks).
+HOT_ROS_TOPIC = ("/tf", TF_MESSAGE)
+#: Intake bound before zenoh pushes back. Queued zenoh samples hold native memory: under a
+#: sustained flood (python -m benchmarks.soak) an 8192-deep inbox let the service's RSS
+#: climb to a ~350 MB plateau; 1024 keeps it flat (~134 MB with 10 000 bodies tracked) at
+#: the same throughput, since batches are at most MAX_BATCH anyway.
 INBOX_SIZE = 1024
 
 
@@ -100,14 +107,15 @@ class FacingService:
             else None
         )
         self._pose_key = keys.PoseKeyParser(settings.namespace, 2 * settings.max_bodies)
-        self._inbox: Inbox[tuple[float, object]] = Inbox(INBOX_SIZE)
+        self._intake: Intake | None = None
         self._outbox = Outbox()
         self._closing = threading.Event()
         self._ledger = Ledger(clock)
         self._said: list[Publication] = []  # decided this turn of the worker's loop
         self._accepted = 0  # samples whose results are in _said
         self._ledger.tracked = self._tracker.tracked_per_frame()
-        self._horizon = clock()  # arrival time of the newest item the worker has handled
+        self._horizon = clock()  # when the worker took what it handles now
+        self._drained = True  # the last take emptied the intake
         self._session: zenoh.Session | None = None
         self._entities: list[zenoh.Subscriber[None] | zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
@@ -130,18 +138,18 @@ class FacingService:
                 threading.Thread(target=self._run, name="facing-worker", daemon=True),
                 threading.Thread(target=publisher.run, name="facing-publisher", daemon=True),
             ]
+            if s.input == "ros2":  # the hot topic is /tf; the others come by callbacks
+                hot = self._wire.subscription(*HOT_ROS_TOPIC)
+                self._intake = Intake(session, hot, INBOX_SIZE, self._closing, self._clock)
+                self._ros = Ros2Subscriptions(session, self._wire, self._enqueue, HOT_ROS_TOPIC)
+                subscription = ", ".join([hot, *self._ros.keys])
+            else:
+                subscription = keys.pose_subscription(ns, frame)
+                self._intake = Intake(session, subscription, INBOX_SIZE, self._closing, self._clock)
             for thread in self._threads:
                 thread.start()
             body_space, frame_space = keys.result_queryables(ns, frame)
-            if s.input == "ros2":
-                self._ros = Ros2Subscriptions(session, self._wire, self._enqueue)
-                subscription = ", ".join(self._ros.keys)
-                inputs = []
-            else:
-                subscription = keys.pose_subscription(ns, frame)
-                inputs = [session.declare_subscriber(subscription, self._enqueue)]
             self._entities = [
-                *inputs,
                 session.declare_queryable(
                     body_space, lambda q: self._enqueue(_QueryItem(q, "facing"))
                 ),
@@ -203,8 +211,8 @@ class FacingService:
         if self._ros is not None:
             self._ros.close()
             self._ros = None
-        # Wake an idle worker; a busy one sees the closing flag after its batch.
-        self._inbox.wake()
+        if self._intake is not None:  # a waiting worker wakes; a busy one sees the flag
+            self._intake.close()
         self._outbox.close()
         for thread in self._threads:
             thread.join(timeout=0.7)
@@ -246,13 +254,14 @@ class FacingService:
             uptime_s=round(self._clock() - self._started_at, 3),
             config=public_settings(self.settings.model_dump(mode="json")),
             connected=self.connected(),
-            inbox_depth=len(self._inbox),
+            inbox_depth=len(self._intake) if self._intake is not None else 0,
         )
 
     # -- zenoh callbacks: hand off, nothing else ---------------------------------------
 
     def _enqueue(self, item: object) -> None:
-        self._inbox.put((self._clock(), item), self._closing)  # waits while full
+        assert self._intake is not None
+        self._intake.put(item)  # waits while full
 
     def _on_status(self, query: zenoh.Query) -> None:
         key = keys.status_key(self.settings.namespace, self.settings.instance)
@@ -263,7 +272,10 @@ class FacingService:
 
     def _run(self) -> None:
         while not self._closing.is_set():
-            batch = self._next_batch()
+            try:
+                batch = self._next_batch()
+            except zenoh.ZError:  # the channel closed: shutting down
+                break
             try:
                 self._handle(batch)
                 self._expire()
@@ -275,34 +287,41 @@ class FacingService:
                 log.exception("worker: unexpected error in a batch of %d items", len(batch))
         self._ledger.rejection_log.maybe_log(force=True)
 
-    def _next_batch(self) -> list[tuple[float, object]]:
-        """What is queued (at most MAX_BATCH), waiting for it until the next deadline
-        (worked out only when there is nothing queued: it is the loop's dearest step)."""
-        return self._inbox.take(self._idle_timeout() if not self._inbox else 0.0, MAX_BATCH)
+    def _next_batch(self) -> list[object]:
+        """What arrived (at most MAX_BATCH), waiting for it until the next deadline
+        (worked out only when the last take emptied the intake: otherwise there is no
+        wait, and it is the loop's dearest step)."""
+        assert self._intake is not None
+        if self._drained:
+            self._intake.set_alarm(self._next_deadline())
+        batch, self._drained = self._intake.take(MAX_BATCH)
+        self._horizon = self._clock()
+        return batch
 
-    def _idle_timeout(self) -> float | None:
-        deadlines = [
-            d
-            for d in (
-                self._tracker.next_expiry(),
-                self._tracker.next_due(),
-                self._ledger.rejection_log.next_due(),
-                self._ros_out.next_tick if self._ros_out is not None else None,
-            )
-            if d is not None
-        ]
-        if not deadlines:
-            return None
-        return max(0.0, min(deadlines) - self._clock())
+    def _next_deadline(self) -> float | None:
+        """When time alone makes the worker's next change (the clock's time), if ever."""
+        return min(
+            (
+                d
+                for d in (
+                    self._tracker.next_expiry(),
+                    self._tracker.next_due(),
+                    self._ledger.rejection_log.next_due(),
+                    self._ros_out.next_tick if self._ros_out is not None else None,
+                )
+                if d is not None
+            ),
+            default=None,
+        )
 
     def _expire(self) -> None:
-        """Lose bodies with no sample for ``stale_after_s`` — by arrival time.
+        """Lose bodies with no sample for ``stale_after_s``.
 
-        While a backlog waits in the inbox, "now" is the arrival time of the newest item
+        While a backlog waits in the intake, "now" is when the worker took what it just
         handled: a body whose next sample is already queued is not stale, however long
         the worker took to get to it.
         """
-        now = self._clock() if not self._inbox else self._horizon
+        now = self._clock() if self._drained else self._horizon
         tracker = self._tracker
         if (expiry := tracker.next_expiry()) is not None and expiry <= now:
             self._publish(tracker.expire(now))
@@ -315,21 +334,23 @@ class FacingService:
             messages = self._ros_out.tick(self._tracker.engagements(), self._clock())
             self._said += ros_publications(messages)
 
-    def _handle(self, batch: list[tuple[float, object]]) -> None:
-        """Handle inbox items in order; consecutive poses go to the core together."""
+    def _handle(self, batch: list[object]) -> None:
+        """Handle the items in order; consecutive poses go to the core together."""
         poses: list[PoseSample] = []
-        for arrival, item in batch:
+        ros = self._ros is not None
+        for item in batch:
             if isinstance(item, zenoh.Sample):
-                self._horizon = arrival
-                if item.kind == zenoh.SampleKind.PUT:
+                if ros:  # the robot's /tf, from the intake's channel
+                    if item.kind == zenoh.SampleKind.PUT:
+                        self._on_ros(RosSample.of(item), poses)
+                elif item.kind == zenoh.SampleKind.PUT:
                     pose = self._decode(item)
                     if pose is not None:
                         poses.append(pose)
-                    continue
-                self._flush(poses)
-                self._on_delete(str(item.key_expr))
+                else:
+                    self._flush(poses)
+                    self._on_delete(str(item.key_expr))
             elif isinstance(item, RosSample):
-                self._horizon = arrival
                 self._on_ros(item, poses)
             elif isinstance(item, _QueryItem):
                 self._flush(poses)

@@ -30,3 +30,12 @@ def test_quick_benchmark_run_writes_every_figure(tmp_path):
     assert "ros_cpu_per_pose" in report["ratios"] and "ros_zero_loss" in report["verdicts"]
     assert [row["n"] for row in report["core"]] == [1, 100, 10_000]
     assert "targets:" in proc.stdout
+
+
+def test_the_performance_page_shows_latest_json():
+    """docs/performance.md's tables are generated from the committed results, never
+    copied by hand (python -m benchmarks.report rewrites them)."""
+    from benchmarks import report
+
+    page = report.PAGE.read_text()
+    assert report.section(page, json.loads(report.RESULTS.read_text())) == page
