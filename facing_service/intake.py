@@ -93,15 +93,18 @@ class Intake:
             self._alarm.notify()
 
     def _ring(self) -> None:
-        with self._alarm:
-            while not self._closing.is_set():
+        """The alarm thread. It sends the wake-up *without* holding the alarm's lock: the
+        put waits while the channel is full, until the worker drains it, and the worker
+        takes that lock to set its next alarm (holding it here deadlocked a flood)."""
+        while not self._closing.is_set():
+            with self._alarm:
                 at = self._alarm_at
                 left = None if at is None else at - self._clock()
-                if left is not None and left <= 0:
-                    self._alarm_at = None
-                    self._wake(_ALARM)
+                if left is None or left > 0:
+                    self._alarm.wait(left)
                     continue
-                self._alarm.wait(left)
+                self._alarm_at = None
+            self._wake(_ALARM)
 
     # -- the worker ------------------------------------------------------------------------
 

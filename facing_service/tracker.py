@@ -265,22 +265,60 @@ class Tracker:
 
         touched: set[str] = set()
         for generation in generations:
-            profiles = [self.profiles[s.profile] for s in generation]
-            thresholds = [
-                p.threshold_deg
-                + (p.hysteresis_deg if self._was_facing((s.frame_id, s.body_id)) else 0.0)
-                for s, p in zip(generation, profiles, strict=True)
-            ]
-            reported = [p.threshold_deg for p in profiles]
-            states = _classify(generation, thresholds, profiles, reported)
-            for sample, state, profile in zip(generation, states, profiles, strict=True):
-                update = self._store(sample, state, profile, now)
-                if update is not None:
-                    changes.engagement.append(update)
-                touched.add(sample.frame_id)
-            changes.results.extend(states)
+            if len(generation) < detector.SMALL_BATCH:
+                self._decide_each(generation, now, changes)
+            else:
+                self._decide_together(generation, now, changes)
+            touched.update(s.frame_id for s in generation)
         changes.frames = self._frame_changes(touched)
         return changes
+
+    def _decide_each(self, samples: Sequence[PoseSample], now: float, changes: Changes) -> None:
+        """A few bodies: one pass per body on floats (``detector.classify_one``), looking
+        each track up once (the robot-scale case: most batches are a few bodies)."""
+        tracks, profiles = self._tracks, self.profiles
+        for sample in samples:
+            track = tracks.get((sample.frame_id, sample.body_id))
+            p = profiles[sample.profile]
+            widened = track is not None and track.state.facing
+            pose = sample.pose
+            r, angle, distance, facing = detector.classify_one(
+                pose.translation,
+                pose.rotation,
+                p.threshold_deg + p.hysteresis_deg if widened else p.threshold_deg,
+                p.cone3d,
+            )
+            state = BodyState(
+                sample.body_id,
+                sample.frame_id,
+                pose.stamp,
+                facing,
+                angle,
+                distance,
+                r,
+                p.threshold_deg,
+            )
+            update = self._store(sample, state, p, now, track)
+            if update is not None:
+                changes.engagement.append(update)
+            changes.results.append(state)
+
+    def _decide_together(self, samples: Sequence[PoseSample], now: float, changes: Changes) -> None:
+        """Many bodies: one vectorized core call (``detector.classify``)."""
+        profiles = [self.profiles[s.profile] for s in samples]
+        thresholds = [
+            p.threshold_deg
+            + (p.hysteresis_deg if self._was_facing((s.frame_id, s.body_id)) else 0.0)
+            for s, p in zip(samples, profiles, strict=True)
+        ]
+        reported = [p.threshold_deg for p in profiles]
+        states = _classify(samples, thresholds, profiles, reported)
+        for sample, state, profile in zip(samples, states, profiles, strict=True):
+            track = self._tracks.get((sample.frame_id, sample.body_id))
+            update = self._store(sample, state, profile, now, track)
+            if update is not None:
+                changes.engagement.append(update)
+        changes.results.extend(states)
 
     def lose(self, frame_id: str, body_id: str, now: float = 0.0) -> Changes:
         """The tracker said the body is gone (an input DELETE). Poses of it stamped at or
@@ -386,11 +424,16 @@ class Tracker:
         return track is not None and track.state.facing
 
     def _store(
-        self, sample: PoseSample, state: BodyState, profile: Profile, now: float
+        self,
+        sample: PoseSample,
+        state: BodyState,
+        profile: Profile,
+        now: float,
+        track: _Track | None,
     ) -> EngagementUpdate | None:
-        """Keep the new state; the engagement update to publish, if one is due."""
+        """Keep the new state (``track``: the body's, None when new); the engagement update
+        to publish, if one is due."""
         key = (sample.frame_id, sample.body_id)
-        track = self._tracks.get(key)
         if track is None:
             track = self._tracks[key] = _Track(sample.pose, now, state, profile)
         else:  # in place: the body's engagement carries over

@@ -119,3 +119,34 @@ def test_closing_ends_a_waiting_take(intake):
     box.close()  # idempotent
     taker.join(timeout=2)
     assert not taker.is_alive() and errors
+
+
+def test_an_alarm_firing_into_a_full_channel_does_not_block_the_worker(session):
+    """The alarm's wake-up waits while the channel is full; the worker, setting its next
+    alarm before draining, must not wait on the alarm meanwhile (a flood once deadlocked
+    the two)."""
+    closing = threading.Event()
+    box = Intake(session, HOT, 4, closing)
+    flood = threading.Thread(
+        target=lambda: [session.put(f"hri/bodies/b{i}/pose/cam", b"x") for i in range(50)]
+    )
+    try:
+        flood.start()
+        box.set_alarm(time.monotonic() + 0.05)  # fires while the channel is full
+        time.sleep(0.3)
+        got: list[object] = []
+
+        def worker() -> None:
+            while len(got) < 50:
+                box.set_alarm(time.monotonic() + 10)
+                got.extend(i for i in box.take(100)[0] if isinstance(i, zenoh.Sample))
+
+        draining = threading.Thread(target=worker, daemon=True)
+        draining.start()
+        draining.join(timeout=10)
+        assert not draining.is_alive(), "the worker is stuck behind the alarm"
+        assert len(got) == 50
+    finally:
+        flood.join(timeout=5)
+        closing.set()
+        box.close()

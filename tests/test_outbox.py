@@ -1,4 +1,5 @@
 import threading
+import time
 
 from facing_service.outbox import Kind, Outbox, Publication
 
@@ -73,3 +74,34 @@ def test_depth_counts_taken_publications_until_sent():
     assert len(box) == 1
     box.sent()
     assert len(box) == 0
+
+
+def test_a_slow_publisher_holds_the_worker_back_and_nothing_is_superseded():
+    """Slowness is back-pressure, not loss: only a publisher that stops moving (a put
+    blocked on a stuck consumer) lets results conflate."""
+    box = Outbox(limit=10, stall_s=0.3)
+    got: list[bytes] = []
+
+    def slow_publisher() -> None:
+        while True:
+            taken = box.take(timeout=5)
+            if not taken:
+                return
+            for p in taken:
+                time.sleep(0.002)  # a slow consumer, still reading
+                got.append(p.payload)
+                box.sent()
+
+    publisher = threading.Thread(target=slow_publisher)
+    publisher.start()
+    started = time.monotonic()
+    for i in range(300):
+        box.add([result("r/a", str(i).encode())])
+    waited = time.monotonic() - started
+    while len(got) < 300 and time.monotonic() - started < 10:
+        time.sleep(0.01)
+    box.close()
+    publisher.join(timeout=5)
+    assert box.superseded == 0
+    assert got == [str(i).encode() for i in range(300)]
+    assert waited > 0.3  # the producer was held back (300 x 2 ms of sending)
