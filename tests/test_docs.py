@@ -1,0 +1,55 @@
+"""The documentation states facts the code owns; these tests keep the two equal. (The
+commands the docs show are checked in test_docs_commands.py; the performance tables in
+test_benchmarks.py; the security recipe in test_secure.py.)"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from facing_service.ledger import COUNTERS
+from facing_service.schemas import Rejection
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+PAGES = sorted(DOCS.glob("*.md"))
+LINK = re.compile(r"\]\(([^)\s]+)\)")
+
+
+def test_the_readme_is_short_and_links_every_page():
+    readme = (ROOT / "README.md").read_text()
+    assert len(readme.splitlines()) <= 200
+    linked = {target.split("#")[0] for target in LINK.findall(readme)}
+    assert {f"docs/{page.name}" for page in PAGES} <= linked
+
+
+@pytest.mark.parametrize("doc", [ROOT / "README.md", *PAGES], ids=lambda p: p.name)
+def test_relative_links_resolve(doc):
+    for target in LINK.findall(doc.read_text()):
+        if re.match(r"[a-z]+:", target) or target.startswith("#"):
+            continue
+        path = (doc.parent / target.split("#")[0]).resolve()
+        assert path.exists(), f"{doc.name} links to {target}, which does not exist"
+
+
+def test_the_contract_names_every_rejection_reason_and_no_other():
+    page = (DOCS / "contract.md").read_text()
+    table = set(re.findall(r"(?m)^\| `([a-z_]+)` \|", page))
+    ros = {r for r in Rejection if r.value.startswith("tf_")} | {
+        Rejection.TYPE_MISMATCH,
+        Rejection.MALFORMED_CDR,
+        Rejection.INVALID_ID,
+    }
+    assert table == {r.value for r in Rejection} - {r.value for r in ros}
+    for reason in ros:
+        assert f"`{reason.value}`" in page
+
+
+def test_the_status_example_shows_every_counter():
+    page = (DOCS / "operations.md").read_text()
+    counters = re.search(r'"counters": (\{.*?\})', page, re.S)
+    assert counters is not None
+    assert list(json.loads(counters[1])) == list(COUNTERS)
