@@ -25,6 +25,7 @@ import random
 import statistics
 from pathlib import Path
 
+from facing_service.config import Settings
 from facing_service.detector import classify_one
 from facing_service.engagement import (
     Engagement,
@@ -185,7 +186,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=RESULTS)
     args = parser.parse_args()
     people = 3 if args.quick else args.people
-    report = evaluate(people, args.seed, EngagementParams())
+    report = evaluate(people, args.seed, Settings().engagement_params())
     fmt = lambda v: "never" if v is None else f"{v:.2f}"  # noqa: E731
     print(f"{people} people, {report['ours']['person_minutes']} person-minutes each method")
     print(f"{'':34}{'ours':>10}{'reference':>12}{'target':>10}")

@@ -17,10 +17,10 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from types import FrameType
-from typing import NoReturn
+from typing import Any, Literal, NoReturn, get_args, get_origin
 
 import zenoh
 from rich.console import Console
@@ -29,11 +29,17 @@ from rich.live import Live
 from . import __version__, health, keys
 from .client import FacingClient
 from .config import (
+    SERVICE,
+    ZENOH,
     Settings,
     SettingsError,
+    env_help,
     env_name,
+    flag_info,
+    flag_name,
     load_settings,
     probe_config,
+    shown_default,
     zenoh_config,
 )
 from .disclosure import public_endpoint, public_zenoh_error
@@ -64,8 +70,7 @@ HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
 
 
 def _default(field: str) -> str:
-    value = Settings.model_fields[field].default
-    return f"env {env_name(field)}; default {value if value not in (None, []) else 'none'}"
+    return f"env {env_help(field)}; default {shown_default(field)}"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -99,49 +104,58 @@ POSITIVE = _number(0, strict=True)
 NON_NEGATIVE = _number(0, strict=False)
 
 
+#: The zenoh session's settings: the flags of zenoh's own example programs.
+ZENOH_FIELDS = tuple(f for f in Settings.model_fields if flag_info(f)["group"] == ZENOH)
+
+
 def add_zenoh_arguments(parser: argparse.ArgumentParser) -> None:
     """The session flags every zenoh example program takes."""
-    group = parser.add_argument_group("zenoh session")
-    group.add_argument(
-        "-m",
-        "--mode",
-        choices=["peer", "client", "router"],
-        help=f"zenoh session mode ({_default('mode')}: the config file's, else peer)",
-    )
-    group.add_argument(
-        "-e",
-        "--connect",
-        action="append",
-        metavar="ENDPOINT",
-        help=f"endpoint to connect to, repeatable ({_default('connect')}; comma-separated)",
-    )
-    group.add_argument(
-        "-l",
-        "--listen",
-        action="append",
-        metavar="ENDPOINT",
-        help=f"endpoint to listen on, repeatable ({_default('listen')}; comma-separated)",
-    )
-    group.add_argument(
-        "-c",
-        "--config",
-        type=Path,
-        metavar="FILE",
-        help=f"zenoh JSON5 config file; flags override it ({_default('config')})",
-    )
-    group.add_argument(
-        "--no-multicast-scouting",
-        action="store_true",
-        default=None,
-        help=f"disable multicast scouting ({_default('no_multicast_scouting')})",
-    )
-    group.add_argument(
-        "--cfg",
-        action="append",
-        metavar="KEY:VALUE",
-        help="any zenoh config key with a JSON5 value, repeatable, e.g. "
-        "'scouting/delay:0' (env FACING_CFG; ';'-separated)",
-    )
+    add_settings_arguments(parser, ZENOH_FIELDS)
+
+
+def add_settings_arguments(parser: argparse.ArgumentParser, fields: Iterable[str]) -> None:
+    """One flag per setting, generated from ``Settings``: its name, type, choices, help
+    (the field's description, its variable and default) and group. The service's flags
+    and docs/configuration.md's table come from the same fields."""
+    groups: dict[str, argparse._ActionsContainer] = {SERVICE: parser}
+    for field in fields:
+        info = Settings.model_fields[field]
+        meta = flag_info(field)
+        group = groups.get(meta["group"])
+        if group is None:
+            group = groups[meta["group"]] = parser.add_argument_group(meta["group"])
+        names = [name for name in (meta["short"], flag_name(field)) if name]
+        description = (info.description or "").replace("`", "")
+        kwargs: dict[str, Any] = {
+            "help": f"{description} (env {env_help(field)}; default {shown_default(field)})",
+            "metavar": meta["metavar"],
+        }
+        annotation = info.annotation
+        if annotation is bool:
+            kwargs |= {"action": "store_true", "default": None}
+            del kwargs["metavar"]
+        elif choices := _choices(annotation):
+            kwargs |= {"choices": choices}
+            if all(c.isupper() for c in choices):  # log levels: any case, as the env var
+                kwargs["type"] = str.upper
+        elif get_origin(annotation) is list:
+            if get_args(annotation) == (float,):  # one flag, comma-separated numbers
+                kwargs["type"] = lambda text: [float(v) for v in text.split(",")]
+            else:
+                kwargs["action"] = "append"
+        elif annotation in (int, float):
+            kwargs["type"] = annotation
+        elif annotation == Path | None:
+            kwargs["type"] = Path
+        group.add_argument(*names, **kwargs)
+
+
+def _choices(annotation: Any) -> list[str] | None:
+    """The values of a Literal (or an optional Literal), else None."""
+    for candidate in (annotation, *get_args(annotation)):
+        if get_origin(candidate) is Literal:
+            return list(get_args(candidate))
+    return None
 
 
 def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
@@ -167,123 +181,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
-    run = commands.add_parser("run", help="run the service")
-    run.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
-    run.add_argument(
-        "--base-frame",
-        help=f"base frame to serve, or '*' for every frame ({_default('base_frame')})",
+    run = commands.add_parser(
+        "run",
+        help="run the service",
+        description="Run the facing service: read poses (or a ROS 2 robot's topics) from "
+        "zenoh, publish who faces the robot and their engagement, answer queries. Every flag "
+        "can also come from its FACING_* variable; docs/configuration.md lists them.",
     )
-    run.add_argument(
-        "--threshold-deg",
-        type=float,
-        help=f"half-angle of the facing cone ({_default('threshold_deg')})",
-    )
-    run.add_argument(
-        "--hysteresis-deg",
-        type=float,
-        help=f"extra angle a facing body may turn before it stops facing "
-        f"({_default('hysteresis_deg')})",
-    )
-    run.add_argument(
-        "--stale-after-s",
-        type=float,
-        help=f"a body with no pose for this long is lost ({_default('stale_after_s')})",
-    )
-    run.add_argument(
-        "--max-payload-bytes",
-        type=int,
-        help=f"larger pose payloads are rejected ({_default('max_payload_bytes')})",
-    )
-    run.add_argument(
-        "--max-bodies",
-        type=int,
-        help=f"most bodies tracked over all frames; new ones beyond are rejected "
-        f"({_default('max_bodies')})",
-    )
-    run.add_argument(
-        "--instance",
-        help=f"this service's name in NS/services/facing/<instance> "
-        f"(env {env_name('instance')}; default <host name>-<pid>)",
-    )
-    engagement = run.add_argument_group("engagement levels (see README, Engagement)")
-    for name, kind, help_text in (
-        ("engage-above", float, "smoothed score at which a body starts ENGAGING"),
-        ("disengage-below", float, "smoothed score below which ENGAGED turns DISENGAGING"),
-        ("engagement-tau-s", float, "time constant of the smoothed score"),
-        ("engage-dwell-s", float, "ENGAGING must hold this long to become ENGAGED"),
-        ("disengage-dwell-s", float, "DISENGAGING must hold this long to become DISENGAGED"),
-        ("engagement-period-s", float, "republish an unchanged level this often"),
-    ):
-        field = name.replace("-", "_")
-        engagement.add_argument(f"--{name}", type=kind, help=f"{help_text} ({_default(field)})")
-    engagement.add_argument(
-        "--zones-m",
-        type=lambda text: [float(v) for v in text.split(",")],
-        metavar="INTIMATE,PERSONAL,SOCIAL",
-        help=f"proxemic zone limits in metres ({_default('zones_m')}; comma-separated)",
-    )
-    heads = run.add_argument_group("heads: face frames, from ROS 2 input (see README)")
-    heads.add_argument(
-        "--head-cone",
-        choices=["3d", "planar"],
-        help=f"measure a head's angle to the robot in 3D or in the horizontal plane "
-        f"({_default('head_cone')})",
-    )
-    for name, help_text in (
-        ("head-threshold-deg", "half-angle of a head's facing cone"),
-        ("head-falloff-deg", "a head's engagement score reaches 0 this far beyond the cone"),
-        ("head-engagement-tau-s", "time constant of a head's smoothed score"),
-        ("head-dwell-s", "a head's ENGAGING/DISENGAGING must hold this long"),
-    ):
-        field = name.replace("-", "_")
-        heads.add_argument(f"--{name}", type=float, help=f"{help_text} ({_default(field)})")
-    ros = run.add_argument_group("ROS 2 input: a robot's own /tf and /humans/* topics")
-    ros.add_argument(
-        "--input",
-        choices=["json", "ros2"],
-        help=f"read our JSON poses, or a ROS 2 robot's topics ({_default('input')})",
-    )
-    ros.add_argument(
-        "--ros-format",
-        choices=["rmw_zenoh", "bridge"],
-        help=f"how the robot is on zenoh: rmw_zenoh, or zenoh-bridge-ros2dds "
-        f"({_default('ros_format')})",
-    )
-    ros.add_argument(
-        "--ros-domain-id",
-        type=int,
-        help=f"ROS_DOMAIN_ID, rmw_zenoh only ({_default('ros_domain_id')})",
-    )
-    ros.add_argument(
-        "--ros-namespace",
-        help=f"ROS namespace (or the bridge's) prefixing every topic ({_default('ros_namespace')})",
-    )
-    ros_out = run.add_argument_group(
-        "ROS 2 output: our results on the robot's own topics, beside the JSON keys"
-    )
-    ros_out.add_argument(
-        "--output",
-        choices=["json", "ros2"],
-        help=f"ros2 also publishes /humans/persons/<id>/engagement_status and the facing "
-        f"lists, in --ros-format ({_default('output')})",
-    )
-    ros_out.add_argument(
-        "--ros-node-name", help=f"our ROS node's name ({_default('ros_node_name')})"
-    )
-    ros_out.add_argument(
-        "--ros-engagement-rate-hz",
-        type=float,
-        help=f"engagement_status is republished this often, as hri_engagement does "
-        f"({_default('ros_engagement_rate_hz')})",
-    )
-    ros_out.add_argument(
-        "--ros-intents",
-        action="store_true",
-        default=None,
-        help="publish an ENGAGE_WITH intent on /intents when a person becomes ENGAGED",
-    )
-    run.add_argument("--log-level", help=f"log level ({_default('log_level')})")
-    add_zenoh_arguments(run)
+    add_settings_arguments(run, Settings.model_fields)
 
     health = commands.add_parser(
         "health",

@@ -40,48 +40,207 @@ def default_instance() -> str:
     return name[-64:]
 
 
+SERVICE, ENGAGEMENT, HEADS = "service", "engagement levels", "heads: face frames, from ROS 2 input"
+ROS_IN = "ROS 2 input: a robot's own /tf and /humans/* topics"
+ROS_OUT = "ROS 2 output: our results on the robot's own topics, beside the JSON keys"
+ZENOH = "zenoh session"
+
+
+def _flag(
+    description: str,
+    group: str = SERVICE,
+    *,
+    short: str | None = None,
+    metavar: str | None = None,
+    shown: str | None = None,
+) -> dict[str, Any]:
+    """A setting's flag: its help (the description), group, short form, metavar, and the
+    default as the docs say it when the value itself would not (``shown``)."""
+    extra = {"group": group, "short": short, "metavar": metavar, "shown": shown}
+    return {"description": description, "json_schema_extra": extra}
+
+
 class Settings(BaseModel):
+    """Every setting of ``facing-service run``: the single source of the CLI's flags and
+    help, the ``FACING_*`` variables and docs/configuration.md's table."""
+
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    namespace: str = "hri"
-    base_frame: str = keys.ALL_FRAMES
-    threshold_deg: float = Field(default=20.0, gt=0.0, lt=180.0)
-    hysteresis_deg: float = Field(default=5.0, ge=0.0, lt=180.0)
-    stale_after_s: float = Field(default=2.0, gt=0.0, allow_inf_nan=False)
-    max_payload_bytes: int = Field(default=DEFAULT_MAX_PAYLOAD_BYTES, gt=0)
-    max_bodies: int = Field(default=10_000, gt=0)
-    engage_above: float = Field(default=0.6, gt=0.0, le=1.0)
-    disengage_below: float = Field(default=0.35, ge=0.0, lt=1.0)
-    engagement_tau_s: float = Field(default=0.25, gt=0.0, allow_inf_nan=False)
-    engage_dwell_s: float = Field(default=0.5, ge=0.0, allow_inf_nan=False)
-    disengage_dwell_s: float = Field(default=0.6, ge=0.0, allow_inf_nan=False)
-    engagement_period_s: float = Field(default=1.0, gt=0.0, allow_inf_nan=False)
-    zones_m: list[float] = [0.45, 1.2, 3.6]
-    # Heads (face frames, from ROS 2 input): measured on the shared recordings, see README.
-    head_cone: Literal["3d", "planar"] = "3d"
-    head_threshold_deg: float = Field(default=16.0, gt=0.0, lt=180.0)
-    head_falloff_deg: float = Field(default=20.0, gt=0.0, lt=180.0)
-    head_engagement_tau_s: float = Field(default=2.0, gt=0.0, allow_inf_nan=False)
-    head_dwell_s: float = Field(default=1.0, ge=0.0, allow_inf_nan=False)
-    # Input: our JSON poses, or a ROS 2 robot's own topics.
-    input: Literal["json", "ros2"] = "json"
-    ros_format: Literal["rmw_zenoh", "bridge"] = "rmw_zenoh"
-    ros_domain_id: int = Field(default=0, ge=0, le=232)
-    ros_namespace: str = ""
-    # Output: our JSON keys always; with "ros2", also the robot's own topics.
-    output: Literal["json", "ros2"] = "json"
-    ros_node_name: str = Field(default="facing_service", pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")
-    ros_engagement_rate_hz: float = Field(default=10.0, gt=0.0, le=1000.0)
-    ros_intents: bool = False
-    instance: str = Field(default_factory=default_instance)
-    log_level: LogLevel = "INFO"
+    namespace: str = Field("hri", **_flag("key prefix, one or more chunks"))
+    base_frame: str = Field(
+        keys.ALL_FRAMES, **_flag("the base frame to serve, or `*` for every frame")
+    )
+    threshold_deg: float = Field(
+        20.0, gt=0.0, lt=180.0, **_flag("half-angle of the facing cone, in (0, 180)")
+    )
+    hysteresis_deg: float = Field(
+        5.0,
+        ge=0.0,
+        lt=180.0,
+        **_flag(
+            "extra angle a facing body may turn before it stops facing; `0` decides "
+            "sample by sample"
+        ),
+    )
+    stale_after_s: float = Field(
+        2.0,
+        gt=0.0,
+        allow_inf_nan=False,
+        **_flag("a body with no accepted pose for this long is lost"),
+    )
+    max_payload_bytes: int = Field(
+        DEFAULT_MAX_PAYLOAD_BYTES, gt=0, **_flag("larger pose payloads are rejected")
+    )
+    max_bodies: int = Field(
+        10_000,
+        gt=0,
+        **_flag("most bodies tracked over all frames; new ones beyond are rejected (`capacity`)"),
+    )
+    engage_above: float = Field(
+        0.6, gt=0.0, le=1.0, **_flag("smoothed score at which a body starts ENGAGING", ENGAGEMENT)
+    )
+    disengage_below: float = Field(
+        0.35,
+        ge=0.0,
+        lt=1.0,
+        **_flag("smoothed score below which ENGAGED turns DISENGAGING", ENGAGEMENT),
+    )
+    engagement_tau_s: float = Field(
+        0.25,
+        gt=0.0,
+        allow_inf_nan=False,
+        **_flag("time constant of the smoothed score", ENGAGEMENT),
+    )
+    engage_dwell_s: float = Field(
+        0.5,
+        ge=0.0,
+        allow_inf_nan=False,
+        **_flag("ENGAGING must hold this long to become ENGAGED", ENGAGEMENT),
+    )
+    disengage_dwell_s: float = Field(
+        0.6,
+        ge=0.0,
+        allow_inf_nan=False,
+        **_flag("DISENGAGING must hold this long to become DISENGAGED", ENGAGEMENT),
+    )
+    engagement_period_s: float = Field(
+        1.0,
+        gt=0.0,
+        allow_inf_nan=False,
+        **_flag("an unchanged level is republished this often", ENGAGEMENT),
+    )
+    zones_m: list[float] = Field(
+        [0.45, 1.2, 3.6],
+        **_flag(
+            "intimate, personal, social zone limits (public beyond)",
+            ENGAGEMENT,
+            metavar="INTIMATE,PERSONAL,SOCIAL",
+        ),
+    )
+    # Heads (face frames, from ROS 2 input): measured on the shared recordings.
+    head_cone: Literal["3d", "planar"] = Field(
+        "3d", **_flag("how a face's angle to the robot is measured: `3d` or `planar`", HEADS)
+    )
+    head_threshold_deg: float = Field(
+        16.0, gt=0.0, lt=180.0, **_flag("half-angle of a face's facing cone", HEADS)
+    )
+    head_falloff_deg: float = Field(
+        20.0,
+        gt=0.0,
+        lt=180.0,
+        **_flag("a face's engagement score reaches 0 this far beyond its cone", HEADS),
+    )
+    head_engagement_tau_s: float = Field(
+        2.0, gt=0.0, allow_inf_nan=False, **_flag("time constant of a face's smoothed score", HEADS)
+    )
+    head_dwell_s: float = Field(
+        1.0,
+        ge=0.0,
+        allow_inf_nan=False,
+        **_flag("a face's ENGAGING and DISENGAGING must hold this long", HEADS),
+    )
+    input: Literal["json", "ros2"] = Field(
+        "json",
+        **_flag(
+            "`json` (our pose keys) or `ros2` (a robot's `/tf` and `/humans/*` topics)", ROS_IN
+        ),
+    )
+    ros_format: Literal["rmw_zenoh", "bridge"] = Field(
+        "rmw_zenoh", **_flag("`rmw_zenoh`, or `bridge` (zenoh-bridge-ros2dds)", ROS_IN)
+    )
+    ros_domain_id: int = Field(
+        0,
+        ge=0,
+        le=232,
+        **_flag("`ROS_DOMAIN_ID`, 0-232 (rmw_zenoh keys start with it)", ROS_IN),
+    )
+    ros_namespace: str = Field(
+        "", **_flag("ROS namespace (or the bridge's) prefixing every topic", ROS_IN)
+    )
+    output: Literal["json", "ros2"] = Field(
+        "json",
+        **_flag(
+            "`ros2` also publishes on the robot's topics (engagement_status, facing lists)",
+            ROS_OUT,
+        ),
+    )
+    ros_node_name: str = Field(
+        "facing_service",
+        pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
+        **_flag("our ROS node's name in the liveliness graph", ROS_OUT),
+    )
+    ros_engagement_rate_hz: float = Field(
+        10.0, gt=0.0, le=1000.0, **_flag("engagement_status is republished this often", ROS_OUT)
+    )
+    ros_intents: bool = Field(
+        False,
+        **_flag("publish `ENGAGE_WITH` on `/intents` when a person becomes ENGAGED", ROS_OUT),
+    )
+    instance: str = Field(
+        default_factory=default_instance,
+        **_flag(
+            "this service's name in `NS/services/facing/<instance>`", shown="<host name>-<pid>"
+        ),
+    )
+    log_level: LogLevel = Field("INFO", **_flag("`DEBUG`, `INFO`, `WARNING`, `ERROR`"))
     # zenoh session; None means "as the config file says, else zenoh's default (peer)".
-    mode: Literal["peer", "client", "router"] | None = None
-    connect: list[str] = []
-    listen: list[str] = []
-    config: Path | None = None
-    no_multicast_scouting: bool = False
-    cfg: list[str] = []
+    mode: Literal["peer", "client", "router"] | None = Field(
+        None,
+        **_flag(
+            "zenoh mode: `peer`, `client` or `router`",
+            ZENOH,
+            short="-m",
+            shown="the config file's, else `peer`",
+        ),
+    )
+    connect: list[str] = Field(
+        [],
+        **_flag(
+            "endpoint to connect to, repeatable, e.g. `tcp/192.168.1.10:7447`",
+            ZENOH,
+            short="-e",
+            metavar="ENDPOINT",
+        ),
+    )
+    listen: list[str] = Field(
+        [], **_flag("endpoint to listen on, repeatable", ZENOH, short="-l", metavar="ENDPOINT")
+    )
+    config: Path | None = Field(
+        None,
+        **_flag(
+            "a zenoh JSON5 config file; the flags override it", ZENOH, short="-c", metavar="FILE"
+        ),
+    )
+    no_multicast_scouting: bool = Field(False, **_flag("disable multicast discovery", ZENOH))
+    cfg: list[str] = Field(
+        [],
+        **_flag(
+            "any zenoh config key with a JSON5 value, repeatable, e.g. `--cfg "
+            "'scouting/delay:0'`; applied last",
+            ZENOH,
+            metavar="KEY:VALUE",
+        ),
+    )
 
     @field_validator("namespace")
     @classmethod
@@ -211,6 +370,56 @@ def env_name(field: str) -> str:
 
 def flag_name(field: str) -> str:
     return "--" + field.replace("_", "-")
+
+
+def flag_info(field: str) -> dict[str, Any]:
+    """What ``Settings`` says about a field's flag: group, short, metavar, shown."""
+    extra = Settings.model_fields[field].json_schema_extra
+    assert isinstance(extra, dict), f"{field} has no flag metadata"
+    return extra
+
+
+def shown_default(field: str) -> str:
+    """A field's default as the docs and ``--help`` say it."""
+    info = Settings.model_fields[field]
+    if (shown := flag_info(field)["shown"]) is not None:
+        return str(shown)
+    value = info.default
+    if value is None or value == [] or value == "":
+        return "none"
+    if value is False:
+        return "off"
+    if isinstance(value, list):
+        return ",".join(f"{v:g}" if isinstance(v, float) else str(v) for v in value)
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def env_help(field: str, code: str = "") -> str:
+    """A field's environment variable (in ``code`` quotes), with its list separator when
+    it has one."""
+    separator = _LIST_SEPARATORS.get(field)
+    name = f"{code}{env_name(field)}{code}"
+    if separator is None:
+        return name
+    return f"{name} ({'comma' if separator == ',' else repr(separator)}-separated)"
+
+
+def settings_table() -> str:
+    """docs/configuration.md's table of every setting (a test keeps the page equal)."""
+    rows = [
+        "| flag | environment | default | meaning |",
+        "| --- | --- | --- | --- |",
+    ]
+    for field, info in Settings.model_fields.items():
+        flags = ", ".join(f"`{f}`" for f in (flag_info(field)["short"], flag_name(field)) if f)
+        shown = shown_default(field)
+        if flag_info(field)["shown"] is None and shown not in ("none", "off"):
+            shown = f"`{shown}`"
+        rows.append(
+            f"| {flags} | {env_help(field, '`')} | {'—' if shown == 'none' else shown} "
+            f"| {info.description} |"
+        )
+    return "\n".join(rows)
 
 
 def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Settings:

@@ -46,21 +46,25 @@ class Zone(str, Enum):
     PUBLIC = "public"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class EngagementParams:
-    threshold_deg: float = 20.0  # the facing cone (the service's threshold)
+    """The engagement machine's parameters. Those a user tunes have no default here:
+    they come from ``config.Settings`` (``Settings.engagement_params()``), their one
+    source; the rest are fixed by the design."""
+
+    threshold_deg: float  # the facing cone (the service's threshold)
+    tau_s: float  # time constant of the smoothed score
+    engage_above: float
+    disengage_below: float
+    engage_dwell_s: float
+    disengage_dwell_s: float
+    intimate_m: float
+    personal_m: float
+    social_m: float
     falloff_deg: float = 25.0  # the score reaches 0 this far beyond the cone
     near_m: float = 2.5  # full score up to this distance (well inside the social zone)
     far_m: float = 4.5  # no score from this distance
-    tau_s: float = 0.25  # time constant of the smoothed score
-    engage_above: float = 0.6
-    disengage_below: float = 0.35
-    engage_dwell_s: float = 0.5
-    disengage_dwell_s: float = 0.6
     fresh_s: float = 0.2  # promotion to ENGAGED needs an observation at most this old
-    intimate_m: float = 0.45
-    personal_m: float = 1.2
-    social_m: float = 3.6
 
 
 def facing_score(angle_deg: float | None, distance_m: float | None, p: EngagementParams) -> float:

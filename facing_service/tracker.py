@@ -201,13 +201,15 @@ class Tracker:
         threshold_deg: float,
         hysteresis_deg: float,
         stale_after_s: float,
+        *,
+        max_bodies: int,
+        engagement: EngagementParams,
+        engagement_period_s: float,
         frames: Iterable[str] = (),
-        max_bodies: int = 10_000,
-        engagement: EngagementParams | None = None,
-        engagement_period_s: float = 1.0,
         head: Profile | None = None,
     ) -> None:
-        self.engagement = engagement or EngagementParams(threshold_deg=threshold_deg)
+        """Every tunable comes from the caller (``config.Settings``, their one source)."""
+        self.engagement = engagement
         body = Profile(threshold_deg, hysteresis_deg, False, self.engagement)
         self.profiles = {"body": body, "head": head or body}
         self.engagement_period_s = engagement_period_s

@@ -53,3 +53,17 @@ def test_the_status_example_shows_every_counter():
     counters = re.search(r'"counters": (\{.*?\})', page, re.S)
     assert counters is not None
     assert list(json.loads(counters[1])) == list(COUNTERS)
+
+
+def test_the_configuration_table_is_the_settings():
+    """docs/configuration.md's table is generated from the Settings fields' descriptions,
+    like the CLI's help: change a setting, and this says what the page must become."""
+    from facing_service.config import settings_table
+
+    page = (DOCS / "configuration.md").read_text()
+    table = re.search(r"<!-- settings: .*?-->\n(.*?)\n<!-- end of settings -->", page, re.S)
+    assert table is not None
+    assert table[1] == settings_table(), (
+        "regenerate: python -c 'from facing_service.config import settings_table; "
+        "print(settings_table())'"
+    )

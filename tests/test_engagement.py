@@ -6,9 +6,9 @@ import random
 
 import pytest
 
+from facing_service.config import Settings
 from facing_service.engagement import (
     Engagement,
-    EngagementParams,
     Level,
     VoteWindow,
     Zone,
@@ -18,7 +18,7 @@ from facing_service.engagement import (
     zone,
 )
 
-P = EngagementParams()
+P = Settings().engagement_params()  # the service's defaults
 
 
 @pytest.mark.parametrize(

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 
+from facing_service.config import Settings
 from facing_service.engagement import Level
 from facing_service.schemas import Pose
 from facing_service.tracker import PoseSample, Tracker
@@ -19,7 +21,18 @@ def sample(body="a", frame="cam", off_deg=0.0, sec=1, nanosec=0, x=2.0, y=0.0) -
 
 
 def tracker(**kw) -> Tracker:
-    params = {"threshold_deg": 20.0, "hysteresis_deg": 5.0, "stale_after_s": 2.0} | kw
+    """A tracker with the service's defaults (``Settings``), but what ``kw`` says."""
+    defaults = Settings()
+    params = {
+        "threshold_deg": 20.0,
+        "hysteresis_deg": 5.0,
+        "stale_after_s": 2.0,
+        "max_bodies": defaults.max_bodies,
+        "engagement_period_s": defaults.engagement_period_s,
+    } | kw
+    params.setdefault(
+        "engagement", replace(defaults.engagement_params(), threshold_deg=params["threshold_deg"])
+    )
     return Tracker(**params)
 
 
@@ -140,7 +153,7 @@ def test_evaluate_is_a_what_if_without_hysteresis():
 
 
 def test_declared_frame_is_known_before_any_pose():
-    t = Tracker(20.0, 5.0, 2.0, frames=["cam"])
+    t = tracker(frames=["cam"])
     (frame,) = t.frames()
     assert frame.stamp is None and frame.bodies_tracked == []
     assert t.evaluate(30.0) == ([], t.frames())
@@ -181,7 +194,7 @@ def test_a_flood_of_unique_ids_stays_at_the_bound():
 
 
 def test_undeclared_frames_are_forgotten_when_empty_declared_ones_are_kept():
-    t = Tracker(20.0, 5.0, 2.0, frames=["cam"])
+    t = tracker(frames=["cam"])
     t.ingest([sample("a", "cam"), sample("a", "tmp")], now=0.0)
     assert t.tracked_per_frame() == {"cam": 1, "tmp": 1}
     changes = t.expire(10.0)
