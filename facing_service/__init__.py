@@ -8,6 +8,13 @@ except PackageNotFoundError:  # running from a source tree that was never instal
     __version__ = "0.0.0+unknown"
 
 from .client import FacingClient
-from .schemas import FacingState, FrameFacing
+from .schemas import EngagementEvent, EngagementState, FacingState, FrameFacing
 
-__all__ = ["FacingClient", "FacingState", "FrameFacing", "__version__"]
+__all__ = [
+    "EngagementEvent",
+    "EngagementState",
+    "FacingClient",
+    "FacingState",
+    "FrameFacing",
+    "__version__",
+]

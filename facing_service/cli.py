@@ -50,7 +50,7 @@ from .schemas import json_schemas
 from .service import FacingService
 from .sim import Scene, simulate
 from .testing import free_port, loopback_config
-from .watch import Watcher
+from .watch import Watcher, natural_order
 
 log = logging.getLogger("facing_service")
 
@@ -79,6 +79,7 @@ class _Parser(argparse.ArgumentParser):
 
     def __init__(self, *args: object, **kwargs: object) -> None:
         super().__init__(*args, allow_abbrev=False, **kwargs)  # type: ignore[arg-type]
+        self.commands: dict[str, argparse.ArgumentParser] = {}  # the top level's commands
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: {message} (see {self.prog} --help)\n")
@@ -173,7 +174,7 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="random seed (0)")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser() -> _Parser:
     parser = _Parser(
         prog="facing-service",
         description="Which tracked bodies are oriented toward the robot, over zenoh.",
@@ -264,7 +265,13 @@ def build_parser() -> argparse.ArgumentParser:
     add_zenoh_arguments(simulate)
 
     watch = commands.add_parser(
-        "watch", help="live terminal view: a map around the robot and a table"
+        "watch",
+        help="live terminal view: a map around the robot and a table",
+        description="Follow a running deployment's results: a top-down map around the "
+        "robot (R; x up, y left; 1 m rings) with each person as an arrow along their "
+        "heading, people facing the robot highlighted and named, and a table of id, facing, "
+        "angle, distance and for how long. Redraws 10 times a second; --once prints one "
+        "frame.",
     )
     watch.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
     watch.add_argument(
@@ -288,9 +295,13 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--svg", type=Path, help="save the last frame as an SVG image")
 
     export = commands.add_parser(
-        "export-schemas", help="write the wire contract's JSON Schemas to a folder"
+        "export-schemas",
+        help="write the wire contract's JSON Schemas to a folder",
+        description="Write the JSON Schemas of every payload of the wire contract (the "
+        "models in schemas.py) to DIRECTORY, as committed in schemas/.",
     )
     export.add_argument("directory", type=Path)
+    parser.commands = dict(commands.choices)
     return parser
 
 
@@ -639,7 +650,7 @@ def _demo(args: argparse.Namespace) -> int:
             stop.set()
             feeder.join(timeout=2.0)
             watcher.close()
-    people = ", ".join(sorted(seen_facing, key=lambda b: (len(b), b))) or "nobody"
+    people = ", ".join(sorted(seen_facing, key=natural_order)) or "nobody"
     print(f"faced the robot during the demo: {people}")
     return 0
 
@@ -657,7 +668,10 @@ def _export_schemas(args: argparse.Namespace) -> int:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:  # said by the command's own parser: its usage, not the top level's
+        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(unknown)}")
     command = {
         "run": _run,
         "health": _health,

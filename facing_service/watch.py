@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import json
 import math
+import re
 import threading
 import time
 from collections.abc import Callable
@@ -46,6 +47,14 @@ class PersonView:
     engagement: str | None = None  # the engagement level, when known
 
 
+def natural_order(name: str) -> tuple[tuple[int, int | str], ...]:
+    """Sort key reading digit runs as numbers: p2 before p10 (a string sort puts p10
+    first), whatever the mix of letters and digits."""
+    return tuple(
+        (0, int(part)) if part.isdigit() else (1, part) for part in re.findall(r"\d+|\D+", name)
+    )
+
+
 def arrow(yaw_deg: float) -> str:
     return _ARROWS[round((yaw_deg % 360) / 45) % 8]
 
@@ -70,7 +79,7 @@ def render(
                 styles[(row, col)] = "grey35"
     grid[cy][cx] = "R"
     styles[(cy, cx)] = "bold cyan"
-    for person in sorted(people, key=lambda p: p.body_id):
+    for person in sorted(people, key=lambda p: natural_order(p.body_id)):
         col, row = cx - round(person.y * scale_x), cy - round(person.x * scale_y)
         if not (0 <= row < height and 0 <= col < width):
             continue
@@ -91,7 +100,7 @@ def render(
     table = Table(title=f"frame {frame_id}", expand=False)
     for name in ("id", "facing", "angle °", "distance m", "since s", "engagement"):
         table.add_column(name, justify="left" if name == "id" else "right")
-    for person in sorted(people, key=lambda p: p.body_id):
+    for person in sorted(people, key=lambda p: natural_order(p.body_id)):
         table.add_row(
             person.body_id,
             "?" if person.facing is None else ("yes" if person.facing else "no"),

@@ -188,3 +188,43 @@ def test_log_level_reaches_zenohs_own_log_but_never_its_debug(monkeypatch):
     assert zenohs, "zenoh's own log is not shown"
     assert not any("DEBUG" in line or "TRACE" in line for line in zenohs)
     assert "facing-service 0" in output
+
+
+def test_a_bad_flag_is_said_by_its_command_with_its_usage(capsys):
+    """`run --bogus` names run and points at run's help, not the top level's."""
+    from facing_service.cli import main
+
+    for argv, command in ((["run", "--bogus"], "run"), (["watch", "--threshold", "3"], "watch")):
+        with pytest.raises(SystemExit) as exited:
+            main(argv)
+        assert exited.value.code == 2
+        err = capsys.readouterr().err.strip()
+        assert err.startswith(f"facing-service {command}: unrecognized arguments: ")
+        assert err.endswith(f"(see facing-service {command} --help)")
+
+
+def test_every_command_describes_itself():
+    from facing_service.cli import build_parser
+
+    for name, command in build_parser().commands.items():
+        assert command.description, f"{name} has no description for --help"
+
+
+def test_the_result_types_the_docs_name_are_importable_from_the_package():
+    import facing_service
+
+    for name in (
+        "FacingClient",
+        "FacingState",
+        "FrameFacing",
+        "EngagementState",
+        "EngagementEvent",
+    ):
+        assert hasattr(facing_service, name) and name in facing_service.__all__
+
+
+def test_the_watch_table_and_the_demo_order_ids_as_numbers():
+    from facing_service.watch import natural_order
+
+    ids = ["p10", "p4", "p1", "alice", "p2b", "p2a", "b7"]
+    assert sorted(ids, key=natural_order) == ["alice", "b7", "p1", "p2a", "p2b", "p4", "p10"]
