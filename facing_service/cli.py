@@ -8,7 +8,6 @@ them; every ``run`` flag can also come from a ``FACING_<NAME>`` environment vari
 from __future__ import annotations
 
 import argparse
-import io
 import json
 import logging
 import math
@@ -24,7 +23,6 @@ from typing import Any, Literal, NoReturn, get_args, get_origin
 
 import zenoh
 from rich.console import Console
-from rich.live import Live
 
 from . import __version__, health, keys
 from .client import FacingClient
@@ -42,14 +40,14 @@ from .config import (
     shown_default,
     zenoh_config,
 )
+from .demo import run_demo
 from .disclosure import public_endpoint, public_zenoh_error
 from .record import Recording, bag_folder
 from .ros2_wire import RosFormat, Wire
 from .router import router_config, serve
 from .schemas import json_schemas
 from .service import FacingService
-from .sim import Scene, simulate
-from .testing import free_port, loopback_config
+from .sim import Scene, TrackerPublisher, simulate
 from .watch import Watcher, natural_order
 
 log = logging.getLogger("facing_service")
@@ -500,37 +498,19 @@ def _replay(args: argparse.Namespace) -> int:
     return 0
 
 
-def _publisher(session: zenoh.Session) -> Callable[[str, bytes | None], None]:
-    """Publish a pose (or, for None, DELETE the key) as a tracker should: BLOCK."""
-
-    def publish(key: str, payload: bytes | None) -> None:
-        if payload is None:
-            session.delete(key, congestion_control=zenoh.CongestionControl.BLOCK)
-        else:
-            session.put(
-                key,
-                payload,
-                encoding=zenoh.Encoding.APPLICATION_JSON,
-                congestion_control=zenoh.CongestionControl.BLOCK,
-            )
-
-    return publish
-
-
 def _simulate(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
         return 2
     stop = _stop_on_signals()
-    scene = Scene(people=args.people, seed=args.seed)
     key = keys.pose_key(settings.namespace, "<id>", args.base_frame)
     until = f" for {args.duration_s:g} s" if args.duration_s else " until Ctrl-C"
     print(f"simulating {args.people} people: poses on {key} at {args.rate_hz:g} Hz{until}")
     with zenoh.open(zenoh_config(settings)) as session:
-        publish = _CountingPublisher(_publisher(session))
+        publish = TrackerPublisher(session, progress_every_s=5.0, say=_say)
         frames = simulate(
             publish,
-            scene,
+            Scene(people=args.people, seed=args.seed),
             args.base_frame,
             settings.namespace,
             args.rate_hz,
@@ -541,28 +521,8 @@ def _simulate(args: argparse.Namespace) -> int:
     return 0
 
 
-class _CountingPublisher:
-    """Wraps a publish function, counting what went out; says so every ``every_s``."""
-
-    def __init__(self, publish: Callable[[str, bytes | None], None], every_s: float = 5.0) -> None:
-        self._publish = publish
-        self.poses = self.deletes = 0
-        self._every_s = every_s
-        self._started = self._said = time.monotonic()
-
-    def __call__(self, key: str, payload: bytes | None) -> None:
-        self._publish(key, payload)
-        if payload is None:
-            self.deletes += 1
-        else:
-            self.poses += 1
-        if (now := time.monotonic()) - self._said >= self._every_s:
-            self._said = now
-            rate = self.poses / (now - self._started)
-            print(
-                f"published {self.poses} poses ({rate:.0f}/s) and {self.deletes} deletes",
-                flush=True,
-            )
+def _say(line: str) -> None:
+    print(line, flush=True)
 
 
 def _watch(args: argparse.Namespace) -> int:
@@ -579,77 +539,27 @@ def _watch(args: argparse.Namespace) -> int:
                 stop.wait(args.wait_s)
                 Console().print(watcher.view())
             else:
-                with Live(watcher.view(), refresh_per_second=10) as live:
-                    while not stop.wait(0.1):
-                        live.update(watcher.view())
-            _save_svg(watcher, args.svg)
+                watcher.live(lambda: not stop.is_set())
+            if args.svg is not None:
+                watcher.save_svg(args.svg)
         finally:
             watcher.close()
     return 0
-
-
-def _save_svg(watcher: Watcher, path: Path | None) -> None:
-    """The current frame as an SVG image (rich's export), e.g. for documentation."""
-    if path is not None:
-        console = Console(record=True, width=100, file=io.StringIO())
-        console.print(watcher.view())
-        console.save_svg(str(path), title="facing-service watch")
 
 
 def _demo(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
         return 2
-    stop = _stop_on_signals()
-    endpoint = f"tcp/127.0.0.1:{free_port()}"
-    # The embedded session is a router and the simulator and the view are its clients:
-    # a router does not forward between peers (it expects them to mesh), so as peers the
-    # view would get results but never the poses it draws people from.
-    embedded = settings.model_copy(
-        update={
-            "mode": "router",
-            "listen": [endpoint],
-            "no_multicast_scouting": True,
-            "cfg": ["scouting/delay:0"],
-            "base_frame": args.base_frame,
-            "log_level": "WARNING",
-        }
-    )
     logging.basicConfig(level=logging.WARNING)
-    peer = loopback_config(connect=[endpoint], mode="client")
-    seen_facing: set[str] = set()
-    with (
-        FacingService(embedded),
-        zenoh.open(peer) as tracker,
-        FacingClient(embedded.namespace, args.base_frame, session_config=peer) as client,
-    ):
-        client.on_facing(lambda state: seen_facing.add(state.body_id))
-        watcher = Watcher(client, args.base_frame)
-        scene = Scene(people=args.people, seed=args.seed)
-        feeder = threading.Thread(
-            target=simulate,
-            args=(
-                _publisher(tracker),
-                scene,
-                args.base_frame,
-                embedded.namespace,
-                args.rate_hz,
-                args.duration_s,
-                stop.is_set,
-            ),
-            daemon=True,
-        )
-        feeder.start()
-        try:
-            with Live(watcher.view(), refresh_per_second=10) as live:
-                while feeder.is_alive() and not stop.wait(0.1):
-                    live.update(watcher.view())
-                live.update(watcher.view())
-            _save_svg(watcher, args.svg)
-        finally:
-            stop.set()
-            feeder.join(timeout=2.0)
-            watcher.close()
+    seen_facing = run_demo(
+        settings.model_copy(update={"base_frame": args.base_frame}),
+        Scene(people=args.people, seed=args.seed),
+        args.rate_hz,
+        args.duration_s,
+        _stop_on_signals(),
+        args.svg,
+    )
     people = ", ".join(sorted(seen_facing, key=natural_order)) or "nobody"
     print(f"faced the robot during the demo: {people}")
     return 0

@@ -17,6 +17,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
 
+import zenoh
+
+from . import keys
+
 #: The area people move in around the robot (metres, base frame; the robot at the origin).
 AREA_M = 4.0
 SPEED_M_S = 0.9
@@ -188,24 +192,61 @@ def simulate(
     rate_hz: float = 30.0,
     duration_s: float | None = None,
     should_stop: Callable[[], bool] = lambda: False,
+    clock: Callable[[], float] = time.monotonic,
+    sleep: Callable[[float], None] = time.sleep,
 ) -> int:
     """Publish ``scene`` in real time: ``publish(key, payload)`` for each pose and
-    ``publish(key, None)`` (a DELETE) for each person lost. Returns the frames published."""
+    ``publish(key, None)`` (a DELETE) for each person lost. Returns the frames published.
+    ``clock`` and ``sleep`` pace it (tests give their own, so they need not wait)."""
     period = 1.0 / rate_hz
-    started = time.monotonic()
+    started = clock()
     frames = 0
     while not should_stop() and (duration_s is None or frames * period < duration_s):
         frame = scene.step(period)
         for pose in frame.poses:
-            key = f"{namespace}/bodies/{pose.body_id}/pose/{frame_id}"
-            publish(key, pose_message(pose, frame_id))
+            publish(keys.pose_key(namespace, pose.body_id, frame_id), pose_message(pose, frame_id))
         for body_id in frame.lost:
-            publish(f"{namespace}/bodies/{body_id}/pose/{frame_id}", None)
+            publish(keys.pose_key(namespace, body_id, frame_id), None)
         frames += 1
-        delay = started + frames * period - time.monotonic()
+        delay = started + frames * period - clock()
         if delay > 0:
-            time.sleep(delay)
+            sleep(delay)
     return frames
+
+
+class TrackerPublisher:
+    """Publishes as a body tracker should: poses with BLOCK (zenoh's default, DROP, loses
+    them on the sending side under load), ``None`` as a DELETE. Counts what went out and,
+    with ``progress_every_s``, says so (``say``) that often."""
+
+    def __init__(
+        self,
+        session: zenoh.Session,
+        progress_every_s: float | None = None,
+        say: Callable[[str], None] = print,
+    ) -> None:
+        self._session = session
+        self._every_s = progress_every_s
+        self._say = say
+        self.poses = self.deletes = 0
+        self._started = self._said = time.monotonic()
+
+    def __call__(self, key: str, payload: bytes | None) -> None:
+        if payload is None:
+            self._session.delete(key, congestion_control=zenoh.CongestionControl.BLOCK)
+            self.deletes += 1
+        else:
+            self._session.put(
+                key,
+                payload,
+                encoding=zenoh.Encoding.APPLICATION_JSON,
+                congestion_control=zenoh.CongestionControl.BLOCK,
+            )
+            self.poses += 1
+        if self._every_s is not None and (now := time.monotonic()) - self._said >= self._every_s:
+            self._said = now
+            rate = self.poses / (now - self._started)
+            self._say(f"published {self.poses} poses ({rate:.0f}/s) and {self.deletes} deletes")
 
 
 @dataclass(frozen=True)

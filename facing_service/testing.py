@@ -7,43 +7,19 @@ reached by, anything else on the network.
 
 from __future__ import annotations
 
-import json
 import os
 import signal
-import socket
 import subprocess
 import sys
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
-import zenoh
+from .loopback import endpoint, free_port, loopback_config
+
+__all__ = ["LOOPBACK_FLAGS", "endpoint", "free_port", "loopback_config", "running_cli"]
 
 #: Flags that keep a service process on loopback and quick to start.
 LOOPBACK_FLAGS = ("--no-multicast-scouting", "--cfg", "scouting/delay:0")
-
-
-def free_port() -> int:
-    """A TCP port free on 127.0.0.1 right now."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def endpoint(port: int) -> str:
-    return f"tcp/127.0.0.1:{port}"
-
-
-def loopback_config(
-    listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str = "peer"
-) -> zenoh.Config:
-    """A zenoh config for a session that only uses the given loopback endpoints."""
-    conf = zenoh.Config()
-    conf.insert_json5("mode", json.dumps(mode))
-    conf.insert_json5("scouting/multicast/enabled", "false")
-    conf.insert_json5("scouting/delay", "0")
-    conf.insert_json5("listen/endpoints", json.dumps(list(listen)))
-    conf.insert_json5("connect/endpoints", json.dumps(list(connect)))
-    return conf
 
 
 @contextmanager

@@ -11,6 +11,7 @@ from zenoh: results through a ``FacingClient``, positions and headings from the 
 from __future__ import annotations
 
 import contextlib
+import io
 import json
 import math
 import re
@@ -18,10 +19,12 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import zenoh
-from rich.console import Group, RenderableType
+from rich.console import Console, Group, RenderableType
+from rich.live import Live
 from rich.panel import Panel
 from rich.table import Table
 from rich.text import Text
@@ -217,3 +220,18 @@ class Watcher:
 
     def view(self) -> RenderableType:
         return render(self.people(), self.frame)
+
+    def live(self, keep_going: Callable[[], bool], period_s: float = 0.1) -> None:
+        """Redraw in the terminal every ``period_s`` while ``keep_going()``; the last
+        frame stays on screen."""
+        with Live(self.view(), refresh_per_second=1 / period_s) as screen:
+            while keep_going():
+                time.sleep(period_s)
+                screen.update(self.view())
+            screen.update(self.view())
+
+    def save_svg(self, path: Path) -> None:
+        """The current frame as an SVG image (rich's export), e.g. for documentation."""
+        console = Console(record=True, width=100, file=io.StringIO())
+        console.print(self.view())
+        console.save_svg(str(path), title="facing-service watch")

@@ -6,6 +6,7 @@ import itertools
 import math
 
 import numpy as np
+import pytest
 
 from facing_service.detector import classify
 from facing_service.schemas import Pose, decode_pose
@@ -61,16 +62,35 @@ def test_jitter_like_a_tracker():
     assert np.median(steps) > 0.5  # degrees of noise from one frame to the next
 
 
+class FakeTime:
+    """The simulator's clock, advanced by its own sleeps: a 20 s scene takes no 20 s."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+        self.slept = 0.0
+
+    def clock(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        self.now += seconds
+        self.slept += seconds
+
+
 def test_simulate_publishes_valid_poses_and_deletes():
     published: list[tuple[str, bytes | None]] = []
+    time = FakeTime()
     frames = simulate(
         lambda key, payload: published.append((key, payload)),
         Scene(people=3, seed=1),
         "base_link",
-        rate_hz=1000.0,  # as fast as possible: a 20 s scene in a blink
+        rate_hz=1000.0,
         duration_s=20.0,
+        clock=time.clock,
+        sleep=time.sleep,
     )
     assert frames == 20_000
+    assert time.slept == pytest.approx(20.0)  # paced in real time, on the clock it is given
     puts = [(k, p) for k, p in published if p is not None]
     deletes = [k for k, p in published if p is None]
     assert deletes and all(k.endswith("/pose/base_link") for k in deletes)

@@ -1,0 +1,35 @@
+"""zenoh on loopback: a free port, an endpoint, a session config that reaches nothing
+else. The demo embeds a whole deployment this way; tests and benchmarks use the same
+helpers through ``facing_service.testing``."""
+
+from __future__ import annotations
+
+import json
+import socket
+from collections.abc import Sequence
+
+import zenoh
+
+
+def free_port() -> int:
+    """A TCP port free on 127.0.0.1 right now."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def endpoint(port: int) -> str:
+    return f"tcp/127.0.0.1:{port}"
+
+
+def loopback_config(
+    listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str = "peer"
+) -> zenoh.Config:
+    """A zenoh config for a session that only uses the given loopback endpoints."""
+    conf = zenoh.Config()
+    conf.insert_json5("mode", json.dumps(mode))
+    conf.insert_json5("scouting/multicast/enabled", "false")
+    conf.insert_json5("scouting/delay", "0")
+    conf.insert_json5("listen/endpoints", json.dumps(list(listen)))
+    conf.insert_json5("connect/endpoints", json.dumps(list(connect)))
+    return conf
