@@ -15,7 +15,6 @@ import os
 import signal
 import sys
 import threading
-import time
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from types import FrameType
@@ -36,17 +35,15 @@ from .config import (
     flag_info,
     flag_name,
     load_settings,
-    probe_config,
     shown_default,
     zenoh_config,
 )
 from .demo import run_demo
-from .disclosure import public_endpoint, public_zenoh_error
-from .record import Recording, bag_folder
-from .ros2_wire import RosFormat, Wire
+from .disclosure import public_zenoh_error
+from .record import replay_refusal
 from .router import router_config, serve
 from .schemas import json_schemas
-from .service import FacingService
+from .service import run_until
 from .sim import Scene, TrackerPublisher, simulate
 from .watch import Watcher, natural_order
 
@@ -62,9 +59,6 @@ _ZENOH_LEVELS = {
     "ERROR": "error",
     "CRITICAL": "error",
 }
-
-#: The health check's own zenoh config file, in place of FACING_CONFIG and FACING_CFG.
-HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
 
 
 def _default(field: str) -> str:
@@ -342,97 +336,11 @@ def _run(args: argparse.Namespace) -> int:
     if settings is None:
         return 2
     _log_to_stderr(settings)
-    stop = _stop_on_signals()
-    service = FacingService(settings)
-    failure: list[zenoh.ZError] = []
-    opened = threading.Event()
-
-    def start() -> None:
-        try:
-            service.start()
-        except zenoh.ZError as error:
-            failure.append(error)
-        finally:
-            opened.set()
-
-    # zenoh.open can wait indefinitely (a client with connect/timeout_ms:-1 waits for its
-    # router) inside native code, where Python never runs signal handlers; so it runs on a
-    # helper thread and this one stays responsive to SIGTERM and Ctrl-C.
-    threading.Thread(target=start, name="facing-open", daemon=True).start()
-    while not opened.wait(0.1):
-        if stop.is_set():  # nothing is open yet, so nothing to close
-            log.info("stopped before zenoh connected")
-            logging.shutdown()
-            os._exit(0)  # the helper thread is stuck in zenoh.open; do not wait for it
-    if failure:
-        print(
-            f"facing-service: cannot start zenoh: {public_zenoh_error(failure[0])}", file=sys.stderr
-        )
-        return 1
-    try:
-        _warn_while_unreachable(service, settings, stop)
-    finally:
-        service.close()
-    log.info("stopped")
-    return 0
-
-
-#: How often ``run`` says that its connect endpoints are still unreachable.
-UNREACHABLE_WARNING_S = 10.0
-
-
-def _warn_while_unreachable(
-    service: FacingService, settings: Settings, stop: threading.Event
-) -> None:
-    """Until ``stop``: zenoh retries unreachable endpoints forever and says nothing, so
-    ``run`` says it, every UNREACHABLE_WARNING_S while the session has nobody."""
-    while not stop.wait(UNREACHABLE_WARNING_S):
-        links = service.connected()
-        if settings.connect and not (links["routers"] or links["peers"]):
-            log.warning(
-                "no router or peer reachable at %s yet (zenoh keeps trying); results reach "
-                "nobody meanwhile",
-                ", ".join(public_endpoint(e) for e in settings.connect),
-            )
+    return run_until(settings, _stop_on_signals())
 
 
 def _health(args: argparse.Namespace) -> int:
-    instance = args.instance or os.environ.get(env_name("instance")) or "*"
-    flags, environ = {**vars(args), "instance": None}, dict(os.environ)
-    identity = args.health_config or os.environ.get(HEALTH_CONFIG_ENV) or None
-    if identity:  # its own identity: the service's file and --cfg (credentials) stay out
-        flags |= {"config": Path(identity), "cfg": None}
-        environ.pop(env_name("config"), None)
-        environ.pop(env_name("cfg"), None)
-    try:
-        settings = load_settings(flags, environ)
-        if instance != "*":
-            keys.validate_name(instance, "instance")
-        config = probe_config(settings)
-    except (SettingsError, ValueError) as error:
-        print(f"facing-service health: invalid setting: {error}", file=sys.stderr)
-        return 2
-    try:
-        with zenoh.open(config) as session:
-            answers = health.statuses(session, settings.namespace, instance, args.timeout)
-    except zenoh.ZError as error:
-        print(
-            f"facing-service health: cannot reach zenoh: {public_zenoh_error(error)}",
-            file=sys.stderr,
-        )
-        return 1
-    for status in answers:
-        print(status.model_dump_json())
-    if not answers:
-        selector = keys.status_key(settings.namespace, instance)
-        hint = (
-            ""
-            if identity
-            else " (under access control, give the health check an identity allowed to "
-            f"query it: {HEALTH_CONFIG_ENV} or --health-config)"
-        )
-        print(f"facing-service health: no answer on {selector}{hint}", file=sys.stderr)
-    return 0 if any(status.status == "ok" for status in answers) else 1
+    return health.check(vars(args), os.environ, args.instance, args.health_config, args.timeout)
 
 
 def _router(args: argparse.Namespace) -> int:
@@ -450,52 +358,16 @@ def _router(args: argparse.Namespace) -> int:
 
 
 def _replay(args: argparse.Namespace) -> int:
-    if not args.bag.exists():
-        print(
-            f"facing-service replay: BAG {str(args.bag)!r}: no such file or folder", file=sys.stderr
-        )
+    refused = replay_refusal(args.bag, args.record)
+    if refused:
+        print(f"facing-service replay: {refused}", file=sys.stderr)
         return 2
-    if args.record is not None:
-        folder = bag_folder(args.record)
-        if folder.exists() or not folder.parent.is_dir():
-            why = (
-                f"{folder} exists (a recording never overwrites)"
-                if folder.exists()
-                else ("no such folder")
-            )
-            print(f"facing-service replay: --record {str(args.record)!r}: {why}", file=sys.stderr)
-            return 2
     settings = _session_settings(args)
     if settings is None:
         return 2
-    from .replay import Replay  # rosbags: only for the commands that read bags
+    from .replay import replay  # rosbags: only for the commands that read bags
 
-    stop = _stop_on_signals()
-    wire = Wire(RosFormat(settings.ros_format), settings.ros_domain_id, settings.ros_namespace)
-    where = f"domain {wire.domain_id}, " if wire.format is RosFormat.RMW_ZENOH else ""
-    namespace = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
-    print(
-        f"replaying {args.bag} at {args.rate:g}x in {wire.format.value} format ({where}{namespace})"
-    )
-    try:
-        with zenoh.open(zenoh_config(settings)) as session, Replay(session, args.bag, wire) as bag:
-            recording = Recording(session, wire, args.record) if args.record else None
-            stats = bag.run(args.rate, should_stop=stop.is_set)
-            if recording is not None:
-                time.sleep(0.5)  # the service's last answers on their way
-                recorded, topics = recording.close()
-                print(f"recorded {recorded} messages on {topics} topics to {recording.path}")
-    except zenoh.ZError as error:
-        print(f"facing-service replay: {public_zenoh_error(error)}", file=sys.stderr)
-        return 1
-    except Exception as error:  # rosbags' errors for a folder that is not a bag
-        print(f"facing-service replay: {args.bag}: {error}", file=sys.stderr)
-        return 1
-    print(
-        f"sent {stats.messages} messages on {stats.topics} topics ({stats.duration_s:.1f} s "
-        f"recorded) in {stats.elapsed_s:.1f} s"
-    )
-    return 0
+    return replay(settings, args.bag, args.rate, args.record, _stop_on_signals())
 
 
 def _simulate(args: argparse.Namespace) -> int:

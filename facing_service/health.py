@@ -8,11 +8,17 @@ token, then asks for the status until an answer or the time-out.
 
 from __future__ import annotations
 
+import sys
 import time
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
 
 import zenoh
 
 from . import keys
+from .config import SettingsError, env_name, load_settings, probe_config
+from .disclosure import public_zenoh_error
 from .schemas import ServiceStatus
 
 
@@ -42,3 +48,56 @@ def ask(
         for reply in session.get(keys.status_key(namespace, instance), timeout=timeout)
         if reply.ok is not None
     ]
+
+
+#: A zenoh config file for the health check's own identity (``--health-config``).
+HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
+
+
+def check(
+    flags: Mapping[str, Any],
+    environ: Mapping[str, str],
+    instance: str | None,
+    health_config: str | None,
+    timeout: float,
+) -> int:
+    """``facing-service health``: print every answering service's status; the exit code
+    (0: one is ok, 1: none answers ok, 2: a bad setting). With its own identity
+    (``health_config``), the service's config file and ``--cfg`` (its credentials) stay
+    out of the check's session."""
+    instance = instance or environ.get(env_name("instance")) or "*"
+    flags, environ = {**flags, "instance": None}, dict(environ)
+    identity = health_config or environ.get(HEALTH_CONFIG_ENV) or None
+    if identity:  # its own identity: the service's file and --cfg (credentials) stay out
+        flags |= {"config": Path(identity), "cfg": None}
+        environ.pop(env_name("config"), None)
+        environ.pop(env_name("cfg"), None)
+    try:
+        settings = load_settings(flags, environ)
+        if instance != "*":
+            keys.validate_name(instance, "instance")
+        config = probe_config(settings)
+    except (SettingsError, ValueError) as error:
+        print(f"facing-service health: invalid setting: {error}", file=sys.stderr)
+        return 2
+    try:
+        with zenoh.open(config) as session:
+            answers = statuses(session, settings.namespace, instance, timeout)
+    except zenoh.ZError as error:
+        print(
+            f"facing-service health: cannot reach zenoh: {public_zenoh_error(error)}",
+            file=sys.stderr,
+        )
+        return 1
+    for status in answers:
+        print(status.model_dump_json())
+    if not answers:
+        selector = keys.status_key(settings.namespace, instance)
+        hint = (
+            ""
+            if identity
+            else " (under access control, give the health check an identity allowed to "
+            f"query it: {HEALTH_CONFIG_ENV} or --health-config)"
+        )
+        print(f"facing-service health: no answer on {selector}{hint}", file=sys.stderr)
+    return 0 if any(status.status == "ok" for status in answers) else 1

@@ -34,6 +34,20 @@ def bag_folder(out: Path) -> Path:
     return out.with_suffix("") if out.suffix == ".mcap" else out
 
 
+def replay_refusal(bag: Path, record: Path | None) -> str | None:
+    """Why ``replay BAG [--record OUT]`` cannot start (one line naming the argument), or
+    None. Checked before anything opens: a recording never overwrites."""
+    if not bag.exists():
+        return f"BAG {str(bag)!r}: no such file or folder"
+    if record is not None:
+        folder = bag_folder(record)
+        if folder.exists():
+            return f"--record {str(record)!r}: {folder} exists (a recording never overwrites)"
+        if not folder.parent.is_dir():
+            return f"--record {str(record)!r}: no such folder"
+    return None
+
+
 class Recording:
     """Subscribes to the service's ROS 2 output on ``session``; ``close`` writes the bag
     and returns how many messages it holds."""

@@ -12,6 +12,8 @@ publisher GID). Everything is sent with BLOCK: a replay loses nothing.
 from __future__ import annotations
 
 import os
+import sys
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -24,8 +26,11 @@ from rosbags.highlevel import AnyReader
 from rosbags.interfaces import Qos, QosDurability
 
 from . import ros2_types
+from .config import Settings, zenoh_config
+from .disclosure import public_zenoh_error
+from .record import Recording
 from .ros2_output import CDR, TopicWriter
-from .ros2_wire import GID_SIZE, Wire
+from .ros2_wire import GID_SIZE, RosFormat, Wire
 
 
 @dataclass
@@ -109,3 +114,33 @@ class Replay:
 
     def __exit__(self, *_exc: object) -> None:
         self.close()
+
+
+def replay(
+    settings: Settings, bag: Path, rate: float, record: Path | None, stop: threading.Event
+) -> int:
+    """``facing-service replay``: play ``bag`` until it ends or ``stop``; with ``record``,
+    also record what the service answers. Returns the exit code."""
+    wire = Wire(RosFormat(settings.ros_format), settings.ros_domain_id, settings.ros_namespace)
+    where = f"domain {wire.domain_id}, " if wire.format is RosFormat.RMW_ZENOH else ""
+    namespace = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
+    print(f"replaying {bag} at {rate:g}x in {wire.format.value} format ({where}{namespace})")
+    try:
+        with zenoh.open(zenoh_config(settings)) as session, Replay(session, bag, wire) as player:
+            recording = Recording(session, wire, record) if record else None
+            stats = player.run(rate, should_stop=stop.is_set)
+            if recording is not None:
+                time.sleep(0.5)  # the service's last answers on their way
+                recorded, topics = recording.close()
+                print(f"recorded {recorded} messages on {topics} topics to {recording.path}")
+    except zenoh.ZError as error:
+        print(f"facing-service replay: {public_zenoh_error(error)}", file=sys.stderr)
+        return 1
+    except Exception as error:  # rosbags' errors for a folder that is not a bag
+        print(f"facing-service replay: {bag}: {error}", file=sys.stderr)
+        return 1
+    print(
+        f"sent {stats.messages} messages on {stats.topics} topics ({stats.duration_s:.1f} s "
+        f"recorded) in {stats.elapsed_s:.1f} s"
+    )
+    return 0

@@ -29,6 +29,8 @@ merely slower than the burst, and made nothing faster; see benchmarks.)
 from __future__ import annotations
 
 import logging
+import os
+import sys
 import threading
 import time
 from collections.abc import Callable
@@ -39,7 +41,7 @@ import zenoh
 
 from . import __version__, keys
 from .config import Settings, mode_and_endpoints, zenoh_config
-from .disclosure import public_endpoint, public_settings
+from .disclosure import public_endpoint, public_settings, public_zenoh_error
 from .intake import Intake
 from .ledger import Ledger
 from .outbox import Outbox, Publication
@@ -470,3 +472,58 @@ class FacingService:
                 query.reply(key, payload, encoding=JSON)
         query.drop()
         self._ledger.count("queries_answered")
+
+
+def run_until(settings: Settings, stop: threading.Event) -> int:
+    """``facing-service run``: the service until ``stop``; the process's exit code."""
+    service = FacingService(settings)
+    failure: list[zenoh.ZError] = []
+    opened = threading.Event()
+
+    def start() -> None:
+        try:
+            service.start()
+        except zenoh.ZError as error:
+            failure.append(error)
+        finally:
+            opened.set()
+
+    # zenoh.open can wait indefinitely (a client with connect/timeout_ms:-1 waits for its
+    # router) inside native code, where Python never runs signal handlers; so it runs on a
+    # helper thread and this one stays responsive to SIGTERM and Ctrl-C.
+    threading.Thread(target=start, name="facing-open", daemon=True).start()
+    while not opened.wait(0.1):
+        if stop.is_set():  # nothing is open yet, so nothing to close
+            log.info("stopped before zenoh connected")
+            logging.shutdown()
+            os._exit(0)  # the helper thread is stuck in zenoh.open; do not wait for it
+    if failure:
+        print(
+            f"facing-service: cannot start zenoh: {public_zenoh_error(failure[0])}", file=sys.stderr
+        )
+        return 1
+    try:
+        warn_while_unreachable(service, settings, stop)
+    finally:
+        service.close()
+    log.info("stopped")
+    return 0
+
+
+#: How often ``run`` says that its connect endpoints are still unreachable.
+UNREACHABLE_WARNING_S = 10.0
+
+
+def warn_while_unreachable(
+    service: FacingService, settings: Settings, stop: threading.Event
+) -> None:
+    """Until ``stop``: zenoh retries unreachable endpoints forever and says nothing, so
+    ``run`` says it, every UNREACHABLE_WARNING_S while the session has nobody."""
+    while not stop.wait(UNREACHABLE_WARNING_S):
+        links = service.connected()
+        if settings.connect and not (links["routers"] or links["peers"]):
+            log.warning(
+                "no router or peer reachable at %s yet (zenoh keeps trying); results reach "
+                "nobody meanwhile",
+                ", ".join(public_endpoint(e) for e in settings.connect),
+            )

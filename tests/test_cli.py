@@ -158,11 +158,11 @@ def test_simulate_says_what_it_publishes(net):
 
 
 def test_run_warns_while_its_endpoints_stay_unreachable(monkeypatch, caplog):
-    from facing_service import cli
+    from facing_service import service as shell
     from facing_service.config import Settings
     from facing_service.service import FacingService
 
-    monkeypatch.setattr(cli, "UNREACHABLE_WARNING_S", 0.2)
+    monkeypatch.setattr(shell, "UNREACHABLE_WARNING_S", 0.2)
     settings = Settings(
         connect=[endpoint(free_port())], no_multicast_scouting=True, cfg=["scouting/delay:0"]
     )
@@ -170,7 +170,7 @@ def test_run_warns_while_its_endpoints_stay_unreachable(monkeypatch, caplog):
     with FacingService(settings) as service:
         timer = threading.Timer(0.7, stop.set)
         timer.start()
-        cli._warn_while_unreachable(service, settings, stop)
+        shell.warn_while_unreachable(service, settings, stop)
     assert "no router or peer reachable at tcp/127.0.0.1:" in caplog.text
 
 
