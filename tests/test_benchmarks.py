@@ -8,6 +8,11 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
+
+
 ROOT = Path(__file__).resolve().parent.parent
 
 

@@ -19,6 +19,7 @@ from loopback import endpoint, free_port, get, send, wait_until_answered
 from poses import pose_json
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
 def test_signal_stops_the_real_process_cleanly(net, signum):
     port = free_port()
@@ -77,6 +78,7 @@ def test_export_schemas_writes_every_schema(tmp_path):
     assert "status.schema.json" in written and "pose.schema.json" in written
 
 
+@pytest.mark.slow
 def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
     """With connect/timeout_ms:-1 (as compose.yaml sets), zenoh.open waits for a router
     that may never come; SIGTERM must still end the process at once (docker stop)."""
@@ -133,6 +135,7 @@ def test_every_number_path_and_endpoint_is_checked_in_one_line(args, message):
     assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
 
 
+@pytest.mark.slow
 def test_simulate_says_what_it_publishes(net):
     _, ep = net.service()
     proc = subprocess.run(
@@ -174,9 +177,10 @@ def test_run_warns_while_its_endpoints_stay_unreachable(monkeypatch, caplog):
     assert "no router or peer reachable at tcp/127.0.0.1:" in caplog.text
 
 
+@pytest.mark.slow
 def test_log_level_reaches_zenohs_own_log_but_never_its_debug(monkeypatch):
     """--log-level DEBUG shows zenoh's own log (its info level), never zenoh's debug,
-    which prints the session's config, secrets included (see test_secure)."""
+    which prints the session's config, secrets included (see test_router_secure)."""
     # An unreachable endpoint: zenoh itself has something to say about it.
     flags = ("-e", endpoint(free_port()), *LOOPBACK_FLAGS, "--log-level", "DEBUG")
     monkeypatch.delenv("RUST_LOG", raising=False)  # set, it would decide instead

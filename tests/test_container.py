@@ -18,6 +18,9 @@ import pytest
 from loopback import endpoint, free_port, get, send, wait_until_answered
 from poses import pose_json
 
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
+
+
 IMAGE = os.environ.get("FACING_TEST_IMAGE")
 
 if not IMAGE:

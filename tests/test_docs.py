@@ -1,6 +1,6 @@
 """The documentation states facts the code owns; these tests keep the two equal. (The
 commands the docs show are checked in test_docs_commands.py; the performance tables in
-test_benchmarks.py; the security recipe in test_secure.py.)"""
+test_benchmarks.py; the security recipe in test_router_secure.py.)"""
 
 from __future__ import annotations
 

@@ -9,6 +9,7 @@ import sys
 import threading
 import time
 
+import pytest
 import zenoh
 
 from facing_service import __version__
@@ -70,6 +71,7 @@ def health(*flags: str, env: dict[str, str]) -> subprocess.CompletedProcess:
     )
 
 
+@pytest.mark.slow
 def test_health_command_configured_like_a_container(net):
     """Only FACING_* variables, the same as the service's: health must not take the
     service's listen port, and finds the service through it on loopback."""

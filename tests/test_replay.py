@@ -36,6 +36,7 @@ def test_bad_arguments_exit_2_with_one_line(args, message):
     assert len(proc.stderr.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_replay_feeds_the_service_like_the_robot_did(net):
     """Bridge format this time (the evaluation runs rmw_zenoh's): the recording's person
     becomes ENGAGED, and nothing the robot sent is refused."""

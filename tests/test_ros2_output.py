@@ -23,6 +23,9 @@ from facing_service.tracker import Changes, EngagementUpdate
 
 from loopback import endpoint
 
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
+
+
 RECORDING = BAGS / "1p_AA_eng_1"  # one person, rorql, labelled ENGAGED
 TWO_PEOPLE = BAGS / "2p_AA_FV_eng_1"  # eloek and ghfbv, both labelled ENGAGED
 STANDARD_MSGS = {  # ROS 2's own definitions, for the SDK's offline registry

@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
 from rich.console import Console
 
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
@@ -15,6 +16,9 @@ from facing_service.watch import PersonView, arrow, render
 
 from loopback import endpoint, free_port, send, wait_until_answered
 from poses import pose_json
+
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
+
 
 ROOT = Path(__file__).resolve().parent.parent
 

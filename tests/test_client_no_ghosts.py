@@ -11,8 +11,9 @@ import statistics
 import threading
 import time
 
+import pytest
 import zenoh
-from test_engagement_service import replay
+from test_service_engagement import replay
 
 from benchmarks.common import rss_mb
 from facing_service import FacingClient
@@ -21,6 +22,8 @@ from facing_service.testing import LOOPBACK_FLAGS, loopback_config, running_cli
 from loopback import endpoint, get, send, send_delete, wait_until_answered
 from poses import pose_json
 from proxy import Proxy
+
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
 
 def test_a_silent_bodys_level_reaches_disengaged_on_time(net):

@@ -28,6 +28,9 @@ from loopback import Recorder, get, send, send_delete, wait_until_answered
 from poses import pose_json
 from routers import wait_for_port
 
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
+
+
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "secure"
 ROLES = ("tracker", "facing-service", "consumer", "health")
 PASSWORDS = {  # as examples/secure ships them (credentials.txt and the client configs)

@@ -6,12 +6,15 @@ import threading
 import time
 from collections.abc import Callable
 
+import pytest
 import zenoh
 
 from facing_service.service import FacingService
 
 from loopback import get, send, send_delete, wait_until_answered
 from poses import pose_json
+
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
 FRAME_KEY = "hri/facing/cam"
 

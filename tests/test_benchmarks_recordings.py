@@ -8,6 +8,8 @@ import pytest
 
 from benchmarks.recordings import REFERENCE_FIGURES, evaluate, print_table
 
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
+
 
 @pytest.fixture(scope="module")
 def results():

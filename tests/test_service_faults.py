@@ -6,10 +6,14 @@ import signal
 import threading
 import time
 
+import pytest
+
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint, free_port, get, send, wait_until_answered
 from poses import pose_json
+
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
 FRAME_KEY = "hri/facing/cam"
 

@@ -8,12 +8,15 @@ import threading
 import time
 from contextlib import ExitStack
 
+import pytest
 import zenoh
 
 from facing_service.testing import running_cli
 
 from loopback import endpoint, get, send, wait_until_answered
 from poses import pose_json
+
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
 ROBOTS = ("robot1", "robot2", "robot3")
 
