@@ -23,7 +23,7 @@ from pathlib import Path
 
 import zenoh
 
-from facing_service import __version__
+from facing_service import __version__, keys
 from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
 
 from . import core
@@ -52,7 +52,7 @@ def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]
 def wait_ready(session: zenoh.Session, timeout: float = 20.0) -> None:
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        if any(r.ok for r in session.get("hri/services/**", timeout=0.5)):
+        if any(r.ok for r in session.get(keys.status_key("hri", keys.ALL_FRAMES), timeout=0.5)):
             return
         time.sleep(0.05)
     raise SystemExit("the target never became ready")

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import zenoh
 
-from facing_service import ros2_types
-from facing_service.schemas import ServiceStatus
+from facing_service import keys, ros2_types
+from facing_service.schemas import ServiceStatus, pose_dict, yaw_rotation
 from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
 
 __all__ = ["free_port", "loopback_config"]  # re-exported for the scripts
@@ -27,17 +27,7 @@ def rss_mb(pid: int) -> float:
 
 
 def pose_payload(body: str, frame: str, x: float, y: float, yaw_deg: float, sec: int) -> bytes:
-    half = math.radians(yaw_deg) / 2
-    return json.dumps(
-        {
-            "header": {"stamp": {"sec": sec, "nanosec": 0}, "frame_id": frame},
-            "child_frame_id": f"body_{body}",
-            "transform": {
-                "translation": {"x": x, "y": y, "z": 0.0},
-                "rotation": {"x": 0.0, "y": 0.0, "z": math.sin(half), "w": math.cos(half)},
-            },
-        }
-    ).encode()
+    return json.dumps(pose_dict(body, frame, (sec, 0), (x, y, 0.0), yaw_rotation(yaw_deg))).encode()
 
 
 def tf_payload(body: str, frame: str, x: float, y: float, yaw_deg: float, sec: int) -> bytes:
@@ -76,7 +66,7 @@ def send(session: zenoh.Session, key: str, payload: bytes) -> None:
 
 
 def status(session: zenoh.Session, timeout: float = 2.0) -> ServiceStatus | None:
-    for reply in session.get("hri/services/facing/*/status", timeout=timeout):
+    for reply in session.get(keys.status_key("hri", "*"), timeout=timeout):
         if reply.ok is not None:
             return ServiceStatus.model_validate_json(reply.ok.payload.to_bytes())
     return None

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import zenoh
 
-from facing_service import ros2_types
+from facing_service import keys, ros2_types
 from facing_service.ros2_wire import GID_SIZE, Wire, attachment
 
 from .common import ids_payload, pose_payload, rss_mb, tf_payload
@@ -82,7 +82,7 @@ class Driver:
         self._sequence_number = 0
         self.results = _Results(body_prefix="body_" if ros else "")
         self._subscriber = session.declare_subscriber(
-            f"{namespace}/bodies/*/facing/*", self.results.on_sample
+            keys.facing_key(namespace, "*", "*"), self.results.on_sample
         )
         self._payloads: dict[tuple[int, int, int], bytes] = {}
 
@@ -102,7 +102,7 @@ class Driver:
             key = self._wire.key("/tf", ros2_types.TF_MESSAGE)
             self._send(key, tf_payload(f"b{body}", "base_link", x, y, yaw, sec))
         else:
-            key = f"{self.ns}/bodies/b{body}/pose/base_link"
+            key = keys.pose_key(self.ns, f"b{body}", "base_link")
             self._send(key, pose_payload(f"b{body}", "base_link", x, y, yaw, sec))
 
     def _send(self, key: str, payload: bytes) -> None:
@@ -161,9 +161,11 @@ class Driver:
 
     def service_counters(self) -> dict[str, int]:
         """The service's own view of a run (where a loss happened); empty for the relay."""
-        for reply in self.session.get(f"{self.ns}/services/facing/*/status", timeout=2):
+        for reply in self.session.get(keys.status_key(self.ns, "*"), timeout=2):
             if reply.ok is not None:
-                counters = json.loads(reply.ok.payload.to_bytes())["counters"]
+                counters = json.loads(reply.ok.payload.to_bytes()).get("counters")
+                if counters is None:  # the relay's readiness answer: no counters
+                    continue
                 wanted = ("samples_accepted", "results_published", "results_superseded")
                 return {f"service_{k}": counters[k] for k in wanted}
         return {}

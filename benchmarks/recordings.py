@@ -33,7 +33,7 @@ from pathlib import Path
 
 import zenoh
 
-from facing_service import ros2_types
+from facing_service import keys, ros2_types
 from facing_service.config import Settings
 from facing_service.engagement import Level, VoteWindow, visual_social_engagement
 from facing_service.people import People
@@ -170,7 +170,7 @@ def service_timelines(
 def _wait_for_service(session: zenoh.Session, timeout: float = 10.0) -> None:
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        if any(r.ok for r in session.liveliness().get("hri/services/facing/*", timeout=0.5)):
+        if any(r.ok for r in session.liveliness().get(keys.service_token("hri", "*"), timeout=0.5)):
             return
         time.sleep(0.05)
     raise RuntimeError("the service never came up")

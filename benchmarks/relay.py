@@ -14,6 +14,7 @@ import signal
 
 import zenoh
 
+from facing_service import keys
 from facing_service.testing import loopback_config
 
 
@@ -27,16 +28,16 @@ def main() -> None:
 
         def relay(sample: zenoh.Sample) -> None:
             session.put(
-                str(sample.key_expr).replace("/pose/", "/facing/", 1),
+                keys.facing_key(args.namespace, *keys.body_and_frame(str(sample.key_expr))),
                 sample.payload,
                 encoding=zenoh.Encoding.APPLICATION_JSON,
                 congestion_control=zenoh.CongestionControl.BLOCK,
             )
 
-        subscriber = session.declare_subscriber(f"{args.namespace}/bodies/*/pose/*", relay)
+        subscriber = session.declare_subscriber(keys.pose_key(args.namespace, "*", "*"), relay)
         # a queryable so the driver can tell when the relay is up, like the service's status
         ready = session.declare_queryable(
-            f"{args.namespace}/services/relay/status",
+            keys.status_key(args.namespace, "relay"),
             lambda q: (q.reply(q.key_expr, b"{}"), q.drop()),
         )
         signal.sigwait({signal.SIGTERM, signal.SIGINT})

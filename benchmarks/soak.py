@@ -16,6 +16,8 @@ import time
 
 import zenoh
 
+from facing_service import keys
+
 from .common import (
     free_port,
     loopback_config,
@@ -58,7 +60,7 @@ def main() -> None:
         for i in range(args.ids):
             send(
                 tracker,
-                f"hri/bodies/id{i}/pose/map",
+                keys.pose_key("hri", f"id{i}", "map"),
                 pose_payload(f"id{i}", "map", 2.0, 0.0, 180.0, 1),
             )
             sent += 1
@@ -72,7 +74,11 @@ def main() -> None:
         rng = random.Random(7)
         started = time.monotonic()
         for i in range(args.garbage):
-            send(tracker, f"hri/bodies/g{i % 50}/pose/map", rng.randbytes(rng.randrange(1, 300)))
+            send(
+                tracker,
+                keys.pose_key("hri", f"g{i % 50}", "map"),
+                rng.randbytes(rng.randrange(1, 300)),
+            )
         sent += args.garbage
         wait_until_handled(tracker, sent)
         garbage_s = time.monotonic() - started

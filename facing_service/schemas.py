@@ -105,6 +105,33 @@ class FacingState(BaseModel):
     )
 
 
+def pose_dict(
+    body_id: str,
+    frame_id: str,
+    stamp: tuple[int, int],
+    translation: tuple[float, float, float],
+    rotation: tuple[float, float, float, float],
+) -> dict[str, Any]:
+    """The input contract's payload as a tracker publishes it (``TransformStamped``-shaped:
+    ``body_<id>`` in ``frame_id``): the one builder the simulator, the benchmarks and the
+    tests use."""
+    (x, y, z), (qx, qy, qz, qw) = translation, rotation
+    return {
+        "header": {"stamp": {"sec": stamp[0], "nanosec": stamp[1]}, "frame_id": frame_id},
+        "child_frame_id": f"body_{body_id}",
+        "transform": {
+            "translation": {"x": x, "y": y, "z": z},
+            "rotation": {"x": qx, "y": qy, "z": qz, "w": qw},
+        },
+    }
+
+
+def yaw_rotation(yaw_deg: float) -> tuple[float, float, float, float]:
+    """The unit quaternion of a turn of ``yaw_deg`` about z."""
+    half = math.radians(yaw_deg) / 2.0
+    return (0.0, 0.0, math.sin(half), math.cos(half))
+
+
 def facing_state_json(
     body_id: str,
     frame_id: str,

@@ -20,6 +20,7 @@ from enum import Enum
 import zenoh
 
 from . import keys
+from .schemas import pose_dict, yaw_rotation
 
 #: The area people move in around the robot (metres, base frame; the robot at the origin).
 AREA_M = 4.0
@@ -171,16 +172,14 @@ class Scene:
 
 def pose_message(pose: TrackedPose, frame_id: str) -> bytes:
     """The tracker's payload: a TransformStamped of ``body_<id>`` in ``frame_id``."""
-    half = math.radians(pose.yaw_deg) / 2
     return json.dumps(
-        {
-            "header": {"stamp": {"sec": pose.sec, "nanosec": pose.nanosec}, "frame_id": frame_id},
-            "child_frame_id": f"body_{pose.body_id}",
-            "transform": {
-                "translation": {"x": pose.x, "y": pose.y, "z": 0.0},
-                "rotation": {"x": 0.0, "y": 0.0, "z": math.sin(half), "w": math.cos(half)},
-            },
-        }
+        pose_dict(
+            pose.body_id,
+            frame_id,
+            (pose.sec, pose.nanosec),
+            (pose.x, pose.y, 0.0),
+            yaw_rotation(pose.yaw_deg),
+        )
     ).encode()
 
 

@@ -6,10 +6,10 @@ import json
 import math
 from typing import Any
 
+from facing_service import schemas
 
-def yaw_quaternion(yaw_deg: float) -> tuple[float, float, float, float]:
-    half = math.radians(yaw_deg) / 2.0
-    return (0.0, 0.0, math.sin(half), math.cos(half))
+#: The unit quaternion of a turn about z (the library's, named as the tests use it).
+yaw_quaternion = schemas.yaw_rotation
 
 
 def toward_origin_deg(x: float, y: float) -> float:
@@ -31,15 +31,7 @@ def pose_dict(
 ) -> dict[str, Any]:
     """A TransformStamped dict; by default the body looks at the robot, turned by off_deg."""
     yaw = (toward_origin_deg(x, y) if yaw_deg is None else yaw_deg) + off_deg
-    qx, qy, qz, qw = yaw_quaternion(yaw)
-    return {
-        "header": {"stamp": {"sec": sec, "nanosec": nanosec}, "frame_id": frame_id},
-        "child_frame_id": f"body_{body_id}",
-        "transform": {
-            "translation": {"x": x, "y": y, "z": z},
-            "rotation": {"x": qx, "y": qy, "z": qz, "w": qw},
-        },
-    }
+    return schemas.pose_dict(body_id, frame_id, (sec, nanosec), (x, y, z), yaw_quaternion(yaw))
 
 
 def pose_json(body_id: str, frame_id: str, **kwargs: Any) -> bytes:
