@@ -27,8 +27,9 @@ def main() -> None:
     with zenoh.open(loopback_config(listen=[args.listen])) as session:
 
         def relay(sample: zenoh.Sample) -> None:
+            body = keys.body_of(str(sample.key_expr))
             session.put(
-                keys.facing_key(args.namespace, *keys.body_and_frame(str(sample.key_expr))),
+                keys.facing_key(args.namespace, body.body_id, body.frame_id),
                 sample.payload,
                 encoding=zenoh.Encoding.APPLICATION_JSON,
                 congestion_control=zenoh.CongestionControl.BLOCK,

@@ -13,7 +13,7 @@ import argparse
 import threading
 import time
 
-from facing_service import FacingClient, FacingState
+from facing_service import BodyRef, FacingClient, FacingState
 
 GRACE_S = 2.0  # turned away for less than this: still talking
 
@@ -34,10 +34,10 @@ class Greeter:
             if state.body_id in self.talking:
                 self.talking[state.body_id] = time.monotonic()
 
-    def lost(self, body_id: str, _frame_id: str) -> None:
+    def lost(self, body: BodyRef) -> None:
         with self.lock:
-            if self.talking.pop(body_id, "absent") != "absent":
-                print(f"goodbye {body_id}", flush=True)
+            if self.talking.pop(body.body_id, "absent") != "absent":
+                print(f"goodbye {body.body_id}", flush=True)
 
     def tick(self) -> None:
         """Say goodbye to whoever has looked away for longer than the grace period."""

@@ -34,7 +34,7 @@ log = logging.getLogger("facing_service.client")
 
 StateCallback = Callable[[FacingState], Any]
 EventCallback = Callable[[EngagementEvent], Any]
-LostCallback = Callable[[str, str], Any]  # (body_id, frame_id)
+LostCallback = Callable[[keys.BodyRef], Any]
 
 _STOP = object()
 
@@ -62,7 +62,7 @@ class FacingClient:
         self.timeout_s = timeout_s
         self._config = session_config or zenoh_config(Settings(**session_flags))
         self._lock = threading.Lock()
-        self._states: dict[tuple[str, str], FacingState] = {}  # (frame, body) -> latest
+        self._states: dict[keys.BodyRef, FacingState] = {}  # the latest result of each body
         self._on: dict[str, list[Callable[..., Any]]] = {
             "facing": [],
             "not_facing": [],
@@ -81,8 +81,8 @@ class FacingClient:
         # for each cached body the instances whose results it came from. A body no live
         # instance vouches for is lost: a dead service leaves no ghost.
         self._live: set[str] = set()
-        self._vouchers: dict[tuple[str, str], set[str]] = {}
-        self._engaged: dict[tuple[str, str], EngagementEvent] = {}  # last ENGAGED event
+        self._vouchers: dict[keys.BodyRef, set[str]] = {}
+        self._engaged: dict[keys.BodyRef, EngagementEvent] = {}  # last ENGAGED event
         self.dropped_from_dead = 0  # results of an instance with no live token, refused
 
     # -- lifecycle -------------------------------------------------------------------
@@ -193,7 +193,8 @@ class FacingClient:
         return callback
 
     def on_lost(self, callback: LostCallback) -> LostCallback:
-        """``callback(body_id, frame_id)`` when a body is lost (deleted or stale)."""
+        """``callback(body)`` (a ``keys.BodyRef``: ``body.body_id``, ``body.frame_id``) when a body
+        is lost (deleted, stale, or its last vouching service gone)."""
         self._on["lost"].append(callback)
         return callback
 
@@ -262,15 +263,15 @@ class FacingClient:
             lost = [(key, self._forget(key)) for key in orphans]
             lost_callbacks = list(self._on["lost"])
             disengaged_callbacks = list(self._on["disengaged"])
-        for (frame_id, body_id), engaged in lost:
+        for body, engaged in lost:
             if engaged is not None:
                 gone = engaged.model_copy(
                     update={"previous": engaged.level, "level": "UNKNOWN", "level_value": 0}
                 )
                 self._queue(disengaged_callbacks, (gone,))
-            self._queue(lost_callbacks, (body_id, frame_id))
+            self._queue(lost_callbacks, (body,))
 
-    def _forget(self, key: tuple[str, str]) -> EngagementEvent | None:
+    def _forget(self, key: keys.BodyRef) -> EngagementEvent | None:
         """Drop a body from the cache (lock held); its last ENGAGED event, if engaged."""
         self._states.pop(key, None)
         self._vouchers.pop(key, None)
@@ -291,12 +292,12 @@ class FacingClient:
             if sample.kind == zenoh.SampleKind.PUT:
                 self._apply(FacingState.model_validate_json(sample.payload.to_bytes()))
                 return
-            body_id, frame_id = keys.body_and_frame(str(sample.key_expr))
+            body = keys.body_of(str(sample.key_expr))
             with self._lock:
-                known = (frame_id, body_id) in self._states
-                self._forget((frame_id, body_id))
+                known = body in self._states
+                self._forget(body)
                 callbacks = list(self._on["lost"]) if known else []
-            self._queue(callbacks, (body_id, frame_id))
+            self._queue(callbacks, (body,))
         except Exception:  # a bad sample must never break the subscription
             log.exception("facing client: could not handle a sample on %s", sample.key_expr)
 
@@ -308,7 +309,7 @@ class FacingClient:
             return
         level, previous = Level[event.level], Level[event.previous]
         was_engaged = previous in (Level.ENGAGED, Level.DISENGAGING)
-        key = (event.frame_id, event.body_id)
+        key = keys.BodyRef(frame_id=event.frame_id, body_id=event.body_id)
         with self._lock:
             if event.instance is not None and event.instance not in self._live:
                 self.dropped_from_dead += 1
@@ -323,7 +324,7 @@ class FacingClient:
             self._queue(list(self._on["disengaged"]), (event,))
 
     def _apply(self, state: FacingState) -> None:
-        key = (state.frame_id, state.body_id)
+        key = keys.BodyRef(frame_id=state.frame_id, body_id=state.body_id)
         with self._lock:
             if state.instance is not None and state.instance not in self._live:
                 self.dropped_from_dead += 1  # said by an instance no longer (or not yet) alive

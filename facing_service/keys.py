@@ -17,8 +17,21 @@ separator or wildcard (``/ * $ # ?``) into a key.
 from __future__ import annotations
 
 import re
+from typing import NamedTuple
 
 ALL_FRAMES = "*"
+
+
+class BodyRef(NamedTuple):
+    """Which body, in which base frame: the identity a pose, a result, a key, the
+    tracker's state and the client's callbacks all carry. Both are strings, so a
+    transposition would type-check: build it by keyword, ``BodyRef(frame_id=...,
+    body_id=...)``. A tuple underneath, so hashing it costs what a pair costs."""
+
+    frame_id: str
+    body_id: str
+
+
 NAME_PATTERN = r"^[A-Za-z0-9_.-]{1,64}$"
 _NAME = re.compile(NAME_PATTERN)
 
@@ -120,15 +133,15 @@ def served_spaces(namespace: str) -> tuple[str, ...]:
     )
 
 
-def body_and_frame(key: str) -> tuple[str, str]:
-    """``(body_id, frame_id)`` of any per-body key (``.../bodies/<id>/<kind>/<frame>``)
-    received on a subscription to that key space."""
+def body_of(key: str) -> BodyRef:
+    """The body of any per-body key (``.../bodies/<id>/<kind>/<frame>``) received on a
+    subscription to that key space."""
     parts = key.rsplit("/", 3)
-    return parts[-3], parts[-1]
+    return BodyRef(frame_id=parts[-1], body_id=parts[-3])
 
 
-def parse_pose_key(namespace: str, key: str) -> tuple[str, str] | None:
-    """``(body_id, base_frame)`` of an input key, or None when it is not a valid one.
+def parse_pose_key(namespace: str, key: str) -> BodyRef | None:
+    """The body an input key is about, or None when it is not a valid one.
 
     The subscription already restricts the shape; this also rejects names outside the
     allowed alphabet (zenoh accepts far more than we do).
@@ -142,7 +155,7 @@ def parse_pose_key(namespace: str, key: str) -> tuple[str, str] | None:
     body_id, _, frame_id = parts
     if not (is_name(body_id) and is_name(frame_id)):
         return None
-    return body_id, frame_id
+    return BodyRef(frame_id=frame_id, body_id=body_id)
 
 
 class PoseKeyParser:
@@ -154,9 +167,9 @@ class PoseKeyParser:
     def __init__(self, namespace: str, capacity: int) -> None:
         self.namespace = namespace
         self.capacity = capacity
-        self._known: dict[str, tuple[str, str] | None] = {}
+        self._known: dict[str, BodyRef | None] = {}
 
-    def __call__(self, key: str) -> tuple[str, str] | None:
+    def __call__(self, key: str) -> BodyRef | None:
         try:
             return self._known[key]
         except KeyError:

@@ -170,7 +170,11 @@ class People:
             self._last[subject] = stamp
             profile = "head" if frame.startswith("face_") else "body"
             update.poses.append(
-                PoseSample(self.base_frame, subject, _pose(transform, stamp), profile)
+                PoseSample(
+                    keys.BodyRef(frame_id=self.base_frame, body_id=subject),
+                    _pose(transform, stamp),
+                    profile,
+                )
             )
 
 

@@ -47,10 +47,14 @@ def publications(changes: Changes, namespace: str, instance: str) -> list[Public
                     Kind.EVENT,
                 )
             )
-    for frame_id, body_id in changes.lost:
-        out.append(Publication(keys.facing_key(namespace, body_id, frame_id), None, Kind.DELETE))
+    for body in changes.lost:
         out.append(
-            Publication(keys.engagement_key(namespace, body_id, frame_id), None, Kind.DELETE)
+            Publication(keys.facing_key(namespace, body.body_id, body.frame_id), None, Kind.DELETE)
+        )
+        out.append(
+            Publication(
+                keys.engagement_key(namespace, body.body_id, body.frame_id), None, Kind.DELETE
+            )
         )
     out.extend(
         Publication(

@@ -43,6 +43,7 @@ from . import __version__, keys
 from .config import Settings, mode_and_endpoints, zenoh_config
 from .disclosure import public_endpoint, public_settings, public_zenoh_error
 from .intake import Intake
+from .keys import BodyRef
 from .ledger import Ledger
 from .outbox import Outbox, Publication
 from .people import People
@@ -374,7 +375,8 @@ class FacingService:
         if update.lost:
             self._flush(poses)
             for subject in update.lost:
-                self._publish(self._tracker.lose(self._people.base_frame, subject, self._horizon))
+                body = BodyRef(frame_id=self._people.base_frame, body_id=subject)
+                self._publish(self._tracker.lose(body, self._horizon))
 
     def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
         key = str(sample.key_expr)
@@ -382,16 +384,15 @@ class FacingService:
         if parsed is None:
             self._reject(Rejection.INVALID_KEY, key, "not NS/bodies/<id>/pose/<frame>")
             return None
-        body_id, frame_id = parsed
         limit = self.settings.max_payload_bytes
         if len(sample.payload) > limit:  # refuse before copying a huge payload
             self._reject(Rejection.PAYLOAD_TOO_LARGE, key, f"{len(sample.payload)} bytes > {limit}")
             return None
-        decoded = decode_pose(sample.payload.to_bytes(), body_id, frame_id, limit)
+        decoded = decode_pose(sample.payload.to_bytes(), parsed.body_id, parsed.frame_id, limit)
         if isinstance(decoded, Rejected):
             self._reject(decoded.reason, key, decoded.detail)
             return None
-        return PoseSample(frame_id, body_id, decoded)
+        return PoseSample(parsed, decoded)
 
     def _flush(self, poses: list[PoseSample]) -> None:
         """Run the pending poses through the tracker, publish, and empty the list."""
@@ -420,8 +421,7 @@ class FacingService:
         if parsed is None:
             self._reject(Rejection.INVALID_KEY, key, "DELETE on an invalid key")
             return
-        body_id, frame_id = parsed
-        self._publish(self._tracker.lose(frame_id, body_id, self._horizon))
+        self._publish(self._tracker.lose(parsed, self._horizon))
 
     def _reject(self, reason: Rejection, key: str, detail: str) -> None:
         self._ledger.reject(reason, key, detail)

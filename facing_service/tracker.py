@@ -24,18 +24,32 @@ from .engagement import (
     step,
     zone,
 )
+from .keys import BodyRef
 from .schemas import FrameFacing, Pose, Stamp, facing_state_json
 
-BodyKey = tuple[str, str]  # (frame_id, body_id)
 #: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
 #: from reordered or replayed traffic arrive within well under this.
 TOMBSTONE_S = 30.0
 
 
+class _OfABody:
+    """``frame_id`` and ``body_id`` read through a record's ``body`` (a BodyRef)."""
+
+    __slots__ = ()
+    body: BodyRef
+
+    @property
+    def frame_id(self) -> str:
+        return self.body.frame_id
+
+    @property
+    def body_id(self) -> str:
+        return self.body.body_id
+
+
 @dataclass(frozen=True, slots=True)
-class PoseSample:
-    frame_id: str
-    body_id: str
+class PoseSample(_OfABody):
+    body: BodyRef
     pose: Pose
     profile: str = "body"  # which Profile decides it: "body", or "head" (a face frame)
 
@@ -52,12 +66,11 @@ class Profile:
 
 
 @dataclass(frozen=True, slots=True)
-class BodyState:
+class BodyState(_OfABody):
     """The decision for one body: the fields of the wire's ``FacingState``, kept as plain
     values (a pydantic model per sample was a third of the per-sample cost)."""
 
-    body_id: str
-    frame_id: str
+    body: BodyRef
     stamp: tuple[int, int]
     facing: bool
     angle_deg: float | None
@@ -80,12 +93,11 @@ class BodyState:
 
 
 @dataclass(frozen=True, slots=True)
-class EngagementUpdate:
+class EngagementUpdate(_OfABody):
     """A body's engagement to publish: ``previous`` is set when the level just changed
     (then it is also an event); UNKNOWN with a previous level means the body was lost."""
 
-    body_id: str
-    frame_id: str
+    body: BodyRef
     stamp: tuple[int, int]
     level: Level
     score: float
@@ -108,7 +120,7 @@ class Changes:
     """What one tracker call changed, in the order it must be published."""
 
     results: list[BodyState] = field(default_factory=list)
-    lost: list[BodyKey] = field(default_factory=list)
+    lost: list[BodyRef] = field(default_factory=list)
     frames: list[FrameFacing] = field(default_factory=list)
     out_of_order: list[PoseSample] = field(default_factory=list)
     over_capacity: list[PoseSample] = field(default_factory=list)
@@ -178,7 +190,7 @@ def _classify(
             )
         ]
     return [
-        BodyState(s.body_id, s.frame_id, s.pose.stamp, facing, angle, distance, r, threshold)
+        BodyState(s.body, s.pose.stamp, facing, angle, distance, r, threshold)
         for s, (r, angle, distance, facing), threshold in zip(samples, rows, reported, strict=True)
     ]
 
@@ -216,14 +228,14 @@ class Tracker:
         self.stale_after_s = stale_after_s
         self.max_bodies = max_bodies
         # Ordered by last accepted sample, oldest first: expiry pops from the front.
-        self._tracks: OrderedDict[BodyKey, _Track] = OrderedDict()
+        self._tracks: OrderedDict[BodyRef, _Track] = OrderedDict()
         self._declared = frozenset(frames)
         self._frames: dict[str, _Frame] = {frame: _Frame() for frame in self._declared}
         # After a DELETE: the last accepted stamp, and when the tombstone expires (the
         # caller's clock). Oldest first; at most max_bodies of them.
-        self._tombstones: OrderedDict[BodyKey, tuple[tuple[int, int], float]] = OrderedDict()
+        self._tombstones: OrderedDict[BodyRef, tuple[tuple[int, int], float]] = OrderedDict()
         # Bodies whose level will change with time alone (DISENGAGING's dwell): when.
-        self._due: dict[BodyKey, float] = {}
+        self._due: dict[BodyRef, float] = {}
 
     def __len__(self) -> int:
         return len(self._tracks)
@@ -236,12 +248,12 @@ class Tracker:
         in a batch is still decided in stamp order, with its own hysteresis.
         """
         changes = Changes()
-        newest: dict[BodyKey, tuple[int, int]] = {}
-        count: dict[BodyKey, int] = {}
+        newest: dict[BodyRef, tuple[int, int]] = {}
+        count: dict[BodyRef, int] = {}
         generations: list[list[PoseSample]] = []
         room = self.max_bodies - len(self._tracks)
         for sample in samples:
-            key = (sample.frame_id, sample.body_id)
+            key = sample.body
             last = newest.get(key)
             if last is None and (track := self._tracks.get(key)) is not None:
                 last = track.pose.stamp
@@ -280,7 +292,7 @@ class Tracker:
         each track up once (the robot-scale case: most batches are a few bodies)."""
         tracks, profiles = self._tracks, self.profiles
         for sample in samples:
-            track = tracks.get((sample.frame_id, sample.body_id))
+            track = tracks.get(sample.body)
             p = profiles[sample.profile]
             widened = track is not None and track.state.facing
             pose = sample.pose
@@ -291,8 +303,7 @@ class Tracker:
                 p.cone3d,
             )
             state = BodyState(
-                sample.body_id,
-                sample.frame_id,
+                sample.body,
                 pose.stamp,
                 facing,
                 angle,
@@ -309,32 +320,31 @@ class Tracker:
         """Many bodies: one vectorized core call (``detector.classify``)."""
         profiles = [self.profiles[s.profile] for s in samples]
         thresholds = [
-            p.threshold_deg
-            + (p.hysteresis_deg if self._was_facing((s.frame_id, s.body_id)) else 0.0)
+            p.threshold_deg + (p.hysteresis_deg if self._was_facing(s.body) else 0.0)
             for s, p in zip(samples, profiles, strict=True)
         ]
         reported = [p.threshold_deg for p in profiles]
         states = _classify(samples, thresholds, profiles, reported)
         for sample, state, profile in zip(samples, states, profiles, strict=True):
-            track = self._tracks.get((sample.frame_id, sample.body_id))
+            track = self._tracks.get(sample.body)
             update = self._store(sample, state, profile, now, track)
             if update is not None:
                 changes.engagement.append(update)
         changes.results.extend(states)
 
-    def lose(self, frame_id: str, body_id: str, now: float = 0.0) -> Changes:
+    def lose(self, body: BodyRef, now: float = 0.0) -> Changes:
         """The tracker said the body is gone (an input DELETE). Poses of it stamped at or
         before its last accepted one are refused for ``TOMBSTONE_S`` after (a late pose
         must not bring back a body its tracker deleted)."""
         changes = Changes()
-        key = (frame_id, body_id)
+        key = body
         if (track := self._tracks.get(key)) is not None:
             self._tombstones[key] = (track.pose.stamp, now + TOMBSTONE_S)
             self._tombstones.move_to_end(key)
             while len(self._tombstones) > self.max_bodies:
                 self._tombstones.popitem(last=False)
             self._remove(key, changes)
-            changes.frames = self._frame_changes({frame_id})
+            changes.frames = self._frame_changes({body.frame_id})
         return changes
 
     def advance(self, now: float) -> Changes:
@@ -373,7 +383,7 @@ class Tracker:
             if track.last_seen > deadline:
                 break
             self._remove(key, changes)
-        changes.frames = self._frame_changes({frame for frame, _ in changes.lost})
+        changes.frames = self._frame_changes({body.frame_id for body in changes.lost})
         return changes
 
     def next_expiry(self) -> float | None:
@@ -404,10 +414,7 @@ class Tracker:
 
         For queries: a what-if that leaves the tracker's state untouched.
         """
-        samples = [
-            PoseSample(frame_id, body_id, track.pose)
-            for (frame_id, body_id), track in self._tracks.items()
-        ]
+        samples = [PoseSample(body, track.pose) for body, track in self._tracks.items()]
         same = [threshold_deg] * len(samples)
         profiles = [track.profile for track in self._tracks.values()]
         states = _classify(samples, same, profiles, same)
@@ -421,7 +428,7 @@ class Tracker:
         ]
         return states, frames
 
-    def _was_facing(self, key: BodyKey) -> bool:
+    def _was_facing(self, key: BodyRef) -> bool:
         track = self._tracks.get(key)
         return track is not None and track.state.facing
 
@@ -435,7 +442,7 @@ class Tracker:
     ) -> EngagementUpdate | None:
         """Keep the new state (``track``: the body's, None when new); the engagement update
         to publish, if one is due."""
-        key = (sample.frame_id, sample.body_id)
+        key = sample.body
         if track is None:
             track = self._tracks[key] = _Track(sample.pose, now, state, profile)
         else:  # in place: the body's engagement carries over
@@ -468,7 +475,7 @@ class Tracker:
             track.engagement, t, facing_score(state.angle_deg, state.distance_m, p), p
         )
         changed = track.engagement.level is not before
-        key = (state.frame_id, state.body_id)
+        key = state.body
         if track.engagement.level is Level.DISENGAGING:  # dwell running: due even if silent
             left = track.engagement.since + p.disengage_dwell_s - t
             self._due[key] = now + max(0.0, left)
@@ -482,8 +489,7 @@ class Tracker:
     def _engagement_update(self, track: _Track, previous: Level | None) -> EngagementUpdate:
         state, engagement = track.state, track.engagement
         return EngagementUpdate(
-            state.body_id,
-            state.frame_id,
+            state.body,
             state.stamp,
             engagement.level,
             engagement.score,
@@ -496,16 +502,15 @@ class Tracker:
         """The current engagement of every tracked body (for queries)."""
         return [self._engagement_update(track, None) for track in self._tracks.values()]
 
-    def _remove(self, key: BodyKey, changes: Changes) -> None:
+    def _remove(self, key: BodyRef, changes: Changes) -> None:
         track = self._tracks.pop(key)
         self._due.pop(key, None)
         if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
             update = self._engagement_update(track, track.engagement.level)
             changes.engagement.append(replace(update, level=Level.UNKNOWN, since=update.stamp))
-        frame_id, body_id = key
-        frame = self._frames[frame_id]
-        frame.tracked.discard(body_id)
-        frame.facing.discard(body_id)
+        frame = self._frames[key.frame_id]
+        frame.tracked.discard(key.body_id)
+        frame.facing.discard(key.body_id)
         frame.dirty = True
         changes.lost.append(key)
 

@@ -170,7 +170,7 @@ class Watcher:
     ) -> None:
         """Keep what ``read`` takes from each body's latest message; a DELETE forgets it.
         Unreadable input is skipped: the service counts bad input, the view just draws."""
-        body_id, _ = keys.body_and_frame(str(sample.key_expr))
+        body_id = keys.body_of(str(sample.key_expr)).body_id
         with self._lock:
             if sample.kind == zenoh.SampleKind.DELETE:
                 store.pop(body_id, None)
@@ -186,11 +186,11 @@ class Watcher:
             if previous is None or previous[0] != state.facing:
                 self._since[state.body_id] = (state.facing, time.monotonic())
 
-    def _on_lost(self, body_id: str, frame_id: str) -> None:
-        if frame_id == self.frame:
+    def _on_lost(self, body: keys.BodyRef) -> None:
+        if body.frame_id == self.frame:
             with self._lock:
-                self._since.pop(body_id, None)
-                self._poses.pop(body_id, None)
+                self._since.pop(body.body_id, None)
+                self._poses.pop(body.body_id, None)
 
     def people(self) -> list[PersonView]:
         states = self.client.bodies(self.frame)

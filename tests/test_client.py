@@ -27,7 +27,7 @@ class Events:
             value = (
                 (name, first.body_id, first.facing)
                 if isinstance(first, FacingState)
-                else (name, first)
+                else (name, first.body_id)  # on_lost: a BodyRef
             )
             with self.cond:
                 self.items.append(value)

@@ -117,7 +117,7 @@ def test_a_killed_service_leaves_no_ghost_and_a_restarted_one_reseeds(net):
     config = loopback_config(connect=[ep], mode="client")
     try:
         with FacingClient("hri", "cam", session_config=config, timeout_s=0.2) as client:
-            client.on_lost(lambda body, frame: lost.append((body, frame)))
+            client.on_lost(lambda body: lost.append((body.body_id, body.frame_id)))
             with service_process(ep) as proc:
                 wait_until(lambda: client.bodies_facing("cam") == ["alice"], timeout=20)
                 proc.kill()  # SIGKILL: as an OOM kill or a crash would

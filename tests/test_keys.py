@@ -6,7 +6,9 @@ from facing_service import keys
 def test_build_and_parse_round_trip():
     key = keys.pose_key("robot1/hri", "b-1.x_2", "camera_link")
     assert key == "robot1/hri/bodies/b-1.x_2/pose/camera_link"
-    assert keys.parse_pose_key("robot1/hri", key) == ("b-1.x_2", "camera_link")
+    assert keys.parse_pose_key("robot1/hri", key) == keys.BodyRef(
+        frame_id="camera_link", body_id="b-1.x_2"
+    )
 
 
 @pytest.mark.parametrize(
@@ -51,9 +53,11 @@ def test_output_key_spaces():
     assert keys.pose_subscription("hri", "cam") == "hri/bodies/*/pose/cam"
 
 
-def test_body_and_frame_of_any_per_body_key():
-    assert keys.body_and_frame("robot1/hri/bodies/p3/engagement/base_link") == ("p3", "base_link")
-    assert keys.body_and_frame(keys.facing_key("hri", "a.b", "cam")) == ("a.b", "cam")
+def test_the_body_of_any_per_body_key():
+    body = keys.body_of("robot1/hri/bodies/p3/engagement/base_link")
+    assert (body.body_id, body.frame_id) == ("p3", "base_link")
+    body = keys.body_of(keys.facing_key("hri", "a.b", "cam"))
+    assert (body.body_id, body.frame_id) == ("a.b", "cam")
 
 
 def test_the_remembering_parser_answers_as_the_parser_and_stays_bounded():

@@ -7,6 +7,7 @@ import json
 import pytest
 
 from facing_service.engagement import Level, Zone
+from facing_service.keys import BodyRef
 from facing_service.outbox import Kind, Publication
 from facing_service.publications import (
     publications,
@@ -27,12 +28,16 @@ from facing_service.tracker import BodyState, Changes, EngagementUpdate
 ME = "host-1"
 
 
+def at(body: str) -> BodyRef:
+    return BodyRef(frame_id="cam", body_id=body)
+
+
 def state(body: str, facing: bool = True) -> BodyState:
-    return BodyState(body, "cam", (5, 6), facing, 3.0, 2.0, (2.0, 0.1, 0.0), 20.0)
+    return BodyState(at(body), (5, 6), facing, 3.0, 2.0, (2.0, 0.1, 0.0), 20.0)
 
 
 def update(body: str, level: Level, previous: Level | None) -> EngagementUpdate:
-    return EngagementUpdate(body, "cam", (5, 6), level, 0.8, Zone.SOCIAL, (4, 0), previous)
+    return EngagementUpdate(at(body), (5, 6), level, 0.8, Zone.SOCIAL, (4, 0), previous)
 
 
 def frame(facing: list[str], tracked: list[str]) -> FrameFacing:
@@ -49,7 +54,7 @@ def test_one_call_is_said_in_publishing_order_on_the_contract_keys():
             update("b", Level.DISENGAGED, None),  # a periodic state: no event
             update("c", Level.UNKNOWN, Level.ENGAGED),  # lost: an event, no state
         ],
-        lost=[("cam", "c")],
+        lost=[at("c")],
         frames=[frame(["a"], ["a", "b"])],
     )
     said = publications(changes, "hri", ME)

@@ -15,6 +15,7 @@ from test_tf_buffer import BAGS
 
 from facing_service import ros2_types
 from facing_service.engagement import Level, Zone
+from facing_service.keys import BodyRef
 from facing_service.replay import Replay
 from facing_service.ros2_output import ENGAGEMENT_LEVEL, INTENT, RosOutput, engage_intent
 from facing_service.ros2_wire import ATTACHMENT_SIZE, RosFormat, Wire, parse_attachment
@@ -62,7 +63,15 @@ def test_type_hashes_agree_with_an_independent_implementation(typename):
 
 
 def update(body: str, level: Level, previous: Level | None) -> EngagementUpdate:
-    return EngagementUpdate(body, "base_link", (5, 0), level, 0.9, Zone.SOCIAL, (4, 0), previous)
+    return EngagementUpdate(
+        BodyRef(frame_id="base_link", body_id=body),
+        (5, 0),
+        level,
+        0.9,
+        Zone.SOCIAL,
+        (4, 0),
+        previous,
+    )
 
 
 def test_levels_go_out_on_change_and_on_every_tick_like_hri_engagement():

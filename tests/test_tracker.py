@@ -9,15 +9,21 @@ import pytest
 
 from facing_service.config import Settings
 from facing_service.engagement import Level
+from facing_service.keys import BodyRef
 from facing_service.schemas import Pose
 from facing_service.tracker import PoseSample, Tracker
 
 from poses import toward_origin_deg, yaw_quaternion
 
+A = BodyRef(frame_id="cam", body_id="a")
+
 
 def sample(body="a", frame="cam", off_deg=0.0, sec=1, nanosec=0, x=2.0, y=0.0) -> PoseSample:
     yaw = toward_origin_deg(x, y) + off_deg
-    return PoseSample(frame, body, Pose((sec, nanosec), (x, y, 0.0), yaw_quaternion(yaw)))
+    return PoseSample(
+        BodyRef(frame_id=frame, body_id=body),
+        Pose((sec, nanosec), (x, y, 0.0), yaw_quaternion(yaw)),
+    )
 
 
 def tracker(**kw) -> Tracker:
@@ -114,11 +120,11 @@ def test_bodies_are_independent_per_frame():
 def test_lose_removes_the_body_and_updates_the_frame():
     t = tracker()
     t.ingest([sample("a"), sample("b", off_deg=90)], now=0.0)
-    changes = t.lose("cam", "a")
+    changes = t.lose(A)
     assert changes.lost == [("cam", "a")]
     assert changes.frames[0].bodies_facing == [] and changes.frames[0].bodies_tracked == ["b"]
-    assert t.lose("cam", "a").lost == []  # already gone: nothing to publish
-    assert t.lose("nowhere", "zzz").lost == []
+    assert t.lose(A).lost == []  # already gone: nothing to publish
+    assert t.lose(BodyRef(frame_id="nowhere", body_id="zzz")).lost == []
 
 
 def test_staleness_on_the_injected_clock():
@@ -162,7 +168,7 @@ def test_declared_frame_is_known_before_any_pose():
 def test_degenerate_pose_is_tracked_not_facing():
     t = tracker()
     pose = Pose((1, 0), (0.0, 0.0, -1.0), (0.0, 0.0, 0.0, 1.0))
-    (state,) = t.ingest([PoseSample("cam", "a", pose)], now=0.0).results
+    (state,) = t.ingest([PoseSample(A, pose)], now=0.0).results
     assert not state.facing and state.angle_deg is None and state.distance_m is None
     assert math.isfinite(state.robot_in_body[2])
 
@@ -176,7 +182,7 @@ def test_capacity_refuses_new_bodies_but_keeps_updating_known_ones():
         ("map", "a"),
     ]
     assert len(t.ingest([sample("a", sec=2), sample("b", sec=2)], now=0.1).results) == 2
-    t.lose("cam", "a")
+    t.lose(A)
     changes = t.ingest([sample("c"), sample("d")], now=0.2)
     assert [s.body_id for s in changes.results] == ["c"]
     assert [s.body_id for s in changes.over_capacity] == ["d"]
@@ -209,7 +215,7 @@ def test_undeclared_frames_are_forgotten_when_empty_declared_ones_are_kept():
 def test_a_late_pose_never_brings_back_a_deleted_body():
     t = tracker()
     t.ingest([sample(sec=5)], now=0.0)
-    t.lose("cam", "a", now=1.0)
+    t.lose(A, now=1.0)
     late = t.ingest([sample(sec=4), sample(sec=5)], now=2.0)
     assert late.results == [] and len(late.out_of_order) == 2
     back = t.ingest([sample(sec=6)], now=3.0)  # newer than the DELETE: really back
@@ -220,7 +226,7 @@ def test_tombstones_are_bounded_in_number_and_time():
     t = tracker(max_bodies=3)
     for i in range(10):
         t.ingest([sample(body=f"b{i}", sec=5)], now=0.0)
-        t.lose("cam", f"b{i}", now=0.0)
+        t.lose(BodyRef(frame_id="cam", body_id=f"b{i}"), now=0.0)
     assert len(t._tombstones) == 3  # the oldest ones went first
     assert t.ingest([sample(body="b0", sec=5)], now=1.0).results  # b0's tombstone is gone
     t.expire(now=10_000.0)
