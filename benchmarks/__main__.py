@@ -16,7 +16,6 @@ import os
 import platform
 import subprocess
 import sys
-import time
 from contextlib import AbstractContextManager
 from importlib import metadata
 from pathlib import Path
@@ -24,7 +23,14 @@ from pathlib import Path
 import zenoh
 
 from facing_service import __version__, keys
-from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
+from facing_service.testing import (
+    LOOPBACK_FLAGS,
+    endpoint,
+    free_port,
+    loopback_config,
+    running_cli,
+    wait_until,
+)
 
 from . import core
 from .driver import Driver
@@ -50,12 +56,8 @@ def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]
 
 
 def wait_ready(session: zenoh.Session, timeout: float = 20.0) -> None:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if any(r.ok for r in session.get(keys.status_key("hri", keys.ALL_FRAMES), timeout=0.5)):
-            return
-        time.sleep(0.05)
-    raise SystemExit("the target never became ready")
+    selector = keys.status_key("hri", keys.ALL_FRAMES)
+    wait_until(lambda: any(r.ok for r in session.get(selector, timeout=0.5)), timeout, "the target")
 
 
 def measure(kind: str, args: argparse.Namespace) -> dict:

@@ -41,7 +41,7 @@ from facing_service.replay import Replay
 from facing_service.ros2_input import tf_inputs
 from facing_service.ros2_wire import RosFormat, Wire
 from facing_service.service import FacingService
-from facing_service.testing import endpoint, free_port, loopback_config
+from facing_service.testing import endpoint, free_port, loopback_config, wait_until
 from facing_service.tf_buffer import TfError
 
 BAGS = Path(__file__).resolve().parents[2] / "shared" / "data" / "hri_engagement_bags"
@@ -168,12 +168,12 @@ def service_timelines(
 
 
 def _wait_for_service(session: zenoh.Session, timeout: float = 10.0) -> None:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if any(r.ok for r in session.liveliness().get(keys.service_token("hri", "*"), timeout=0.5)):
-            return
-        time.sleep(0.05)
-    raise RuntimeError("the service never came up")
+    token = keys.service_token("hri", "*")
+    wait_until(
+        lambda: any(r.ok for r in session.liveliness().get(token, timeout=0.5)),
+        timeout,
+        "the service's token",
+    )
 
 
 def score(recording: str, person: str, label: Level, timeline: Timeline) -> Row:

@@ -380,7 +380,7 @@ def _simulate(args: argparse.Namespace) -> int:
     print(f"simulating {args.people} people: poses on {key} at {args.rate_hz:g} Hz{until}")
     with zenoh.open(zenoh_config(settings)) as session:
         publish = TrackerPublisher(session, progress_every_s=5.0, say=_say)
-        frames = simulate(
+        ticks = simulate(
             publish,
             Scene(people=args.people, seed=args.seed),
             args.base_frame,
@@ -389,7 +389,7 @@ def _simulate(args: argparse.Namespace) -> int:
             args.duration_s,
             should_stop=stop.is_set,
         )
-    print(f"published {publish.poses} poses and {publish.deletes} deletes in {frames} frames")
+    print(f"published {publish.poses} poses and {publish.deletes} deletes in {ticks} ticks")
     return 0
 
 

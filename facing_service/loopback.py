@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import json
 import socket
-from collections.abc import Sequence
+import time
+from collections.abc import Callable, Sequence
 
 import zenoh
 
@@ -33,3 +34,16 @@ def loopback_config(
     conf.insert_json5("listen/endpoints", json.dumps(list(listen)))
     conf.insert_json5("connect/endpoints", json.dumps(list(connect)))
     return conf
+
+
+def wait_until(
+    condition: Callable[[], bool], timeout: float, what: str, interval: float = 0.05
+) -> None:
+    """Poll ``condition`` until it holds; TimeoutError naming ``what`` after ``timeout``
+    seconds. The one readiness loop of the tests and benchmarks (a port that listens, a
+    queryable that answers, a service token that appears)."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() >= deadline:
+            raise TimeoutError(f"{what}: not within {timeout:g} s")
+        time.sleep(interval)

@@ -231,8 +231,10 @@ class ServiceStatus(BaseModel):
     bodies_tracked_total: int
     counters: dict[str, int] = Field(
         description="samples_accepted, results_published, results_superseded, "
-        "deletes_published, frames_published, queries_answered, queries_refused, "
-        "publish_errors."
+        "deletes_published, frames_published, engagement_published, events_published, "
+        "queries_answered, queries_refused, publish_errors, tf_lookups_unresolved, "
+        "ros_published: every one present from the start. Read with the outbox depth: "
+        "all accepted and an outbox_depth of 0 means all sent."
     )
     rejected: dict[str, int] = Field(description="Rejected samples per reason (all reasons).")
     connected: dict[str, list[str]] = Field(

@@ -2,7 +2,7 @@
 appearing and leaving, seen through a noisy body tracker.
 
 Pure and deterministic: ``Scene.step(dt)`` advances the world and returns what a tracker
-would publish for that frame (poses, and ids that were lost), all from one seeded random
+would publish for that tick (poses, and ids that were lost), all from one seeded random
 generator, so the same seed always gives the same poses. ``simulate`` is the thin shell
 that publishes a scene over zenoh at a rate.
 """
@@ -59,8 +59,9 @@ class TrackedPose:
 
 
 @dataclass(frozen=True)
-class Frame:
-    """What the tracker publishes at one instant."""
+class Tick:
+    """What the tracker publishes at one instant (not a coordinate frame: those are
+    ``frame_id``)."""
 
     poses: list[TrackedPose]
     lost: list[str]
@@ -86,7 +87,7 @@ class Scene:
     def now(self) -> float:
         return self._now
 
-    def step(self, dt: float) -> Frame:
+    def step(self, dt: float) -> Tick:
         """Advance by ``dt`` seconds; the tracker's view of the new instant."""
         self._now += dt
         lost = []
@@ -111,7 +112,7 @@ class Scene:
             )
             for p in self._crowd.values()
         ]
-        return Frame(poses, lost)
+        return Tick(poses, lost)
 
     def _arrive(self) -> None:
         rng = self._rng
@@ -195,22 +196,22 @@ def simulate(
     sleep: Callable[[float], None] = time.sleep,
 ) -> int:
     """Publish ``scene`` in real time: ``publish(key, payload)`` for each pose and
-    ``publish(key, None)`` (a DELETE) for each person lost. Returns the frames published.
+    ``publish(key, None)`` (a DELETE) for each person lost. Returns the ticks published.
     ``clock`` and ``sleep`` pace it (tests give their own, so they need not wait)."""
     period = 1.0 / rate_hz
     started = clock()
-    frames = 0
-    while not should_stop() and (duration_s is None or frames * period < duration_s):
-        frame = scene.step(period)
-        for pose in frame.poses:
+    ticks = 0
+    while not should_stop() and (duration_s is None or ticks * period < duration_s):
+        tick = scene.step(period)
+        for pose in tick.poses:
             publish(keys.pose_key(namespace, pose.body_id, frame_id), pose_message(pose, frame_id))
-        for body_id in frame.lost:
+        for body_id in tick.lost:
             publish(keys.pose_key(namespace, body_id, frame_id), None)
-        frames += 1
-        delay = started + frames * period - clock()
+        ticks += 1
+        delay = started + ticks * period - clock()
         if delay > 0:
             sleep(delay)
-    return frames
+    return ticks
 
 
 class TrackerPublisher:
@@ -280,19 +281,19 @@ def labelled_track(
     burst_every_s: float = 20.0,
 ) -> list[LabelledSample]:
     """One person's scripted track as a noisy tracker reports it: yaw and position
-    jitter, frames dropped at random (``dropout``) and in 0.5 s bursts (about one every
-    ``burst_every_s``); dropped frames are simply absent."""
+    jitter, ticks dropped at random (``dropout``) and in 0.5 s bursts (about one every
+    ``burst_every_s``); dropped ticks are simply absent."""
     rng = random.Random(seed)
     samples = []
     t = 0.0
     burst_until = -1.0
     for segment in segments:
-        frames = max(1, round(segment.seconds * rate_hz))
+        ticks = max(1, round(segment.seconds * rate_hz))
         (x0, y0), (x1, y1) = segment.start, segment.end
         path = math.degrees(math.atan2(y1 - y0, x1 - x0)) if (x0, y0) != (x1, y1) else 0.0
-        for i in range(frames):
+        for i in range(ticks):
             t += 1.0 / rate_hz
-            f = (i + 1) / frames
+            f = (i + 1) / ticks
             x, y = x0 + f * (x1 - x0), y0 + f * (y1 - y0)
             if rng.random() < 1.0 / (burst_every_s * rate_hz):
                 burst_until = t + 0.5

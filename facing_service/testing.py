@@ -14,9 +14,16 @@ import sys
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
-from .loopback import endpoint, free_port, loopback_config
+from .loopback import endpoint, free_port, loopback_config, wait_until
 
-__all__ = ["LOOPBACK_FLAGS", "endpoint", "free_port", "loopback_config", "running_cli"]
+__all__ = [
+    "LOOPBACK_FLAGS",
+    "endpoint",
+    "free_port",
+    "loopback_config",
+    "running_cli",
+    "wait_until",
+]
 
 #: Flags that keep a service process on loopback and quick to start.
 LOOPBACK_FLAGS = ("--no-multicast-scouting", "--cfg", "scouting/delay:0")

@@ -12,7 +12,7 @@ from typing import Any
 
 import zenoh
 
-from facing_service.testing import endpoint, free_port, loopback_config
+from facing_service.testing import endpoint, free_port, loopback_config, wait_until
 
 LOOPBACK_CFG = ["scouting/delay:0"]
 
@@ -86,12 +86,9 @@ def get(session: zenoh.Session, selector: str, timeout: float = 5.0) -> list[tup
 def wait_until_answered(session: zenoh.Session, selector: str, timeout: float = 10.0) -> None:
     """Block until a queryable answers ``selector``: the service is connected and declared
     (its subscriber was declared before its queryables, on the same ordered link)."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if get(session, selector, timeout=0.5):
-            return
-        time.sleep(0.05)
-    raise AssertionError(f"nothing answered {selector} within {timeout} s")
+    wait_until(
+        lambda: bool(get(session, selector, timeout=0.5)), timeout, f"an answer on {selector}"
+    )
 
 
 def send(session: zenoh.Session, key: str, payload: bytes) -> None:

@@ -9,9 +9,10 @@ import multiprocessing
 import os
 import signal
 import socket
-import time
 
 import zenoh
+
+from facing_service.testing import wait_until
 
 _SPAWN = multiprocessing.get_context("spawn")
 
@@ -26,13 +27,11 @@ def _serve(config_json5: str) -> None:
 
 
 def wait_for_port(port: int, timeout: float = 10.0) -> None:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
+    def listens() -> bool:
         with socket.socket() as s:
-            if s.connect_ex(("127.0.0.1", port)) == 0:
-                return
-        time.sleep(0.02)
-    raise AssertionError(f"nothing listens on port {port} after {timeout} s")
+            return s.connect_ex(("127.0.0.1", port)) == 0
+
+    wait_until(listens, timeout, f"a listener on port {port}", interval=0.02)
 
 
 class Router:

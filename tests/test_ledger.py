@@ -103,3 +103,12 @@ def test_rejections_are_summarized_at_most_once_per_period(caplog):
     )
     # the counters keep every rejection whatever the log said
     assert ledger.status(Outbox(), **IDENTITY).rejected["schema"] == 1000
+
+
+def test_the_status_schema_names_every_counter_in_order():
+    """ServiceStatus.counters' description is what a consumer reads: it lists them all."""
+    from facing_service.schemas import ServiceStatus
+
+    description = ServiceStatus.model_fields["counters"].description or ""
+    named = [c for c in description.replace(":", ",").split(", ") if c.strip() in COUNTERS]
+    assert named == list(COUNTERS)

@@ -24,28 +24,28 @@ def test_the_same_seed_gives_the_same_scene_and_another_seed_another():
 
 def test_people_leave_with_a_delete_and_others_arrive():
     scene = Scene(people=5, seed=1)
-    frames = run(scene, 3000)  # five minutes at 10 Hz
-    lost = [body for f in frames for body in f.lost]
+    ticks = run(scene, 3000)  # five minutes at 10 Hz
+    lost = [body for f in ticks for body in f.lost]
     assert lost, "nobody ever left"
     assert len(set(lost)) == len(lost)  # each person leaves once
-    for i, frame in enumerate(frames):
-        ids = {p.body_id for p in frame.poses}
+    for i, tick in enumerate(ticks):
+        ids = {p.body_id for p in tick.poses}
         assert len(ids) == 5  # the crowd is topped up
-        assert not ids & set(frame.lost)
-        assert not ids & {b for f in frames[:i] for b in f.lost}  # lost ids never return
+        assert not ids & set(tick.lost)
+        assert not ids & {b for f in ticks[:i] for b in f.lost}  # lost ids never return
 
 
 def test_stamps_strictly_increase_and_poses_stay_near_the_robot():
-    frames = run(Scene(people=5, seed=2), 600)
-    stamps = [(f.poses[0].sec, f.poses[0].nanosec) for f in frames]
+    ticks = run(Scene(people=5, seed=2), 600)
+    stamps = [(f.poses[0].sec, f.poses[0].nanosec) for f in ticks]
     assert all(a < b for a, b in itertools.pairwise(stamps))
-    assert all(math.hypot(p.x, p.y) < 2.5 * AREA_M for f in frames for p in f.poses)
+    assert all(math.hypot(p.x, p.y) < 2.5 * AREA_M for f in ticks for p in f.poses)
 
 
 def test_people_turn_toward_and_away_from_the_robot():
-    frames = run(Scene(people=5, seed=0), 600)
+    ticks = run(Scene(people=5, seed=0), 600)
     facing_share = []
-    for f in frames:
+    for f in ticks:
         half = np.radians([p.yaw_deg for p in f.poses]) / 2
         t = np.array([[p.x, p.y, 0.0] for p in f.poses])
         q = np.stack([np.zeros_like(half), np.zeros_like(half), np.sin(half), np.cos(half)], 1)
@@ -80,7 +80,7 @@ class FakeTime:
 def test_simulate_publishes_valid_poses_and_deletes():
     published: list[tuple[str, bytes | None]] = []
     time = FakeTime()
-    frames = simulate(
+    ticks = simulate(
         lambda key, payload: published.append((key, payload)),
         Scene(people=3, seed=1),
         "base_link",
@@ -89,7 +89,7 @@ def test_simulate_publishes_valid_poses_and_deletes():
         clock=time.clock,
         sleep=time.sleep,
     )
-    assert frames == 20_000
+    assert ticks == 20_000
     assert time.slept == pytest.approx(20.0)  # paced in real time, on the clock it is given
     puts = [(k, p) for k, p in published if p is not None]
     deletes = [k for k, p in published if p is None]
