@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
+from typing import Any
 
 from . import keys
 from .engagement import Level
@@ -123,30 +124,25 @@ def frame_json(frame: FrameFacing, instance: str) -> bytes:
     return frame.model_copy(update={"instance": instance}).model_dump_json().encode()
 
 
+def _engagement_fields(update: EngagementUpdate, instance: str) -> dict[str, Any]:
+    """What a level's state and its change event both say."""
+    return {
+        "instance": instance,
+        "body_id": update.body_id,
+        "frame_id": update.frame_id,
+        "stamp": Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+        "level": update.level.name,
+        "level_value": int(update.level),
+        "score": update.score,
+        "zone": update.zone.value,
+    }
+
+
 def engagement_state(update: EngagementUpdate, instance: str) -> EngagementState:
-    return EngagementState(
-        instance=instance,
-        body_id=update.body_id,
-        frame_id=update.frame_id,
-        stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
-        level=update.level.name,
-        level_value=int(update.level),
-        score=update.score,
-        zone=update.zone.value,
-        since=Stamp(sec=update.since[0], nanosec=update.since[1]),
-    )
+    since = Stamp(sec=update.since[0], nanosec=update.since[1])
+    return EngagementState(**_engagement_fields(update, instance), since=since)
 
 
 def engagement_event(update: EngagementUpdate, instance: str) -> EngagementEvent:
     assert update.previous is not None
-    return EngagementEvent(
-        instance=instance,
-        body_id=update.body_id,
-        frame_id=update.frame_id,
-        stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
-        previous=update.previous.name,
-        level=update.level.name,
-        level_value=int(update.level),
-        score=update.score,
-        zone=update.zone.value,
-    )
+    return EngagementEvent(**_engagement_fields(update, instance), previous=update.previous.name)
