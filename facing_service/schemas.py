@@ -242,7 +242,10 @@ class ServiceStatus(BaseModel):
         description="zenoh ids of the routers and peers this service's session is "
         "connected to now: empty while its endpoints are unreachable.",
     )
-    inbox_depth: int = Field(description="Samples and queries received, not yet handled.")
+    inbox_depth: int = Field(
+        description="Queries and a robot's side topics received, not yet handled (the input "
+        "samples' own zenoh channel cannot report its depth)."
+    )
     outbox_depth: int = Field(description="Publications decided, not yet sent.")
 
 
