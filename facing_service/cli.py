@@ -61,10 +61,6 @@ _ZENOH_LEVELS = {
 }
 
 
-def _default(field: str) -> str:
-    return f"env {env_help(field)}; default {shown_default(field)}"
-
-
 class _Parser(argparse.ArgumentParser):
     """One line for a bad argument, naming it (argparse would print the whole usage
     first); no abbreviated flags (``--threshold 30`` is not ``--threshold-deg 30``)."""
@@ -152,7 +148,7 @@ def _choices(annotation: Any) -> list[str] | None:
 
 
 def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
+    add_settings_arguments(parser, ["namespace"])
     parser.add_argument(
         "--base-frame", default="base_link", help="frame of the poses (default base_link)"
     )
@@ -191,7 +187,7 @@ def build_parser() -> _Parser:
         "needs no flags); it never listens, and connects to the service's listen "
         "endpoints on loopback when no connect endpoint is set.",
     )
-    health.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
+    add_settings_arguments(health, ["namespace"])
     health.add_argument(
         "--instance",
         help=f"the instance to check, or '*' for any (env {env_name('instance')}; default *)",
@@ -219,7 +215,7 @@ def build_parser() -> _Parser:
         "examples/secure/router.json5, until SIGTERM or Ctrl-C. The same flags as the "
         "other commands; the mode is always router.",
     )
-    router.add_argument("--log-level", help=f"log level ({_default('log_level')})")
+    add_settings_arguments(router, ["log_level"])
     add_zenoh_arguments(router)
 
     replay = commands.add_parser(
@@ -238,11 +234,7 @@ def build_parser() -> _Parser:
         help="write what the service publishes on the robot's topics (run --output ros2) "
         "into a new ROS 2 bag: a folder (sqlite3), or OUT.mcap",
     )
-    replay.add_argument(
-        "--ros-format", choices=["rmw_zenoh", "bridge"], help=f"({_default('ros_format')})"
-    )
-    replay.add_argument("--ros-domain-id", type=int, help=f"({_default('ros_domain_id')})")
-    replay.add_argument("--ros-namespace", help=f"({_default('ros_namespace')})")
+    add_settings_arguments(replay, ["ros_format", "ros_domain_id", "ros_namespace"])
     add_zenoh_arguments(replay)
 
     simulate = commands.add_parser(
@@ -265,7 +257,7 @@ def build_parser() -> _Parser:
         "angle, distance and for how long. Redraws 10 times a second; --once prints one "
         "frame.",
     )
-    watch.add_argument("--namespace", help=f"key prefix ({_default('namespace')})")
+    add_settings_arguments(watch, ["namespace"])
     watch.add_argument(
         "--base-frame", default="base_link", help="the frame to show (default base_link)"
     )

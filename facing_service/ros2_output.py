@@ -23,6 +23,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -134,12 +135,16 @@ class RosOutput:
             out.extend(facing_lists(frame))
         return out
 
-    def tick(self, engagements: list[EngagementUpdate], now: float) -> list[RosMessage]:
-        """Every period: each tracked person's current level, as hri_engagement does."""
+    def tick(
+        self, engagements: Callable[[], list[EngagementUpdate]], now: float
+    ) -> list[RosMessage]:
+        """Every period: each tracked person's current level, as hri_engagement does.
+        ``engagements`` is called only when the period is due: the worker calls ``tick``
+        every loop turn, and listing every body's level each time was wasted work."""
         if self.next_tick is not None and now < self.next_tick:
             return []
         self.next_tick = now + self.period_s
-        return [engagement_status(e) for e in engagements if e.body_id.startswith(PERSON)]
+        return [engagement_status(e) for e in engagements() if e.body_id.startswith(PERSON)]
 
 
 class RosPublishers:

@@ -19,9 +19,10 @@ Threads, and why:
 What is said is built by pure functions (``publications``); what is counted, and how it is
 read consistently, lives in ``ledger``.
 
-Congestion control (see the README): every output is BLOCK and sent by the publisher
-thread only, so nothing is dropped silently. Per-body results are superseded (counted)
-only while 10 000 publications wait in the outbox; aggregates and DELETEs never are.
+Congestion control (docs/contract.md): every output is BLOCK and sent by the publisher
+thread only, so nothing is dropped silently. A slow consumer slows everything down (the
+worker waits for room in the outbox); per-body results are superseded (counted) only
+when the publisher has moved nothing for 0.5 s, and aggregates and DELETEs never are.
 (DROP for per-body results lost 2.5 % of a 100 000-pose burst to a consumer that was
 merely slower than the burst, and made nothing faster; see benchmarks.)
 """
@@ -334,7 +335,7 @@ class FacingService:
     def _ros_tick(self) -> None:
         """--output ros2: every tracked person's level at hri_engagement's rate."""
         if self._ros_out is not None:
-            messages = self._ros_out.tick(self._tracker.engagements(), self._clock())
+            messages = self._ros_out.tick(self._tracker.engagements, self._clock())
             self._said += ros_publications(messages)
 
     def _handle(self, batch: list[object]) -> None:
@@ -417,7 +418,7 @@ class FacingService:
         self._accepted += len(changes.results)
 
     def _on_delete(self, key: str) -> None:
-        parsed = keys.parse_pose_key(self.settings.namespace, key)
+        parsed = self._pose_key(key)
         if parsed is None:
             self._reject(Rejection.INVALID_KEY, key, "DELETE on an invalid key")
             return
