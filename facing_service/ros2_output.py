@@ -37,7 +37,8 @@ from .tracker import Changes, EngagementUpdate
 
 ENGAGEMENT_LEVEL = "hri_msgs/msg/EngagementLevel"
 INTENT = "hri_actions_msgs/msg/Intent"
-ENGAGE_WITH = "__intent_engage_with__"
+#: Intent.msg: "0 is the lowest priority, 128 is the default priority, 255 is the highest".
+DEFAULT_PRIORITY = 128
 #: Our subject prefixes -> the ROS4HRI kind whose facing list they go to. Subjects from
 #: JSON input have no prefix: they are bodies.
 FACING_TOPICS = {
@@ -80,12 +81,17 @@ def engagement_status(update: EngagementUpdate) -> RosMessage:
 
 
 def engage_intent(person: str) -> RosMessage:
-    message = ros2_types.message_type(INTENT)(
-        action=ENGAGE_WITH,
+    """ENGAGE_WITH, filled as hri_engagement fills it (``intent`` and ``data``); the fields
+    it leaves empty take the upstream constants: the person is the source (REP 155: the
+    agent expressing the intent, by person id), the modality ``MODALITY_OTHER`` (seen, not
+    said or touched), and the message's documented default priority."""
+    intent = ros2_types.message_type(INTENT)
+    message = intent(
+        intent=intent.ENGAGE_WITH,
         data=json.dumps({"recipient": person}),
-        source=person,  # REP 155: the person expressing the intent, by person id
-        modality="other",
-        priority=128,
+        source=person,
+        modality=intent.MODALITY_OTHER,
+        priority=DEFAULT_PRIORITY,
         confidence=1.0,
     )
     return RosMessage("/intents", INTENT, ros2_types.serialize(message, INTENT))

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 import zenoh
+from test_ros2_types import STANDARD_MSGS, definition
 from test_tf_buffer import BAGS
 
 from facing_service import ros2_types
@@ -29,37 +30,7 @@ pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
 RECORDING = BAGS / "1p_AA_eng_1"  # one person, rorql, labelled ENGAGED
 TWO_PEOPLE = BAGS / "2p_AA_FV_eng_1"  # eloek and ghfbv, both labelled ENGAGED
-STANDARD_MSGS = {  # ROS 2's own definitions, for the SDK's offline registry
-    "std_msgs/msg/Header": "builtin_interfaces/Time stamp\nstring frame_id\n",
-    "builtin_interfaces/msg/Time": "int32 sec\nuint32 nanosec\n",
-}
-
-
-#: The upstream definitions (ros4hri/hri_msgs, ros4hri/hri_actions_msgs), copied here on
-#: their own, comments left out: the package's copies in facing_service/msg must agree.
-UPSTREAM = {
-    ENGAGEMENT_LEVEL: "std_msgs/Header header\nuint8 UNKNOWN=0\nuint8 DISENGAGED=1\n"
-    "uint8 ENGAGING=2\nuint8 ENGAGED=3\nuint8 DISENGAGING=4\nuint8 level\n",
-    ros2_types.IDS_LIST: "std_msgs/Header header\nstring[] ids\n",
-    INTENT: 'string action\nstring ENGAGE_WITH = "__intent_engage_with__"\nstring data\n'
-    "string source\nstring modality\nuint8 priority\nfloat32 confidence\n",
-}
-
-
-def upstream(typename: str) -> str:
-    return UPSTREAM[typename]
-
-
 # -- types and messages, without a network -----------------------------------------------
-
-
-@pytest.mark.parametrize("typename", [ENGAGEMENT_LEVEL, INTENT, ros2_types.IDS_LIST])
-def test_type_hashes_agree_with_an_independent_implementation(typename):
-    """rosbags' RIHS01 against zenoh-ros2-sdk's own (its parser, its type description)."""
-    from zenoh_ros2_sdk.utils import compute_type_hash_from_msg
-
-    theirs = compute_type_hash_from_msg(typename, upstream(typename), STANDARD_MSGS)
-    assert ros2_types.type_hash(typename) == theirs
 
 
 def update(body: str, level: Level, previous: Level | None) -> EngagementUpdate:
@@ -87,7 +58,7 @@ def test_levels_go_out_on_change_and_on_every_tick_like_hri_engagement():
     status = ros2_types.deserialize(messages[0].payload, ENGAGEMENT_LEVEL)
     assert status.level == 3 and status.header.stamp.sec == 5
     intent = ros2_types.deserialize(messages[1].payload, INTENT)
-    assert intent.action == "__intent_engage_with__"
+    assert intent.intent == "__intent_engage_with__"
     assert json.loads(intent.data) == {"recipient": "p1"}
     tracked = [update("person_p1", Level.ENGAGED, None), update("face_f1", Level.ENGAGED, None)]
     first = out.tick(tracked.copy, now=0.0)
@@ -136,8 +107,8 @@ def sdk(tmp_path, monkeypatch, net):
     folder = tmp_path / "msgs"
     for typename, text in {
         **STANDARD_MSGS,
-        ENGAGEMENT_LEVEL: upstream(ENGAGEMENT_LEVEL),
-        ros2_types.IDS_LIST: upstream(ros2_types.IDS_LIST),
+        ENGAGEMENT_LEVEL: definition(ENGAGEMENT_LEVEL),
+        ros2_types.IDS_LIST: definition(ros2_types.IDS_LIST),
     }.items():
         package, kind, name = typename.split("/")
         (folder / package / kind).mkdir(parents=True, exist_ok=True)
@@ -187,7 +158,7 @@ def test_rmw_zenoh_subscribers_get_engagement_status_with_valid_attachments(net,
             f"/humans/persons/{person}/engagement_status",
             ENGAGEMENT_LEVEL,
             lambda message, into=person_levels: into.append(message.level),
-            msg_definition=upstream(ENGAGEMENT_LEVEL),
+            msg_definition=definition(ENGAGEMENT_LEVEL),
             router_port=port,
         )
     levels = seen["eloek"]
