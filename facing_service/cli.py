@@ -234,7 +234,7 @@ def build_parser() -> _Parser:
         help="write what the service publishes on the robot's topics (run --output ros2) "
         "into a new ROS 2 bag: a folder (sqlite3), or OUT.mcap",
     )
-    add_settings_arguments(replay, ["ros_format", "ros_domain_id", "ros_namespace"])
+    add_settings_arguments(replay, ["ros_format", "ros_distro", "ros_domain_id", "ros_namespace"])
     add_zenoh_arguments(replay)
 
     simulate = commands.add_parser(

@@ -23,6 +23,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from . import keys
 from .disclosure import public_cfg_entry, public_endpoint, public_value
 from .engagement import EngagementParams
+from .ros2_wire import Distro, RosFormat, Wire
 from .schemas import DEFAULT_MAX_PAYLOAD_BYTES
 from .tracker import Profile
 
@@ -168,6 +169,14 @@ class Settings(BaseModel):
     ros_format: Literal["rmw_zenoh", "bridge"] = Field(
         "rmw_zenoh", **_flag("`rmw_zenoh`, or `bridge` (zenoh-bridge-ros2dds)", ROS_IN)
     )
+    ros_distro: Literal["auto", "humble", "jazzy"] = Field(
+        "auto",
+        **_flag(
+            "rmw_zenoh's form to answer in: `auto` (learned from the robot's keys), `humble` "
+            "(TypeHashNotSupported), `jazzy` (RIHS01 hashes: Jazzy, Kilted, Rolling)",
+            ROS_IN,
+        ),
+    )
     ros_domain_id: int = Field(
         0,
         ge=0,
@@ -290,6 +299,21 @@ class Settings(BaseModel):
         if self.disengage_below >= self.engage_above:
             raise ValueError("disengage_below must be below engage_above")
         return self
+
+    @property
+    def forced_distro(self) -> Distro | None:
+        """``--ros-distro``, None when it is to be learned from the robot (``auto``)."""
+        return None if self.ros_distro == "auto" else Distro(self.ros_distro)
+
+    def ros_wire(self) -> Wire:
+        """Where the robot's topics are on zenoh, and the form we write in before (or
+        instead of) learning the robot's."""
+        return Wire(
+            RosFormat(self.ros_format),
+            self.ros_domain_id,
+            self.ros_namespace,
+            self.forced_distro or Distro.JAZZY,
+        )
 
     @property
     def ros_base_frame(self) -> str:

@@ -39,6 +39,7 @@ PUBLIC_FIELDS = frozenset(
         "head_dwell_s",
         "input",
         "ros_format",
+        "ros_distro",
         "ros_domain_id",
         "ros_namespace",
         "output",

@@ -13,6 +13,12 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
 - Each pose is tf2's lookup of that frame in the base frame at the latest common time,
   redone whenever a transform on its chain (or the base frame's) changes; a pose is
   emitted only when that time moves forward, so nothing already said is repeated.
+- Time going back (a recording replayed again, a robot's clock reset): ROS's TF listener
+  clears its buffer when its clock jumps back. Here the clock is the stamps: after
+  ``TIME_BACK_MESSAGES`` /tf messages in a row whose every transform is more than
+  ``TIME_BACK_NS`` older than its frame's newest, the dynamic transforms are cleared and
+  every subject is lost, then comes back with the new times. In a row: a stale or spoofed
+  message between fresh ones clears nothing.
 """
 
 from __future__ import annotations
@@ -34,6 +40,10 @@ KINDS = {
 }
 PERSON_LINKS = {"face_id": "face_", "body_id": "body_"}
 S = 1_000_000_000
+#: How far back a transform's stamp must be, and for how many /tf messages in a row, for
+#: time to have gone back (a stream at 30 Hz says so within 0.1 s).
+TIME_BACK_NS = S
+TIME_BACK_MESSAGES = 3
 
 
 @dataclass(frozen=True, slots=True)
@@ -52,6 +62,7 @@ class Update:
     lost: list[str] = field(default_factory=list)
     refused: list[tuple[str, str]] = field(default_factory=list)  # (reason, what)
     unresolved: int = 0  # lookups not possible yet (frame unknown, no common time...)
+    time_back_ns: int = 0  # time went back this far: the buffer was cleared
 
 
 class People:
@@ -64,11 +75,17 @@ class People:
         self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}  # person -> id
         self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
         self._by_frame: dict[str, set[str]] | None = None  # frame -> subjects; None: stale
+        self._back_in_a_row = 0  # /tf messages whose every transform went back in time
 
     # -- inputs --------------------------------------------------------------------------
 
-    def on_tf(self, transforms: Iterable[TfInput], *, static: bool) -> Update:
+    def on_tf(self, transforms: Sequence[TfInput], *, static: bool) -> Update:
         update = Update()
+        if not static and (back := self._time_back(transforms)):
+            update.time_back_ns = back
+            update.lost = [s for s in self.subjects() if s in self._last]
+            self.tf.clear()
+            self._last.clear()
         changed: set[str] = set()
         for t in transforms:
             reason = self.tf.set_transform(
@@ -81,6 +98,24 @@ class People:
         if changed:
             self._resolve(self._concerned(changed), update)
         return update
+
+    def _time_back(self, transforms: Sequence[TfInput]) -> int:
+        """How far back time went, once it has for TIME_BACK_MESSAGES messages in a row
+        (0: it has not)."""
+        back = []
+        for t in transforms:
+            newest = self.tf.newest(t.child)
+            if newest is None or t.stamp_ns >= newest - TIME_BACK_NS:
+                self._back_in_a_row = 0  # a fresh (or first) transform: time goes on
+                return 0
+            back.append(newest - t.stamp_ns)
+        if not back:
+            return 0
+        self._back_in_a_row += 1
+        if self._back_in_a_row < TIME_BACK_MESSAGES:
+            return 0
+        self._back_in_a_row = 0
+        return max(back)
 
     def _concerned(self, changed: set[str]) -> list[str]:
         """The subjects whose lookup a change of these frames can change: all of them when
@@ -96,7 +131,7 @@ class People:
         if self._by_frame is None:
             self._by_frame = {}
             for subject in self.subjects():
-                if (frame := self._frame_of(subject)) is not None:
+                if (frame := self.frame_of(subject)) is not None:
                     self._by_frame.setdefault(frame, set()).add(subject)
         return self._by_frame
 
@@ -145,7 +180,7 @@ class People:
         """Every tracked subject, by our name."""
         return [KINDS[topic][0] + i for topic, ids in self._tracked.items() for i in sorted(ids)]
 
-    def _frame_of(self, subject: str) -> str | None:
+    def frame_of(self, subject: str) -> str | None:
         """The TF frame a subject's pose is read from, or None when it has none (yet)."""
         prefix, _, ros_id = subject.partition("_")
         if prefix != "person":
@@ -157,7 +192,7 @@ class People:
 
     def _resolve(self, subjects: Iterable[str], update: Update) -> None:
         for subject in subjects:
-            frame = self._frame_of(subject)
+            frame = self.frame_of(subject)
             if frame is None or not self.tf.has_frame(frame):
                 continue
             try:

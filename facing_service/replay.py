@@ -121,10 +121,11 @@ def replay(
 ) -> int:
     """``facing-service replay``: play ``bag`` until it ends or ``stop``; with ``record``,
     also record what the service answers. Returns the exit code."""
-    wire = Wire(RosFormat(settings.ros_format), settings.ros_domain_id, settings.ros_namespace)
+    wire = settings.ros_wire()
     where = f"domain {wire.domain_id}, " if wire.format is RosFormat.RMW_ZENOH else ""
     namespace = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
-    print(f"replaying {bag} at {rate:g}x in {wire.format.value} format ({where}{namespace})")
+    form = f", {wire.distro.describe()}" if wire.format is RosFormat.RMW_ZENOH else ""
+    print(f"replaying {bag} at {rate:g}x in {wire.format.value} format ({where}{namespace}{form})")
     try:
         with zenoh.open(zenoh_config(settings)) as session, Replay(session, bag, wire) as player:
             recording = Recording(session, wire, record) if record else None

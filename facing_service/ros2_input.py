@@ -7,14 +7,24 @@ Topics read (under ``--ros-namespace``, in ``--ros-format``):
     /humans/{bodies,faces,persons}/tracked   hri_msgs/msg/IdsList
     /humans/persons/<id>/{face_id,body_id}   std_msgs/msg/String
 
-``/tf_static`` and the person topics are transient-local in ROS 2: they are read through
-zenoh-ext advanced subscribers with history and late-publisher detection, so a service
-started after the robot still gets them from the publishers' caches (rmw_zenoh's and the
-bridge's). ``/tf`` and the body and face lists stream: plain subscribers.
+``/tf_static`` and the person topics are transient-local in ROS 2, and a service started
+after the robot gets them from the publishers' caches, of either generation:
+
+- advanced publishers' caches (rmw_zenoh since Humble 0.1.2 and Jazzy 0.2.2,
+  zenoh-bridge-ros2dds since 1.5.1): read by zenoh-ext advanced subscribers with history
+  and late-publisher detection;
+- ``PublicationCache`` queryables (rmw_zenoh Humble 0.1.0-0.1.1 and Jazzy 0.2.0-0.2.1 on
+  ``<zenoh id>/<key>``; the bridge up to 1.5.0 on ``<key>/@ros2_pub_cache/<zenoh id>``):
+  queried once at start and once more after ``CACHE_QUERY_AGAIN_S`` (a peer discovers
+  the others in a moment), as those releases' own late joiners did, accepting replies on
+  any key (they come on the sample's own key).
+
+``/tf`` and the body and face lists stream: plain subscribers.
 """
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -25,7 +35,7 @@ import zenoh.ext
 
 from . import ros2_types
 from .people import KINDS, PERSON_LINKS, People, TfInput, Update
-from .ros2_wire import Wire
+from .ros2_wire import RosFormat, Wire
 from .schemas import Rejected, Rejection
 from .tf_buffer import Transform
 
@@ -47,15 +57,21 @@ class RosSample:
 
     key: str
     payload: bytes
+    attachment: bytes | None = None  # rmw_zenoh's: its form is learned from it
 
     @classmethod
     def of(cls, sample: zenoh.Sample) -> RosSample:
-        return cls(str(sample.key_expr), sample.payload.to_bytes())
+        extra = sample.attachment
+        return cls(
+            str(sample.key_expr),
+            sample.payload.to_bytes(),
+            None if extra is None else extra.to_bytes(),
+        )
 
 
 def route(people: People, wire: Wire, sample: RosSample) -> Update | Rejected:
     """Decode one sample and apply it to ``people``; never raises on any input."""
-    read = _reading(wire, sample.key)
+    read = reading(wire, sample.key)
     if isinstance(read, Rejected):
         return read
     topic, typename = read
@@ -72,7 +88,7 @@ def route(people: People, wire: Wire, sample: RosSample) -> Update | Rejected:
 
 
 @lru_cache(maxsize=4096)
-def _reading(wire: Wire, key: str) -> tuple[str, str] | Rejected:
+def reading(wire: Wire, key: str) -> tuple[str, str] | Rejected:
     """The topic and type a key is read as, or why it is refused. Remembered: a robot
     repeats a handful of keys (a tenth of the ROS path's worker time went here)."""
     topic = wire.topic_of(key)
@@ -113,6 +129,17 @@ def tf_inputs(message: Any) -> list[TfInput]:
     return inputs
 
 
+#: The second query of the older generation's publication caches, after the first at start.
+CACHE_QUERY_AGAIN_S = 2.0
+
+
+def publication_cache_selector(wire: Wire, key: str) -> str:
+    """Where the older generation's publication caches of a subscription key answer."""
+    if wire.format is RosFormat.BRIDGE:
+        return f"{key}/@ros2_pub_cache/*"
+    return f"*/{key}"
+
+
 class Ros2Subscriptions:
     """The robot's topics on a zenoh session, but ``skip`` (a topic the caller reads
     itself); each sample goes to ``hand_off`` as a RosSample (the service's intake).
@@ -131,6 +158,10 @@ class Ros2Subscriptions:
 
         self.keys: list[str] = []
         self._entities: list[Any] = []
+        self._session = session
+        self._hand_off = hand_off
+        self._cached: list[str] = []  # publication cache selectors (older generation)
+        self._timer: threading.Timer | None = None
         try:
             for topic, typename, transient_local in TOPICS:
                 if (topic, typename) == skip:
@@ -142,14 +173,43 @@ class Ros2Subscriptions:
                     entity = zenoh.ext.declare_advanced_subscriber(
                         session, key, on_sample, history=history
                     )
+                    self._cached.append(publication_cache_selector(wire, key))
                 else:
                     entity = session.declare_subscriber(key, on_sample)
                 self._entities.append(entity)
+            self.query_publication_caches()
+            self._timer = threading.Timer(CACHE_QUERY_AGAIN_S, self.query_publication_caches)
+            self._timer.daemon = True
+            self._timer.start()
         except BaseException:
             self.close()
             raise
 
+    def query_publication_caches(self) -> None:
+        """Ask the older generation's publication caches for what they hold; replies go
+        to ``hand_off`` like samples (a reply also held by a newer cache is a duplicate
+        the topics' rules absorb: a static transform or a list said twice)."""
+
+        def on_reply(reply: zenoh.Reply) -> None:
+            if (sample := reply.ok) is not None:
+                self._hand_off(RosSample.of(sample))
+
+        for selector in self._cached:
+            try:
+                self._session.get(
+                    selector,
+                    on_reply,
+                    target=zenoh.QueryTarget.ALL,
+                    consolidation=zenoh.ConsolidationMode.NONE,
+                    accept_replies=zenoh.ReplyKeyExpr.ANY,
+                )
+            except zenoh.ZError:
+                return  # the session closed meanwhile
+
     def close(self) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
         for entity in self._entities:
             entity.undeclare()
         self._entities = []

@@ -24,14 +24,22 @@ import hashlib
 import json
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import zenoh
 
 from . import ros2_types
 from .engagement import Level
-from .ros2_wire import RosFormat, Wire, attachment
+from .ros2_wire import (
+    QOS_RELIABLE_VOLATILE,
+    Attachment,
+    Form,
+    FormLearner,
+    RosFormat,
+    Wire,
+    attachment,
+)
 from .schemas import FrameFacing
 from .tracker import Changes, EngagementUpdate
 
@@ -154,12 +162,21 @@ class RosOutput:
 
 
 class RosPublishers:
-    """The publisher thread's ROS 2 publishers, in the robot's format."""
+    """The publisher thread's ROS 2 publishers, in the robot's format and form (``form``:
+    the worker learns it from the robot's samples; a publisher declared in another form is
+    declared again in the new one).
 
-    def __init__(self, session: zenoh.Session, wire: Wire, node_name: str) -> None:
+    Congestion control is rmw_zenoh's for the QoS we advertise (reliable, keep last 10):
+    DROP, as its ``rmw_publisher_data.cpp`` chooses for every keep-last publisher, so a
+    subscriber that stops reading costs it samples, never the service a stall."""
+
+    def __init__(
+        self, session: zenoh.Session, wire: Wire, node_name: str, form: FormLearner
+    ) -> None:
         self.session = session
         self.wire = wire
         self.node_name = node_name
+        self.form = form
         self._publishers: dict[str, TopicWriter] = {}
         self._next_entity_id = 1  # 0 is the node's
         self._node_token = None
@@ -176,38 +193,48 @@ class RosPublishers:
     def node_token_key(self) -> str:
         return self._prefix(0, "NN")
 
-    def publisher_token_key(self, entity_id: int, topic: str, typename: str) -> str:
-        full_topic = f"/{self.wire.namespace}{topic}" if self.wire.namespace else topic
+    def publisher_token_key(
+        self, entity_id: int, topic: str, typename: str, wire: Wire | None = None
+    ) -> str:
+        wire = wire or self.wire
+        full_topic = f"/{wire.namespace}{topic}" if wire.namespace else topic
         return (
             f"{self._prefix(entity_id, 'MP')}/{_mangle(full_topic)}/"
-            f"{ros2_types.dds_type_name(typename)}/{ros2_types.type_hash(typename)}/{QOS_DEFAULT}"
+            f"{ros2_types.dds_type_name(typename)}/{wire.type_hash(typename)}/"
+            f"{QOS_RELIABLE_VOLATILE}"
         )
 
     def send(self, message: RosMessage) -> None:
+        form = self.form.current
         publisher = self._publishers.get(message.topic)
-        if message.payload is None:  # the topic's subject is gone
-            if publisher is not None:
-                publisher.undeclare()
-                del self._publishers[message.topic]
+        if publisher is not None and (message.payload is None or publisher.form != form):
+            publisher.undeclare()  # the subject is gone, or the robot's form changed
+            del self._publishers[message.topic]
+            publisher = None
+        if message.payload is None:
             return
         if publisher is None:
-            token = None
-            if self.wire.format is RosFormat.RMW_ZENOH:
-                key = self.publisher_token_key(
-                    self._next_entity_id, message.topic, message.typename
-                )
-                token = self.session.liveliness().declare_token(key)
-            self._next_entity_id += 1
-            data_key = self.wire.key(message.topic, message.typename)
-            entity = self.session.declare_publisher(
-                data_key, encoding=CDR, congestion_control=zenoh.CongestionControl.BLOCK
-            )
-            # rmw_zenoh hashes the liveliness key into the GID (XXH3-128); a SHA-256 prefix
-            # of the data key and entity number is as unique, which is all a GID must be.
-            gid = hashlib.sha256(f"{data_key}#{self._next_entity_id}".encode()).digest()[:16]
-            publisher = TopicWriter(entity, self.wire, gid, token)
+            publisher = self._declare(message, form)
             self._publishers[message.topic] = publisher
         publisher.put(message.payload)
+
+    def _declare(self, message: RosMessage, form: Form) -> TopicWriter:
+        wire = replace(self.wire, distro=form.distro)
+        token = None
+        if wire.format is RosFormat.RMW_ZENOH:
+            key = self.publisher_token_key(
+                self._next_entity_id, message.topic, message.typename, wire
+            )
+            token = self.session.liveliness().declare_token(key)
+        self._next_entity_id += 1
+        data_key = wire.key(message.topic, message.typename)
+        entity = self.session.declare_publisher(
+            data_key, encoding=CDR, congestion_control=zenoh.CongestionControl.DROP
+        )
+        # rmw_zenoh hashes the liveliness key into the GID (XXH3-128); a SHA-256 prefix
+        # of the data key and entity number is as unique, which is all a GID must be.
+        gid = hashlib.sha256(f"{data_key}#{self._next_entity_id}".encode()).digest()[:16]
+        return TopicWriter(entity, wire, gid, token, form)
 
     def close(self) -> None:
         for publisher in self._publishers.values():
@@ -218,11 +245,6 @@ class RosPublishers:
             self._node_token = None
 
 
-#: rmw_zenoh's QoS string for a default publisher (reliable, volatile, keep last 10):
-#: an empty field is the default; the depth is written out, as rmw_zenoh peers do.
-QOS_DEFAULT = "::,10:,:,:,,"
-
-
 def _mangle(name: str) -> str:
     """rmw_zenoh's liveliness names: '/' becomes '%'."""
     return name.replace("/", "%")
@@ -230,18 +252,25 @@ def _mangle(name: str) -> str:
 
 class TopicWriter:
     """Puts samples on one topic's declared publisher (plain or zenoh-ext advanced) as the
-    robot's format wants them: in rmw_zenoh's, each with its attachment, numbered from 1."""
+    robot's format wants them: in rmw_zenoh's, each with its attachment in the robot's
+    layout, numbered from 1."""
 
-    def __init__(self, entity: Any, wire: Wire, gid: bytes, token: Any = None) -> None:
+    def __init__(
+        self, entity: Any, wire: Wire, gid: bytes, token: Any = None, form: Form | None = None
+    ) -> None:
         self._entity = entity
         self._rmw = wire.format is RosFormat.RMW_ZENOH
         self.gid = gid
+        self.form = form or Form(wire.distro)
         self._token = token  # the publisher's liveliness token, if it holds one
         self.sequence_number = 0
 
     def put(self, payload: bytes) -> None:
         self.sequence_number += 1
-        extra = attachment(self.sequence_number, time.time_ns(), self.gid) if self._rmw else None
+        extra = None
+        if self._rmw:
+            layout: Attachment = self.form.attachment
+            extra = attachment(self.sequence_number, time.time_ns(), self.gid, layout)
         self._entity.put(payload, attachment=extra)
 
     def undeclare(self) -> None:

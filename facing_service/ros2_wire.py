@@ -2,21 +2,41 @@
 
 - ``rmw_zenoh`` (ROS 2's zenoh middleware): ``<domain>/<topic>/<dds type>/<type hash>``,
   e.g. ``0/tf/tf2_msgs::msg::dds_::TFMessage_/RIHS01_e369d0f0...``; the topic keeps its
-  inner slashes (``0/humans/faces/tracked/...``). Humble sends ``TypeHashNotSupported``
-  for the hash. Payload: CDR with its encapsulation header; each sample carries an
-  attachment (sequence number, source timestamp, GID) that input may ignore.
+  inner slashes (``0/humans/faces/tracked/...``). Payload: CDR with its encapsulation
+  header; each sample carries an attachment (sequence number, source timestamp, GID) that
+  input may ignore and rmw_zenoh's subscriptions require.
 - ``bridge`` (zenoh-bridge-ros2dds, for DDS robots): the topic without its leading slash,
   under the bridge's namespace if it has one (``tf``, ``bot1/tf``); raw CDR, no attachment.
 
 A ROS namespace (``--ros-namespace``) prefixes every topic, as a remap or the bridge's
-namespace would. Pure: builds and parses strings, decides nothing else.
+namespace would.
+
+What differs between rmw_zenoh's releases (read in ros2-gbp/rmw_zenoh-release, tags
+``upstream/<version>``; Humble is 0.1.x, Jazzy 0.2.x, Kilted 0.6.x, Rolling 0.7 and later):
+
+- the type hash in keys and liveliness tokens: Humble has none and writes the literal
+  ``TypeHashNotSupported``; Jazzy and later write ``RIHS01_<sha256>``. A subscription's
+  key holds the hash, so a publisher in the other form is never heard (``Distro``);
+- the attachment (``attachment_helpers.cpp``): since Humble 0.1.2 and Jazzy 0.2.4 three
+  zenoh-ext serialized fields, 33 bytes; before, each field preceded by its name
+  (``Attachment.KEYED``), which a newer subscription cannot parse, nor an older one ours;
+- the default durability behind an empty QoS field: transient-local before Humble 0.1.2
+  and Jazzy 0.2.3, volatile since, so a QoS string says every field (``QOS_RELIABLE_VOLATILE``);
+- transient-local caches: a ``PublicationCache`` queried on ``*/<key>`` up to Humble
+  0.1.1 and Jazzy 0.2.1, an advanced publisher's cache since (``ros2_input``).
+
+Pure: builds and parses strings and bytes, decides nothing else.
 """
 
 from __future__ import annotations
 
-import struct
+import logging
 from dataclasses import dataclass
 from enum import Enum
+from functools import lru_cache
+
+from zenoh import ZBytes
+from zenoh.ext import Int64, ZDeserializeError, z_deserialize, z_serialize
 
 from . import ros2_types
 
@@ -28,6 +48,27 @@ class RosFormat(str, Enum):
     BRIDGE = "bridge"
 
 
+class Distro(str, Enum):
+    """Which form of rmw_zenoh's keys a robot uses: what its type hash chunk says."""
+
+    HUMBLE = "humble"  # TypeHashNotSupported
+    JAZZY = "jazzy"  # RIHS01_<sha256>: Jazzy, Kilted, Rolling
+
+    def describe(self) -> str:
+        if self is Distro.HUMBLE:
+            return "Humble (keys carry TypeHashNotSupported)"
+        return "Jazzy or later (keys carry RIHS01 type hashes)"
+
+
+@lru_cache(maxsize=4096)
+def distro_of(key: str) -> Distro | None:
+    """The form an rmw_zenoh data key is in, from its last chunk (None: neither)."""
+    last = key.rpartition("/")[2]
+    if last == HASH_NOT_SUPPORTED:
+        return Distro.HUMBLE
+    return Distro.JAZZY if last.startswith("RIHS01_") else None
+
+
 @dataclass(frozen=True)
 class Wire:
     """Where a robot's topics are on zenoh: its format, domain and namespace."""
@@ -35,6 +76,13 @@ class Wire:
     format: RosFormat = RosFormat.RMW_ZENOH
     domain_id: int = 0
     namespace: str = ""  # ROS namespace or bridge namespace, without slashes around
+    distro: Distro = Distro.JAZZY  # the type hash form of the keys this wire writes
+
+    def type_hash(self, typename: str) -> str:
+        """What this wire writes for a type's hash, in data keys and liveliness tokens."""
+        if self.distro is Distro.HUMBLE:
+            return HASH_NOT_SUPPORTED
+        return ros2_types.type_hash(typename)
 
     def _topic(self, topic: str) -> str:
         topic = topic.strip("/")
@@ -45,7 +93,7 @@ class Wire:
         if self.format is RosFormat.BRIDGE:
             return self._topic(topic)
         name = ros2_types.dds_type_name(typename)
-        return f"{self.domain_id}/{self._topic(topic)}/{name}/{ros2_types.type_hash(typename)}"
+        return f"{self.domain_id}/{self._topic(topic)}/{name}/{self.type_hash(typename)}"
 
     def subscription(self, topic_pattern: str, typename: str) -> str:
         """What to subscribe to for a topic (``*`` allowed in chunks), any type hash: the
@@ -85,21 +133,106 @@ class Wire:
 
 
 GID_SIZE = 16
-ATTACHMENT_SIZE = 8 + 8 + 1 + GID_SIZE
 
 
-def attachment(sequence_number: int, source_timestamp_ns: int, gid: bytes) -> bytes:
-    """rmw_zenoh's per-sample attachment (its subscriptions drop samples without one):
-    int64 LE sequence number (from 1 per publisher), int64 LE source timestamp in ns, the
-    GID's length as one byte (16), the 16-byte publisher GID: 33 bytes."""
+class Attachment(str, Enum):
+    """The layout of rmw_zenoh's per-sample attachment (``attachment_helpers.cpp``):
+    zenoh-ext serialized int64 sequence number, int64 source timestamp (ns) and the
+    16-byte publisher GID as a sequence (a length byte, then the bytes)."""
+
+    CURRENT = "current"  # the three fields: 33 bytes (Humble >= 0.1.2, Jazzy >= 0.2.4, ...)
+    KEYED = "keyed"  # each field after its name (Humble 0.1.0-0.1.1, Jazzy 0.2.0-0.2.3)
+
+    def describe(self) -> str:
+        if self is Attachment.KEYED:
+            return "keyed fields, as rmw_zenoh before Humble 0.1.2 and Jazzy 0.2.4"
+        return "33 bytes, as rmw_zenoh since Humble 0.1.2 and Jazzy 0.2.4"
+
+
+_KEYED_NAMES = ("sequence_number", "source_timestamp", "source_gid")
+_CURRENT_SIZE = 8 + 8 + 1 + GID_SIZE
+
+
+def attachment(
+    sequence_number: int,
+    source_timestamp_ns: int,
+    gid: bytes,
+    layout: Attachment = Attachment.CURRENT,
+) -> bytes:
+    """rmw_zenoh's attachment (its subscriptions drop a sample without one), serialized
+    by zenoh-ext, the serializer rmw_zenoh's own C++ uses."""
     if len(gid) != GID_SIZE:
         raise ValueError(f"a GID is {GID_SIZE} bytes, got {len(gid)}")
-    return struct.pack("<qqB", sequence_number, source_timestamp_ns, GID_SIZE) + gid
+    fields = (Int64(sequence_number), Int64(source_timestamp_ns), gid)
+    if layout is Attachment.KEYED:
+        fields = tuple(x for pair in zip(_KEYED_NAMES, fields, strict=True) for x in pair)
+    return z_serialize(fields).to_bytes()
 
 
-def parse_attachment(data: bytes) -> tuple[int, int, bytes] | None:
-    """``(sequence number, source timestamp ns, gid)``, or None when malformed."""
-    if len(data) != ATTACHMENT_SIZE or data[16] != GID_SIZE:
+def attachment_layout(data: bytes | None) -> Attachment | None:
+    """Which layout a robot's attachment is in (None: none, or neither)."""
+    if data is None:
         return None
-    sequence_number, timestamp = struct.unpack_from("<qq", data)
-    return sequence_number, timestamp, bytes(data[17:])
+    if len(data) == _CURRENT_SIZE and data[16] == GID_SIZE:
+        return Attachment.CURRENT
+    try:
+        fields = z_deserialize(tuple[str, Int64, str, Int64, str, bytes], ZBytes(data))
+    except ZDeserializeError:
+        return None
+    return Attachment.KEYED if fields[0::2] == _KEYED_NAMES else None
+
+
+#: rmw_zenoh's QoS string for our publishers, every field written out (an empty field
+#: means the reader's default, which changed between releases): reliable (1), volatile
+#: (2), keep last (1) 10, infinite deadline, lifespan and liveliness lease.
+QOS_RELIABLE_VOLATILE = "1:2:1,10:,:,:,,"
+
+
+@dataclass(frozen=True)
+class Form:
+    """The form of rmw_zenoh's a robot uses, and so that our answers take."""
+
+    distro: Distro = Distro.JAZZY
+    attachment: Attachment = Attachment.CURRENT
+
+    def describe(self) -> str:
+        return f"{self.distro.describe()}, attachments {self.attachment.describe()}"
+
+
+class FormLearner:
+    """The robot's form, learned from the keys and attachments of what it publishes
+    (``--ros-distro auto``) or forced; answering in any other form reaches no subscriber.
+
+    One writer (the worker, ``learn``); the publisher thread reads ``current``, replaced
+    whole, so it never sees half an update."""
+
+    def __init__(self, forced: Distro | None = None) -> None:
+        self.forced = forced
+        self.current = Form(forced or Distro.JAZZY)
+        self.observed: Form | None = None  # the robot's, once a sample has said it
+        self.source = "--ros-distro" if forced else "the default: no robot sample learned yet"
+
+    def learn(self, key: str, data: bytes | None) -> tuple[int, str] | None:
+        """One sample of the robot's (its key and attachment); a log level and line when
+        that changed what we know of its form."""
+        distro = distro_of(key)
+        layout = attachment_layout(data)
+        if distro is None or layout is None:
+            return None  # not rmw_zenoh's, or a malformed attachment: nothing learned
+        observed = Form(distro, layout)
+        if observed == self.observed:
+            return None
+        self.observed = observed
+        self.current = Form(self.forced or distro, layout)
+        self.source = "--ros-distro" if self.forced else f"learned from {key}"
+        if self.forced is not None and self.forced is not distro:
+            return logging.WARNING, (
+                f"the robot publishes in rmw_zenoh's form for {distro.describe()} ({key}), "
+                f"but --ros-distro {self.forced.value} forces the other: none of its "
+                "subscribers will hear our answers"
+            )
+        how = "as --ros-distro says" if self.forced is not None else f"learned from {key}"
+        return (
+            logging.INFO,
+            f"answering the robot in rmw_zenoh's form for {observed.describe()} ({how})",
+        )

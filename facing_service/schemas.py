@@ -215,6 +215,29 @@ class EngagementEvent(BaseModel):
     )
 
 
+class Ros2Status(BaseModel):
+    """What a service on ROS 2 input (``--input ros2``) knows of its robot."""
+
+    format: str = Field(description='"rmw_zenoh" or "bridge" (--ros-format).')
+    distro: str = Field(
+        description='The rmw_zenoh form answered in: "humble" (TypeHashNotSupported) or '
+        '"jazzy" (RIHS01 type hashes: Jazzy, Kilted, Rolling).'
+    )
+    attachment: str = Field(
+        description='rmw_zenoh attachment layout answered in: "current" (33 bytes) or '
+        '"keyed" (before Humble 0.1.2 / Jazzy 0.2.4).'
+    )
+    form_from: str = Field(
+        description="Why that form: the key it was learned from, --ros-distro, or that "
+        "nothing was learned yet (the default)."
+    )
+    findings: dict[str, str] = Field(
+        description="Why people give no results, now: code -> one line to act on "
+        "(no_ros_input, ros_input_elsewhere, base_frame_not_in_tree, "
+        "tracked_frames_missing, people_not_connected, time_went_back). Empty when none."
+    )
+
+
 class ServiceStatus(BaseModel):
     """Reply of ``NS/services/facing/<instance>/status``: health, counters, config."""
 
@@ -247,6 +270,9 @@ class ServiceStatus(BaseModel):
         "samples' own zenoh channel cannot report its depth)."
     )
     outbox_depth: int = Field(description="Publications decided, not yet sent.")
+    ros2: Ros2Status | None = Field(
+        None, description="With --input ros2: the robot's form and what stops results."
+    )
 
 
 class QueryError(BaseModel):

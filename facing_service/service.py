@@ -34,6 +34,7 @@ import os
 import sys
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
@@ -50,14 +51,21 @@ from .outbox import Outbox, Publication
 from .people import People
 from .publications import publications, query_replies, ros_publications, threshold_parameter
 from .publisher import JSON, Publisher
-from .ros2_input import Ros2Subscriptions, RosSample, route
+from .ros2_diagnosis import RobotWatch
+from .ros2_input import Ros2Subscriptions, RosSample, reading, route
 from .ros2_output import RosOutput, RosPublishers
 from .ros2_types import TF_MESSAGE
-from .ros2_wire import RosFormat, Wire
-from .schemas import QueryError, Rejected, Rejection, ServiceStatus, decode_pose
+from .ros2_wire import FormLearner
+from .schemas import QueryError, Rejected, Rejection, Ros2Status, ServiceStatus, decode_pose
 from .tracker import Changes, PoseSample, Tracker
 
 log = logging.getLogger("facing_service")
+
+#: ROS 2 input: how often the worker checks why people may give no results (ros2_diagnosis).
+DIAGNOSIS_PERIOD_S = 1.0
+#: ROS 2 input, until /tf arrives where expected: /tf on any other key (another domain,
+#: namespace, format or type hash), to say where the robot's data went.
+STRAY_TF_KEYS = ("**/tf", "**/tf/tf2_msgs::msg::dds_::TFMessage_/*")
 
 #: Most inbox items handled per batch: bounds the latency a backlog adds to a query.
 MAX_BATCH = 1024
@@ -100,11 +108,15 @@ class FacingService:
             head=settings.head_profile(),
         )
         # ROS 2 input: the robot's people from its TF tree and tracked lists.
-        self._wire = Wire(
-            RosFormat(settings.ros_format), settings.ros_domain_id, settings.ros_namespace
-        )
+        self._wire = settings.ros_wire()
+        self._form = FormLearner(settings.forced_distro)
         self._people = People(settings.ros_base_frame)
         self._ros: Ros2Subscriptions | None = None
+        self._watch = RobotWatch(self._wire, clock())
+        self._findings: dict[str, str] = {}  # replaced whole by the worker
+        self._strays: deque[str] = deque(maxlen=64)  # filled by the stray /tf callbacks
+        self._sniffers: list[zenoh.Subscriber[None]] = []
+        self._next_diagnosis: float | None = None  # ROS 2 input only
         self._ros_out = (
             RosOutput(settings.ros_engagement_rate_hz, settings.ros_intents)
             if settings.output == "ros2"
@@ -136,7 +148,7 @@ class FacingService:
             self._hand_over()
             ros = None
             if self._ros_out is not None:
-                ros = partial(RosPublishers, session, self._wire, s.ros_node_name)
+                ros = partial(RosPublishers, session, self._wire, s.ros_node_name, self._form)
             publisher = Publisher(session, self._outbox, self._ledger, self._closing, ros)
             self._threads = [
                 threading.Thread(target=self._run, name="facing-worker", daemon=True),
@@ -147,6 +159,11 @@ class FacingService:
                 self._intake = Intake(session, hot, INBOX_SIZE, self._closing, self._clock)
                 self._ros = Ros2Subscriptions(session, self._wire, self._enqueue, HOT_ROS_TOPIC)
                 subscription = ", ".join([hot, *self._ros.keys])
+                self._sniffers = [
+                    session.declare_subscriber(k, lambda s: self._strays.append(str(s.key_expr)))
+                    for k in STRAY_TF_KEYS
+                ]
+                self._next_diagnosis = self._clock() + DIAGNOSIS_PERIOD_S
             else:
                 subscription = keys.pose_subscription(ns, frame)
                 self._intake = Intake(session, subscription, INBOX_SIZE, self._closing, self._clock)
@@ -215,6 +232,7 @@ class FacingService:
         if self._ros is not None:
             self._ros.close()
             self._ros = None
+        self._stop_sniffing()
         if self._intake is not None:  # a waiting worker wakes; a busy one sees the flag
             self._intake.close()
         self._outbox.close()
@@ -259,6 +277,19 @@ class FacingService:
             config=public_settings(self.settings.model_dump(mode="json")),
             connected=self.connected(),
             inbox_depth=len(self._intake) if self._intake is not None else 0,
+            ros2=self._ros2_status(),
+        )
+
+    def _ros2_status(self) -> Ros2Status | None:
+        if self.settings.input != "ros2":
+            return None
+        form = self._form.current
+        return Ros2Status(
+            format=self._wire.format.value,
+            distro=form.distro.value,
+            attachment=form.attachment.value,
+            form_from=self._form.source,
+            findings=self._findings,
         )
 
     # -- zenoh callbacks: hand off, nothing else ---------------------------------------
@@ -284,6 +315,7 @@ class FacingService:
                 self._handle(batch)
                 self._expire()
                 self._ros_tick()
+                self._diagnose()
                 self._ledger.rejection_log.maybe_log()
                 self._ledger.tracked = self._tracker.tracked_per_frame()
                 self._hand_over()
@@ -312,6 +344,7 @@ class FacingService:
                     self._tracker.next_due(),
                     self._ledger.rejection_log.next_due(),
                     self._ros_out.next_tick if self._ros_out is not None else None,
+                    self._next_diagnosis,
                 )
                 if d is not None
             ),
@@ -337,6 +370,33 @@ class FacingService:
         if self._ros_out is not None:
             messages = self._ros_out.tick(self._tracker.engagements, self._clock())
             self._said += ros_publications(messages)
+
+    def _diagnose(self) -> None:
+        """--input ros2, every DIAGNOSIS_PERIOD_S: why people may give no results. Each
+        finding is logged once when it appears and once when it clears; the status shows
+        the current ones."""
+        now = self._clock()
+        if self._next_diagnosis is None or now < self._next_diagnosis:
+            return
+        self._next_diagnosis = now + DIAGNOSIS_PERIOD_S
+        while self._strays:
+            key = self._strays.popleft()
+            if isinstance(reading(self._wire, key), Rejected):  # not where /tf is read
+                self._watch.on_stray(key)
+        if self._watch.topics.get("/tf"):
+            self._stop_sniffing()  # /tf arrives where expected: strays no longer matter
+        findings = self._watch.findings(self._people, now)
+        for code, line in findings.items():
+            if code not in self._findings:
+                log.warning("ROS 2 input: %s [%s]", line, code)
+        for code in self._findings.keys() - findings.keys():
+            log.info("ROS 2 input: %s no longer holds", code)
+        self._findings = findings
+
+    def _stop_sniffing(self) -> None:
+        for sniffer in self._sniffers:
+            sniffer.undeclare()
+        self._sniffers = []
 
     def _handle(self, batch: list[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together."""
@@ -364,10 +424,16 @@ class FacingService:
     def _on_ros(self, sample: RosSample, poses: list[PoseSample]) -> None:
         """A sample of the robot's topics: poses join the batch; losses are published
         after the poses before them, in order."""
+        if (learned := self._form.learn(sample.key, sample.attachment)) is not None:
+            log.log(learned[0], "%s", learned[1])
         update = route(self._people, self._wire, sample)
         if isinstance(update, Rejected):
             self._reject(update.reason, sample.key, update.detail)
             return
+        self._watch.on_input(reading(self._wire, sample.key)[0])  # type: ignore[index]
+        if update.time_back_ns:
+            self._watch.time_back = (self._clock(), update.time_back_ns)
+            self._next_diagnosis = self._clock()  # said at once
         for reason, what in update.refused:
             self._reject(Rejection(reason), sample.key, what)
         if update.unresolved:

@@ -296,6 +296,36 @@ class TfBuffer:
     def has_frame(self, frame: str) -> bool:
         return frame in self._frames
 
+    def clear(self) -> None:
+        """Forget every dynamic transform, keep the static ones: tf2's ``BufferCore::clear``
+        (a static cache's ``clearList`` keeps its transform), which ROS's TF listener calls
+        when time jumps back."""
+        static = {c: cache for c, cache in self._caches.items() if cache.is_static}
+        self._caches, self._frames, self._children = {}, set(), {}
+        for child, cache in static.items():
+            self._caches[child] = cache
+            parent = cache.latest()[1]
+            assert parent is not None  # a cache exists once it holds a transform
+            self._frames.update((child, parent))
+            self._children.setdefault(parent, set()).add(child)
+
+    def newest(self, frame: str) -> int | None:
+        """The newest stamp of ``frame``'s own transform (None: static, or no transform)."""
+        cache = self._caches.get(frame)
+        return None if cache is None or cache.is_static else cache.latest()[0]
+
+    def frames(self) -> set[str]:
+        """Every frame named so far, as a child or a parent."""
+        return set(self._frames)
+
+    def roots(self) -> list[str]:
+        """The frames with no parent: one per tree (tf2's view_frames draws them on top)."""
+        return sorted(self._frames - self._caches.keys())
+
+    def root_of(self, frame: str) -> str:
+        """The top of ``frame``'s tree by latest parents (a frame in a loop: where it loops)."""
+        return self.parent_chain(frame)[-1]
+
     def descendants(self, frame: str) -> set[str]:
         """``frame`` and every frame below it, by latest parents: whose lookups a change of
         ``frame``'s transform can change."""

@@ -38,8 +38,13 @@ class Network:
         service, _ = self.service(**(params | settings))
         return service
 
-    def client(self, connect: str, mode: str = "peer") -> zenoh.Session:
-        session = zenoh.open(loopback_config(connect=[connect], mode=mode))
+    def client(self, connect: str, mode: str = "peer", timestamping: bool = False) -> zenoh.Session:
+        """A session connecting to ``connect``; ``timestamping``: stamping what it puts
+        (as zenohd, which runs zenoh-bridge-ros2dds, does)."""
+        conf = loopback_config(connect=[connect], mode=mode)
+        if timestamping:
+            conf.insert_json5("timestamping/enabled", "true")
+        session = zenoh.open(conf)
         self._closers.append(session.close)
         return session
 

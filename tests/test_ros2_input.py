@@ -4,6 +4,7 @@ bridge's formats, through a zenoh router into the real service."""
 from __future__ import annotations
 
 import json
+import logging
 import math
 import time
 
@@ -15,16 +16,19 @@ from facing_service.detector import classify_one
 from facing_service.people import People, TfInput
 from facing_service.ros2_input import RosSample, route
 from facing_service.ros2_wire import (
-    ATTACHMENT_SIZE,
     HASH_NOT_SUPPORTED,
+    Attachment,
+    Distro,
+    FormLearner,
     RosFormat,
     Wire,
     attachment,
-    parse_attachment,
+    attachment_layout,
 )
 from facing_service.schemas import Rejected, Rejection
 from facing_service.tf_buffer import Transform
 
+import rmw_zenoh
 from loopback import endpoint
 from ros_messages import Robot, S, ids_list, string, tf_message, transform, yaw_q
 
@@ -62,13 +66,44 @@ def test_the_type_hash_is_checked_per_sample():
     assert "is not tf2_msgs/msg/TFMessage" in wire.check(other, ros2_types.TF_MESSAGE)
 
 
-def test_attachment_is_rmw_zenohs_33_bytes():
+def test_humble_keys_carry_no_type_hash():
+    humble = Wire(distro=Distro.HUMBLE)
+    assert humble.key("/tf", ros2_types.TF_MESSAGE) == (
+        "0/tf/tf2_msgs::msg::dds_::TFMessage_/TypeHashNotSupported"
+    )
+
+
+@pytest.mark.parametrize("release", [rmw_zenoh.HUMBLE_0_1_1, rmw_zenoh.JAZZY_0_2_10], ids=str)
+def test_attachments_in_both_layouts_parse_as_rmw_zenoh_parses_them(release):
+    """Ours, read back by the parser written from that release's attachment_helpers.cpp
+    (and zenoh-ros2-sdk's, for the current layout)."""
+    layout = Attachment.KEYED if release.keyed_attachment else Attachment.CURRENT
     gid = bytes(range(16))
-    data = attachment(7, 1_700_000_000_123_456_789, gid)
-    assert len(data) == ATTACHMENT_SIZE == 33
-    assert data[:8] == (7).to_bytes(8, "little") and data[16] == 16 and data[17:] == gid
-    assert parse_attachment(data) == (7, 1_700_000_000_123_456_789, gid)
-    assert parse_attachment(data[:-1]) is None
+    data = attachment(7, 1_700_000_000_123_456_789, gid, layout)
+    assert rmw_zenoh.parse_attachment(release, data) == (7, gid)
+    assert attachment_layout(data) is layout
+    assert attachment_layout(rmw_zenoh.make_attachment(release, 1, gid)) is layout
+    assert attachment_layout(data[:-1]) is None and attachment_layout(None) is None
+
+
+def test_the_robots_form_is_learned_from_its_keys_and_attachments():
+    humble_key = Wire(distro=Distro.HUMBLE).key("/tf", ros2_types.TF_MESSAGE)
+    keyed = rmw_zenoh.make_attachment(rmw_zenoh.HUMBLE_0_1_1, 1, bytes(16))
+    learner = FormLearner()
+    assert learner.current.distro is Distro.JAZZY  # until the robot says otherwise
+    level, line = learner.learn(humble_key, keyed)
+    assert level == logging.INFO
+    assert "Humble" in line and "keyed" in line and humble_key in line
+    assert (learner.current.distro, learner.current.attachment) == (
+        Distro.HUMBLE,
+        Attachment.KEYED,
+    )
+    assert learner.learn(humble_key, keyed) is None  # said once
+    assert learner.learn("tf", None) is None  # the bridge's: nothing to learn
+    forced = FormLearner(Distro.JAZZY)
+    level, line = forced.learn(humble_key, keyed)
+    assert level == logging.WARNING
+    assert "--ros-distro jazzy" in line and forced.current.distro is Distro.JAZZY
 
 
 # -- people, without a network -------------------------------------------------------------
