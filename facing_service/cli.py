@@ -237,6 +237,24 @@ def build_parser() -> _Parser:
     add_settings_arguments(replay, ["ros_format", "ros_distro", "ros_domain_id", "ros_namespace"])
     add_zenoh_arguments(replay)
 
+    inspect = commands.add_parser(
+        "inspect",
+        help="show what a ROS 2 robot publishes on zenoh, and the flags that read it",
+        description="Listen for a robot's /tf, /tf_static and /humans/*/tracked in every "
+        "format, domain and namespace (as ros2 topic list -v would), then print the topics "
+        "with their rate and rmw_zenoh form, the TF tree with its roots (as view_frames), the "
+        "tracked ids, and the 'run' flags that read them. Start here when nothing comes out.",
+    )
+    inspect.add_argument(
+        "--seconds", type=POSITIVE, default=3.0, help="how long to listen (default 3)"
+    )
+    inspect.add_argument(
+        "--base-frame",
+        default="base_link",
+        help="the robot's reference frame the service would use (default base_link)",
+    )
+    add_zenoh_arguments(inspect)
+
     simulate = commands.add_parser(
         "simulate",
         help="publish a synthetic scene of people, like a body tracker would",
@@ -362,6 +380,15 @@ def _replay(args: argparse.Namespace) -> int:
     return replay(settings, args.bag, args.rate, args.record, _stop_on_signals())
 
 
+def _inspect(args: argparse.Namespace) -> int:
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    from .ros2_survey import inspect_robot  # rosbags: only for the commands that read CDR
+
+    return inspect_robot(settings, args.seconds, args.base_frame)
+
+
 def _simulate(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
@@ -451,6 +478,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "health": _health,
         "router": _router,
         "replay": _replay,
+        "inspect": _inspect,
         "simulate": _simulate,
         "watch": _watch,
         "demo": _demo,

@@ -42,7 +42,7 @@ PERSON_LINKS = {"face_id": "face_", "body_id": "body_"}
 S = 1_000_000_000
 #: How far back a transform's stamp must be, and for how many /tf messages in a row, for
 #: time to have gone back (a stream at 30 Hz says so within 0.1 s).
-TIME_BACK_NS = S
+TIME_BACK_NS = S // 2
 TIME_BACK_MESSAGES = 3
 
 

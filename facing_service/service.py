@@ -160,7 +160,11 @@ class FacingService:
                 self._ros = Ros2Subscriptions(session, self._wire, self._enqueue, HOT_ROS_TOPIC)
                 subscription = ", ".join([hot, *self._ros.keys])
                 self._sniffers = [
-                    session.declare_subscriber(k, lambda s: self._strays.append(str(s.key_expr)))
+                    session.declare_subscriber(
+                        k,
+                        lambda s: self._strays.append(str(s.key_expr)),
+                        allowed_origin=zenoh.Locality.REMOTE,  # not the intake's wake-ups
+                    )
                     for k in STRAY_TF_KEYS
                 ]
                 self._next_diagnosis = self._clock() + DIAGNOSIS_PERIOD_S
@@ -441,9 +445,10 @@ class FacingService:
         poses.extend(update.poses)
         if update.lost:
             self._flush(poses)
+            back = update.time_back_ns > 0
             for subject in update.lost:
                 body = BodyRef(frame_id=self._people.base_frame, body_id=subject)
-                self._publish(self._tracker.lose(body, self._horizon))
+                self._publish(self._tracker.lose(body, self._horizon, time_went_back=back))
 
     def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
         key = str(sample.key_expr)

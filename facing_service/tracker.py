@@ -332,17 +332,19 @@ class Tracker:
                 changes.engagement.append(update)
         changes.results.extend(states)
 
-    def lose(self, body: BodyRef, now: float = 0.0) -> Changes:
+    def lose(self, body: BodyRef, now: float = 0.0, *, time_went_back: bool = False) -> Changes:
         """The tracker said the body is gone (an input DELETE). Poses of it stamped at or
         before its last accepted one are refused for ``TOMBSTONE_S`` after (a late pose
-        must not bring back a body its tracker deleted)."""
+        must not bring back a body its tracker deleted), unless it is lost because time
+        went back: then older stamps are the new timeline."""
         changes = Changes()
         key = body
         if (track := self._tracks.get(key)) is not None:
-            self._tombstones[key] = (track.pose.stamp, now + TOMBSTONE_S)
-            self._tombstones.move_to_end(key)
-            while len(self._tombstones) > self.max_bodies:
-                self._tombstones.popitem(last=False)
+            if not time_went_back:
+                self._tombstones[key] = (track.pose.stamp, now + TOMBSTONE_S)
+                self._tombstones.move_to_end(key)
+                while len(self._tombstones) > self.max_bodies:
+                    self._tombstones.popitem(last=False)
             self._remove(key, changes)
             changes.frames = self._frame_changes({body.frame_id})
         return changes
