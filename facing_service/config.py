@@ -143,7 +143,13 @@ class Settings(BaseModel):
         "3d", **_flag("how a face's angle to the robot is measured: `3d` or `planar`", HEADS)
     )
     head_threshold_deg: float = Field(
-        16.0, gt=0.0, lt=180.0, **_flag("half-angle of a face's facing cone", HEADS)
+        24.0,
+        gt=0.0,
+        lt=180.0,
+        **_flag(
+            "half-angle of a face's facing cone; a face starts ENGAGING at its edge",
+            HEADS,
+        ),
     )
     head_falloff_deg: float = Field(
         20.0,
@@ -336,10 +342,18 @@ class Settings(BaseModel):
         )
 
     def head_profile(self) -> Profile:
-        """How face frames are decided (ROS 2 input): see the README's evaluation."""
+        """How face frames are decided (ROS 2 input): see docs/ros2.md's evaluation.
+
+        One story for heads: a face is facing inside its cone (``head_threshold_deg``),
+        and its engagement score crosses ``engage_above`` exactly at the cone's edge (the
+        score's full plateau is ``(1 - engage_above) * head_falloff_deg`` inside it), so
+        a face that can engage is a face that faces, and one facing within the hysteresis
+        band is one that has not dropped below ``disengage_below``: a person ENGAGED is
+        never "not facing" for long, nor facing without a score that engages."""
+        plateau = self.head_threshold_deg - (1.0 - self.engage_above) * self.head_falloff_deg
         engagement = replace(
             self.engagement_params(),
-            threshold_deg=self.head_threshold_deg,
+            threshold_deg=max(0.0, plateau),
             falloff_deg=self.head_falloff_deg,
             tau_s=self.head_engagement_tau_s,
             engage_dwell_s=self.head_dwell_s,

@@ -4,8 +4,10 @@ A top-down map around the robot (each person drawn where they stand, as an arrow
 their heading; people facing the robot highlighted and labelled) beside a table of id,
 facing, angle, distance and since when. ``render`` is pure (plain data in, a rich
 renderable out) so the view is tested without a terminal; ``Watcher`` gathers the data
-from zenoh: results through a ``FacingClient``, positions and headings from the poses
-(a result alone does not say where a person stands).
+from zenoh. The rows are what the service says (its results and engagement levels),
+whatever its input; positions and headings come from the JSON poses when this session
+can read them (a result alone does not say where a person stands): on ROS 2 input, or
+under an identity that may read results only, people are listed but not drawn.
 """
 
 from __future__ import annotations
@@ -40,9 +42,9 @@ _ARROWS = "↑↖←↙↓↘→↗"
 @dataclass(frozen=True)
 class PersonView:
     body_id: str
-    x: float
-    y: float
-    yaw_deg: float
+    x: float | None  # None: where the person stands is not known here (no pose)
+    y: float | None
+    yaw_deg: float | None
     facing: bool | None  # None: no result yet
     angle_deg: float | None
     distance_m: float | None
@@ -83,6 +85,8 @@ def render(
     grid[cy][cx] = "R"
     styles[(cy, cx)] = "bold cyan"
     for person in sorted(people, key=lambda p: natural_order(p.body_id)):
+        if person.x is None or person.y is None or person.yaw_deg is None:
+            continue
         col, row = cx - round(person.y * scale_x), cy - round(person.x * scale_y)
         if not (0 <= row < height and 0 <= col < width):
             continue
@@ -118,6 +122,8 @@ def render(
         )
     facing = sum(1 for p in people if p.facing)
     title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
+    if unplaced := sum(1 for p in people if p.x is None):
+        title += f"; {unplaced} not drawn (no pose here: ROS 2 input, or not readable)"
     return Group(Panel(canvas, title=title, expand=False), table)
 
 
@@ -200,7 +206,8 @@ class Watcher:
             since = dict(self._since)
             levels = dict(self._levels)
         people = []
-        for body_id, (x, y, yaw) in poses.items():
+        for body_id in states.keys() | poses.keys():
+            x, y, yaw = poses.get(body_id, (None, None, None))
             state = states.get(body_id)
             changed = since.get(body_id)
             people.append(

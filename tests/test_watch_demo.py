@@ -140,3 +140,39 @@ def test_examples_against_a_simulated_scene(net):
     goodbyes = re.findall(r"goodbye (p\d+)", greeted)
     assert set(goodbyes) <= set(hellos)  # goodbye only to people greeted
     assert goodbyes, "stale_after_s=1: everyone is lost after the scene ends"
+
+
+def test_watch_lists_what_the_service_says_on_ros2_input(net):
+    """On ROS 2 input there are no JSON poses to draw: the rows are the service's results
+    and levels all the same (the docs' replay recipe showed "0 of 0" before)."""
+    from facing_service.client import FacingClient
+    from facing_service.loopback import loopback_config
+    from facing_service.watch import Watcher
+
+    import rmw_zenoh
+    from ros_messages import S, ids_list, tf_message, transform, yaw_q
+
+    router = net.router()
+    ep = endpoint(router.port)
+    net.robot_service(ep, base_frame="base_link")
+    robot = rmw_zenoh.Robot(net.client(ep, mode="client"), rmw_zenoh.JAZZY_0_2_10)
+    config = loopback_config(connect=[ep], mode="client")
+    try:
+        with FacingClient("hri", "base_link", session_config=config) as client:
+            watcher = Watcher(client, "base_link")
+            try:
+                for i in range(45):
+                    robot.publish("/humans/bodies/tracked", "hri_msgs/msg/IdsList", ids_list(["a"]))
+                    body = transform(
+                        "base_link", "body_a", S + i * S // 30, (2.0, 0, 0), yaw_q(180)
+                    )
+                    robot.publish("/tf", "tf2_msgs/msg/TFMessage", tf_message(body))
+                    time.sleep(1 / 30)
+                time.sleep(0.3)
+                text = text_of(watcher.view())
+            finally:
+                watcher.close()
+    finally:
+        robot.close()
+    assert "1 of 1 facing the robot" in text and "1 not drawn" in text
+    assert re.search(r"body_a\s*│\s*yes\s*│\s*0\.0\s*│\s*2\.00", text), text
