@@ -1,17 +1,13 @@
 """ROS 2 messages for tests, built and serialized by rosbags (an independent CDR
-implementation), and published the way a robot does in either wire format."""
+implementation). A robot publishing them is ``rmw_zenoh.Robot``, written from rmw_zenoh's
+and the bridge's sources."""
 
 from __future__ import annotations
 
 import math
-import os
 from typing import Any
 
-import zenoh
-import zenoh.ext
-
 from facing_service import ros2_types
-from facing_service.ros2_wire import GID_SIZE, RosFormat, Wire, attachment
 
 S = 1_000_000_000
 
@@ -67,44 +63,3 @@ TYPES = {
 
 def type_of(topic: str) -> str:
     return TYPES.get(topic, ros2_types.STRING)
-
-
-class Robot:
-    """Publishes like a ROS 2 robot on zenoh: BLOCK, rmw_zenoh's attachment in that
-    format, advanced publishers with a cache for transient-local topics."""
-
-    def __init__(self, session: zenoh.Session, wire: Wire) -> None:
-        self.session = session
-        self.wire = wire
-        self.gid = os.urandom(GID_SIZE)
-        self.sequence_number = 0
-        self._cached: list[Any] = []
-
-    def publish(self, topic: str, payload: bytes, key: str | None = None) -> None:
-        self.sequence_number += 1
-        extra = None
-        if self.wire.format is RosFormat.RMW_ZENOH:
-            extra = attachment(self.sequence_number, 0, self.gid)
-        self.session.put(
-            key or self.wire.key(topic, type_of(topic)),
-            payload,
-            attachment=extra,
-            congestion_control=zenoh.CongestionControl.BLOCK,
-        )
-
-    def latch(self, topic: str, payload: bytes) -> None:
-        """Publish on a transient-local topic: kept in a cache for late joiners (close)."""
-        publisher = zenoh.ext.declare_advanced_publisher(
-            self.session,
-            self.wire.key(topic, type_of(topic)),
-            cache=zenoh.ext.CacheConfig(1),
-            sample_miss_detection=zenoh.ext.MissDetectionConfig(),
-            publisher_detection=True,
-        )
-        self._cached.append(publisher)
-        publisher.put(payload)
-
-    def close(self) -> None:
-        for publisher in self._cached:
-            publisher.undeclare()
-        self._cached.clear()

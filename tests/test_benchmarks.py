@@ -1,5 +1,7 @@
-"""The benchmark harness at tiny sizes, so it never rots. No timing assertions: the
-figures are printed and written, and only their presence and sanity are checked."""
+"""The benchmark harness at tiny sizes, so it never rots. No timing assertions (the machine
+is shared): the figures are printed and written; what is checked exactly is what does not
+depend on speed: every pose sent is received, nothing is superseded, every ratio and
+verdict is there."""
 
 from __future__ import annotations
 
@@ -28,11 +30,17 @@ def test_quick_benchmark_run_writes_every_figure(tmp_path):
     assert proc.returncode == 0, proc.stdout + proc.stderr
     report = json.loads(out.read_text())
     for target in ("relay", "service", "service_ros"):
-        assert report[target]["latency"]["n"] == 50
-        assert report[target]["burst"]["received"] > 0
-        assert report[target]["soak"]["received"] > 0
+        run = report[target]
+        assert run["latency"]["n"] == 50
+        burst, soak = run["burst"], run["soak"]
+        assert burst["sent"] > 0 and soak["sent"] > 0
+        assert (burst["received"], burst["lost"]) == (burst["sent"], 0), burst  # BLOCK: none lost
+        assert soak["received"] == soak["sent"], soak
     assert set(report["ratios"]) >= {"latency_p50", "latency_p99", "burst_throughput"}
-    assert "ros_cpu_per_pose" in report["ratios"] and "ros_zero_loss" in report["verdicts"]
+    assert "ros_cpu_per_pose" in report["ratios"]
+    assert report["verdicts"]["burst_zero_loss"] is True
+    assert report["verdicts"]["burst_nothing_superseded"] is True
+    assert report["verdicts"]["ros_zero_loss"] is True
     assert [row["n"] for row in report["core"]] == [1, 100, 10_000]
     assert "targets:" in proc.stdout
 

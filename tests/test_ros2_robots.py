@@ -10,6 +10,7 @@ import math
 import time
 
 import pytest
+from zenoh_ros2_sdk.qos import QosDurability, QosHistoryKind, QosProfile, QosReliability
 
 from facing_service import ros2_types
 from facing_service.engagement import Level
@@ -50,6 +51,17 @@ def wait_for(predicate, timeout: float = 10.0, what: str = "a condition"):
         assert time.monotonic() < deadline, f"timed out waiting for {what}"
         time.sleep(0.05)
     return value
+
+
+def our_publisher_token(session, topic: str) -> dict:
+    """Our publisher of ``topic`` in the ROS graph, as zenoh-ros2-sdk's discovery parses
+    rmw_zenoh's liveliness tokens."""
+    from zenoh_ros2_sdk.discovery import _parse_liveliness_keyexpr
+
+    tokens = [str(r.ok.key_expr) for r in session.liveliness().get("@ros2_lv/**") if r.ok]
+    parsed = [_parse_liveliness_keyexpr(t) for t in tokens]
+    (ours,) = [p for p in parsed if p and p["kind"] == "MP" and p["qualified_name"] == topic]
+    return ours
 
 
 @pytest.mark.parametrize("release", RELEASES, ids=str)
@@ -120,6 +132,15 @@ def test_every_output_reaches_the_robots_own_subscribers(net, release: Release):
         ]
         assert ["p1"] in facing, facing  # ENGAGED, looking straight at the robot: facing
         if not release.bridge:
+            publisher = our_publisher_token(listener, "/bot1" + status_topic)
+            wanted = rmw_zenoh.TYPE_HASHES[LEVEL] if release.type_hash else "TypeHashNotSupported"
+            assert (publisher["type_hash"], publisher["node_name"]) == (wanted, "facing_service")
+            qos = QosProfile.decode(publisher["qos"])
+            assert (qos.reliability, qos.durability) == (
+                QosReliability.RELIABLE,
+                QosDurability.VOLATILE,
+            )
+            assert (qos.history_kind, qos.history_depth) == (QosHistoryKind.KEEP_LAST, 10)
             ros2 = service.status().ros2
             assert ros2 is not None and ros2.form_from.startswith("learned from"), ros2
             assert ros2.distro == ("jazzy" if release.type_hash else "humble"), ros2

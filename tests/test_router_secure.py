@@ -85,6 +85,18 @@ class Deployment:
             conf.insert_json5(key, value)
         return zenoh.open(conf)
 
+    def refuses(self, endpoint: str | None = None, **overrides: str) -> None:
+        """A consumer connecting with ``overrides`` is refused at ``endpoint`` by whoever
+        listens there: zenoh names that endpoint (not a config error), and the
+        deployment's own consumer connects to the deployment's router right after (the
+        positive control: the router is up, so the refusal is the credentials')."""
+        where = endpoint or self.endpoint
+        with pytest.raises(zenoh.ZError) as refused:
+            self.session("consumer", endpoint=endpoint, **overrides).close()
+        assert f"Unable to connect to any of [Single({where})]" in str(refused.value)
+        with self.session("consumer") as allowed:
+            assert allowed.info.routers_zid(), "the deployment's router refuses everyone"
+
     def cert_of(self, name: str) -> dict[str, str]:
         return {
             "transport/link/tls/connect_certificate": json.dumps(self.path(f"certs/{name}.pem")),
@@ -196,8 +208,7 @@ def _client_config(site: Deployment, role: str) -> zenoh.Config:
     ids=["no-credentials", "wrong-password", "another-users-password", "no-client-certificate"],
 )
 def test_a_client_without_valid_credentials_cannot_connect(deployment, overrides):
-    with pytest.raises(zenoh.ZError):
-        deployment.session("consumer", **overrides).close()
+    deployment.refuses(**overrides)
 
 
 def test_the_router_itself_refuses_a_client_that_presents_no_certificate(deployment):
@@ -227,13 +238,11 @@ def test_the_router_itself_refuses_a_client_that_presents_no_certificate(deploym
 
 
 def test_a_certificate_from_another_ca_is_refused(deployment):
-    with pytest.raises(zenoh.ZError):
-        deployment.session("consumer", **deployment.cert_of("rogue-consumer")).close()
+    deployment.refuses(**deployment.cert_of("rogue-consumer"))
 
 
 def test_plain_tcp_to_the_tls_port_is_refused(deployment):
-    with pytest.raises(zenoh.ZError):
-        deployment.session("consumer", endpoint=f"tcp/127.0.0.1:{deployment.port}").close()
+    deployment.refuses(endpoint=f"tcp/127.0.0.1:{deployment.port}")
 
 
 def test_clients_refuse_a_rogue_router_with_another_cas_certificate(deployment, tmp_path):
@@ -247,8 +256,7 @@ def test_clients_refuse_a_rogue_router_with_another_cas_certificate(deployment, 
     flags = ("router", "-c", "rogue.json5", "-l", f"tls/127.0.0.1:{rogue_port}")
     with running_cli(*flags, cwd=deployment.folder):
         wait_for_port(rogue_port)
-        with pytest.raises(zenoh.ZError):
-            deployment.session("consumer", endpoint=f"tls/localhost:{rogue_port}").close()
+        deployment.refuses(endpoint=f"tls/localhost:{rogue_port}")
 
 
 # -- who connects, but gets no rights ----------------------------------------------------
@@ -266,18 +274,32 @@ def test_clients_refuse_a_rogue_router_with_another_cas_certificate(deployment, 
 def test_mixed_identities_get_no_rights(deployment, service, role, certificate):
     """A valid password with someone else's certificate matches no ACL subject."""
     consumer = deployment.session("consumer")
+    tracker = deployment.session("tracker")
     mixed = deployment.session(role, **deployment.cert_of(certificate))
     try:
         wait_until_answered(consumer, "hri/facing/cam", timeout=20)  # the service is up
         assert mixed.info.routers_zid()  # connected: TLS and password were accepted
         assert get(mixed, "hri/facing/**", timeout=2) == []  # but it may not ask
         send(mixed, "hri/bodies/eve/pose/cam", pose_json("eve", "cam"))
-        time.sleep(0.3)
-        (frame,) = get(consumer, "hri/facing/cam")
-        assert frame[1]["bodies_tracked"] == []  # nor inject
+        # The positive control: a legitimate pose sent after the forged one gets in.
+        send(tracker, "hri/bodies/bob/pose/cam", pose_json("bob", "cam"))
+        frame = wait_for_frame(consumer, lambda tracked: "bob" in tracked)
+        assert frame["bodies_tracked"] == ["bob"]  # nor inject: eve never got in
     finally:
         mixed.close()
+        tracker.close()
         consumer.close()
+
+
+def wait_for_frame(consumer, condition, timeout: float = 10.0) -> dict:
+    """The aggregate of frame cam, once its tracked bodies meet ``condition``."""
+    deadline = time.monotonic() + timeout
+    while True:
+        frames = get(consumer, "hri/facing/cam")
+        if frames and condition(frames[0][1]["bodies_tracked"]):
+            return frames[0][1]
+        assert time.monotonic() < deadline, f"frame cam never met the condition: {frames}"
+        time.sleep(0.05)
 
 
 def test_authenticated_consumers_cannot_inject_and_trackers_cannot_forge(tracker_and_consumer):
@@ -412,15 +434,19 @@ def test_health_passes_with_its_own_identity_and_fails_without_a_service(deploym
 
 
 def test_the_health_identity_may_only_ask_for_the_status(deployment, tracker_and_consumer):
-    tracker, _consumer = tracker_and_consumer
+    tracker, consumer = tracker_and_consumer
     send(tracker, "hri/bodies/alice/pose/cam", pose_json("alice", "cam"))
     with deployment.session("health") as health:
         assert get(health, "hri/services/facing/*/status")  # allowed
         assert get(health, "hri/facing/**", timeout=2) == []  # results: not its business
         send(health, "hri/bodies/eve/pose/cam", pose_json("eve", "cam"))
-        time.sleep(0.3)
+        # The positive control: a legitimate pose sent after the forged one gets in.
+        send(tracker, "hri/bodies/bob/pose/cam", pose_json("bob", "cam"))
+        frame = wait_for_frame(consumer, lambda tracked: "bob" in tracked)
+        assert frame["bodies_tracked"] == ["alice", "bob"]  # eve never got in
         (status,) = get(health, "hri/services/facing/*/status")
-        assert status[1]["counters"]["samples_accepted"] == 1  # eve never got in
+        assert status[1]["counters"]["samples_accepted"] == 2
+        assert sum(status[1]["rejected"].values()) == 0  # refused by the router, not us
 
 
 # -- the policy covers every key space of keys.py ----------------------------------------
