@@ -228,6 +228,11 @@ def robot_site(net):
         r.close()
 
 
+def say(robot: Robot, topic: str, cdr: bytes, *, latched: bool = False) -> None:
+    """One message of the robot's on ``topic`` (``latched``: transient-local)."""
+    robot.publish(topic, type_of(topic), cdr, latched=latched)
+
+
 def wait_for(predicate, timeout: float = 10.0):
     deadline = time.monotonic() + timeout
     while not (value := predicate()):
@@ -251,22 +256,22 @@ def test_a_robots_body_gives_exact_results_in_every_form(net, robot_site, releas
     results = net.recorder(consumer, "hri/bodies/*/facing/base_link")
     time.sleep(0.5)  # the robot's session learns the service's subscriptions
     # base_link -> camera (static) -> body_a, the person 2 m ahead of the robot, 10 deg off.
-    robot.publish(
+    say(
+        robot,
         "/tf_static",
-        type_of("/tf_static"),
+        tf_message(transform("base_link", "camera", 0, (0.1, 0.0, 1.2))),
         latched=True,
-        cdr=tf_message(transform("base_link", "camera", 0, (0.1, 0.0, 1.2))),
     )
-    robot.publish("/humans/bodies/tracked", type_of("/humans/bodies/tracked"), ids_list(["a"]))
+    say(robot, "/humans/bodies/tracked", ids_list(["a"]))
     body = transform("camera", "body_a", 5 * S, (1.9, 0.0, -1.2), yaw_q(190.0))
-    robot.publish("/tf", type_of("/tf"), tf_message(body))
+    say(robot, "/tf", tf_message(body))
     (state,) = wait_for(lambda: results_of(results, "body_a"))
     expected = classify_one((2.0, 0.0, 0.0), yaw_q(190.0), 20.0)
     assert state["facing"] is True and state["angle_deg"] == pytest.approx(expected[1], abs=1e-9)
     assert state["distance_m"] == pytest.approx(2.0, abs=1e-12)
     assert state["stamp"] == {"sec": 5, "nanosec": 0}
     # The body leaves the tracked list: lost at once.
-    robot.publish("/humans/bodies/tracked", type_of("/humans/bodies/tracked"), ids_list([]))
+    say(robot, "/humans/bodies/tracked", ids_list([]))
     results.wait_for(lambda i: i.kind == "delete" and i.key == "hri/bodies/body_a/facing/base_link")
     assert service.status().rejected["type_mismatch"] == 0
 
@@ -277,18 +282,16 @@ def test_bad_samples_are_counted_and_never_lose_a_good_one(net, robot_site):
     robot = make_robot()
     results = net.recorder(consumer, "hri/bodies/*/facing/base_link")
     time.sleep(0.5)
-    robot.publish("/humans/bodies/tracked", type_of("/humans/bodies/tracked"), ids_list(["a"]))
+    say(robot, "/humans/bodies/tracked", ids_list(["a"]))
     wrong_hash = Wire().key("/tf", ros2_types.TF_MESSAGE).rsplit("/", 1)[0] + "/RIHS01_" + "0" * 64
     good = tf_message(transform("base_link", "body_a", 2 * S, (2.0, 0.0, 0.0), yaw_q(180.0)))
     stray = tf_message(transform("base_link", "body_a", S, (1.0, 0, 0)))
     robot.session.put(
         wrong_hash, stray, attachment=rmw_zenoh.make_attachment(robot.release, 1, bytes(16))
     )
-    robot.publish("/tf", type_of("/tf"), good[:-5])  # truncated CDR
-    robot.publish(
-        "/tf", type_of("/tf"), tf_message(transform("base_link", "body_a", S, (math.nan, 0.0, 0.0)))
-    )
-    robot.publish("/tf", type_of("/tf"), good)
+    say(robot, "/tf", good[:-5])  # truncated CDR
+    say(robot, "/tf", tf_message(transform("base_link", "body_a", S, (math.nan, 0.0, 0.0))))
+    say(robot, "/tf", good)
     (state,) = wait_for(lambda: results_of(results, "body_a"))
     assert state["stamp"]["sec"] == 2 and state["facing"]
     rejected = service.status().rejected
@@ -300,11 +303,11 @@ def test_tf_static_published_before_the_service_starts_is_used(net, robot_site):
     service exists; the service's advanced subscriber fetches it."""
     start, make_robot, consumer = robot_site
     robot = make_robot()
-    robot.publish(
+    say(
+        robot,
         "/tf_static",
-        type_of("/tf_static"),
+        tf_message(transform("base_link", "camera", 0, (0.5, 0.0, 1.0))),
         latched=True,
-        cdr=tf_message(transform("base_link", "camera", 0, (0.5, 0.0, 1.0))),
     )
     time.sleep(0.3)
     start()
@@ -313,10 +316,8 @@ def test_tf_static_published_before_the_service_starts_is_used(net, robot_site):
     # the body streams at 30 Hz meanwhile, as a tracker does.
     for i in range(300):
         body = transform("camera", "body_a", 3 * S + i * (S // 30), (1.5, 0.0, -1.0), yaw_q(180))
-        robot.publish(
-            "/humans/bodies/tracked", type_of("/humans/bodies/tracked"), ids_list(["a"])
-        )  # volatile: streamed
-        robot.publish("/tf", type_of("/tf"), tf_message(body))
+        say(robot, "/humans/bodies/tracked", ids_list(["a"]))  # volatile: streamed
+        say(robot, "/tf", tf_message(body))
         if results_of(results, "body_a"):
             break
         time.sleep(1 / 30)
@@ -340,18 +341,16 @@ def test_a_body_three_links_from_base_link_is_what_tf2_computes(net, robot_site)
         ["set", "head_camera", "body_a", 2 * S, [2.0, 0.3, -1.1], list(yaw_q(170)), False],
         ["lookup", "base_link", "body_a", 0],
     ]
-    robot.publish(
+    say(
+        robot,
         "/tf_static",
-        type_of("/tf_static"),
+        tf_message(transform("base_link", "torso", 0, (0.0, 0.0, 0.8))),
         latched=True,
-        cdr=tf_message(transform("base_link", "torso", 0, (0.0, 0.0, 0.8))),
     )
-    robot.publish("/humans/bodies/tracked", type_of("/humans/bodies/tracked"), ids_list(["a"]))
+    say(robot, "/humans/bodies/tracked", ids_list(["a"]))
     for op in ops[1:4]:
         _, parent, child, stamp, t, q, _ = op
-        robot.publish(
-            "/tf", type_of("/tf"), tf_message(transform(parent, child, stamp, tuple(t), tuple(q)))
-        )
+        say(robot, "/tf", tf_message(transform(parent, child, stamp, tuple(t), tuple(q))))
     ((want,),) = oracle([ops])
     stamp = want["stamp"]
     state = wait_for(
@@ -369,26 +368,16 @@ def test_persons_engage_through_their_face(net, robot_site):
     robot = make_robot()
     events = net.recorder(consumer, "hri/events/engagement/base_link")
     time.sleep(0.5)
-    robot.publish(
-        "/humans/persons/tracked",
-        type_of("/humans/persons/tracked"),
-        latched=True,
-        cdr=ids_list(["p1"]),
-    )
-    robot.publish(
-        "/humans/persons/p1/face_id",
-        type_of("/humans/persons/p1/face_id"),
-        latched=True,
-        cdr=string("f1"),
-    )
-    robot.publish("/humans/faces/tracked", type_of("/humans/faces/tracked"), ids_list(["f1"]))
+    say(robot, "/humans/persons/tracked", ids_list(["p1"]), latched=True)
+    say(robot, "/humans/persons/p1/face_id", string("f1"), latched=True)
+    say(robot, "/humans/faces/tracked", ids_list(["f1"]))
     # The face 1.2 m ahead at head height, looking straight at the robot's origin.
     pitch = math.atan2(1.5, 1.2)  # looking down at base_link's origin
     q = (0.0, math.sin(pitch / 2), 0.0, math.cos(pitch / 2))
     for i in range(60):
         stamp = S + i * (S // 30)
         face = transform("base_link", "face_f1", stamp, (1.2, 0.0, 1.5), _face_toward_origin(q))
-        robot.publish("/tf", type_of("/tf"), tf_message(face))
+        say(robot, "/tf", tf_message(face))
         time.sleep(0.005)
     (event,) = events.wait_for(
         lambda i: i.value["body_id"] == "person_p1" and i.value["level"] == "ENGAGED"
