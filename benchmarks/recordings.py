@@ -251,22 +251,32 @@ def print_table(results: dict[str, dict]) -> None:
         )
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="replay at 4x (CI)")
     parser.add_argument("--rate", type=float, help="replay rate (default 1, or 4 with --quick)")
     parser.add_argument("--format", choices=[f.value for f in RosFormat], default="rmw_zenoh")
     parser.add_argument("--bags", type=Path, default=BAGS)
-    args = parser.parse_args()
+    parser.add_argument(
+        "--out",
+        type=Path,
+        help=f"write the results here (default: {RESULTS.name} for a full run at the recorded "
+        "pace; a --quick or other-rate run writes nothing unless asked: the committed file "
+        "is the full run's)",
+    )
+    args = parser.parse_args(argv)
     rate = args.rate or (4.0 if args.quick else 1.0)
     if not (math.isfinite(rate) and rate > 0):
         parser.error(f"--rate must be a positive number, got {rate}")
+    out = args.out or (RESULTS if rate == 1.0 and args.bags == BAGS else None)
     results = evaluate(args.bags, rate, RosFormat(args.format))
     print_table(results)
-    RESULTS.parent.mkdir(exist_ok=True)
-    RESULTS.write_text(
-        json.dumps({"rate": rate, "format": args.format, **results}, indent=2) + "\n"
-    )
+    if out is None:
+        print(f"(not written: {RESULTS} keeps the full run's figures; --out to write these)")
+        return
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps({"rate": rate, "format": args.format, **results}, indent=2) + "\n")
+    print(f"written to {out}")
 
 
 if __name__ == "__main__":

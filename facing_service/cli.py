@@ -39,7 +39,7 @@ from .config import (
     zenoh_config,
 )
 from .demo import run_demo
-from .disclosure import public_zenoh_error
+from .disclosure import zenoh_failure
 from .record import replay_refusal
 from .router import router_config, serve
 from .schemas import json_schemas
@@ -212,11 +212,11 @@ def build_parser() -> _Parser:
         "router",
         help="run a zenoh router (access control included) with no zenohd installed",
         description="A zenoh session in router mode with the given config, e.g. "
-        "examples/secure/router.json5, until SIGTERM or Ctrl-C. The same flags as the "
-        "other commands; the mode is always router.",
+        "examples/secure/router.json5, until SIGTERM or Ctrl-C. The other commands' session "
+        "flags but -m/--mode: the mode is always router.",
     )
     add_settings_arguments(router, ["log_level"])
-    add_zenoh_arguments(router)
+    add_settings_arguments(router, [f for f in ZENOH_FIELDS if f != "mode"])  # always router
 
     replay = commands.add_parser(
         "replay",
@@ -232,7 +232,8 @@ def build_parser() -> _Parser:
         type=Path,
         metavar="OUT",
         help="write what the service publishes on the robot's topics (run --output ros2) "
-        "into a new ROS 2 bag: a folder (sqlite3), or OUT.mcap",
+        "into a new ROS 2 bag, which is a folder: OUT/ (sqlite3), or for OUT.mcap the "
+        "folder OUT/ holding OUT.mcap and its metadata.yaml",
     )
     add_settings_arguments(replay, ["ros_format", "ros_distro", "ros_domain_id", "ros_namespace"])
     add_zenoh_arguments(replay)
@@ -362,7 +363,7 @@ def _router(args: argparse.Namespace) -> int:
     try:
         serve(router_config(settings), stop)
     except zenoh.ZError as error:
-        print(f"facing-service router: cannot start: {public_zenoh_error(error)}", file=sys.stderr)
+        print(zenoh_failure("router", error), file=sys.stderr)
         return 1
     return 0
 
@@ -397,7 +398,12 @@ def _simulate(args: argparse.Namespace) -> int:
     key = keys.pose_key(settings.namespace, "<id>", args.base_frame)
     until = f" for {args.duration_s:g} s" if args.duration_s else " until Ctrl-C"
     print(f"simulating {args.people} people: poses on {key} at {args.rate_hz:g} Hz{until}")
-    with zenoh.open(zenoh_config(settings)) as session:
+    try:
+        session = zenoh.open(zenoh_config(settings))
+    except zenoh.ZError as error:
+        print(zenoh_failure("simulate", error), file=sys.stderr)
+        return 1
+    with session:
         publish = TrackerPublisher(session, progress_every_s=5.0, say=_say)
         ticks = simulate(
             publish,
@@ -421,20 +427,26 @@ def _watch(args: argparse.Namespace) -> int:
     if settings is None:
         return 2
     stop = _stop_on_signals()
-    with FacingClient(
+    client = FacingClient(
         settings.namespace, args.base_frame, session_config=zenoh_config(settings)
-    ) as client:
-        watcher = Watcher(client, args.base_frame)
-        try:
-            if args.once:
-                stop.wait(args.wait_s)
-                Console().print(watcher.view())
-            else:
-                watcher.live(lambda: not stop.is_set())
-            if args.svg is not None:
-                watcher.save_svg(args.svg)
-        finally:
-            watcher.close()
+    )
+    try:
+        client.open()
+    except zenoh.ZError as error:
+        print(zenoh_failure("watch", error), file=sys.stderr)
+        return 1
+    watcher = Watcher(client, args.base_frame)
+    try:
+        if args.once:
+            stop.wait(args.wait_s)
+            Console().print(watcher.view())
+        else:
+            watcher.live(lambda: not stop.is_set())
+        if args.svg is not None:
+            watcher.save_svg(args.svg)
+    finally:
+        watcher.close()
+        client.close()
     return 0
 
 

@@ -69,7 +69,11 @@ class Settings(BaseModel):
 
     namespace: str = Field("hri", **_flag("key prefix, one or more chunks"))
     base_frame: str = Field(
-        keys.ALL_FRAMES, **_flag("the base frame to serve, or `*` for every frame")
+        keys.ALL_FRAMES,
+        **_flag(
+            "the base frame to serve, or `*` for every frame (with `--input ros2`, `*` means "
+            "REP 105's `base_link`, libhri's reference frame)"
+        ),
     )
     threshold_deg: float = Field(
         20.0, gt=0.0, lt=180.0, **_flag("half-angle of the facing cone, in (0, 180)")
@@ -217,7 +221,9 @@ class Settings(BaseModel):
             "this service's name in `NS/services/facing/<instance>`", shown="<host name>-<pid>"
         ),
     )
-    log_level: LogLevel = Field("INFO", **_flag("`DEBUG`, `INFO`, `WARNING`, `ERROR`"))
+    log_level: LogLevel = Field(
+        "INFO", **_flag("`DEBUG`, `INFO`, `WARNING`, `ERROR` or `CRITICAL`")
+    )
     # zenoh session; None means "as the config file says, else zenoh's default (peer)".
     mode: Literal["peer", "client", "router"] | None = Field(
         None,
@@ -522,6 +528,16 @@ def probe_config(settings: Settings) -> zenoh.Config:
     conf = zenoh_config(helper)
     conf.insert_json5("listen/endpoints", "[]")
     return conf
+
+
+def effective_session(settings: Settings, conf: zenoh.Config) -> dict[str, Any]:
+    """The session settings in force, whether a flag or the config file said them (the
+    status shows these, not the flags' None and False defaults)."""
+    scouting = json.loads(conf.get_json("scouting/multicast/enabled"))
+    return {
+        "mode": mode_and_endpoints(conf, "connect")[0],
+        "no_multicast_scouting": settings.no_multicast_scouting or scouting is False,
+    }
 
 
 def mode_and_endpoints(conf: zenoh.Config, kind: str) -> tuple[str, list[str]]:

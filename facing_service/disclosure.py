@@ -136,3 +136,12 @@ def public_zenoh_error(error: Exception) -> str:
     config part."""
     text = re.sub(r"\s+at /\S+\.rs:\d+\.?\s*$", "", str(error).strip())
     return re.sub(r"#[^\s\])(,]*", "#" + REDACTED, text)
+
+
+def zenoh_failure(command: str, error: Exception) -> str:
+    """The one line a command prints when zenoh refuses it: what zenoh said, without
+    secrets, and the flag to look at when it could not connect."""
+    text = public_zenoh_error(error)
+    if text.startswith("Unable to connect"):
+        text += " (--connect: is a router listening there, and reachable from here?)"
+    return f"facing-service {command}: cannot open the zenoh session: {text}"

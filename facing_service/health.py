@@ -17,26 +17,29 @@ from typing import Any
 import zenoh
 
 from . import keys
-from .config import SettingsError, env_name, load_settings, probe_config
-from .disclosure import public_zenoh_error
+from .config import Settings, SettingsError, env_name, load_settings, probe_config
+from .disclosure import zenoh_failure
 from .schemas import ServiceStatus
 
 
 def statuses(
     session: zenoh.Session, namespace: str, instance: str, timeout: float
-) -> list[ServiceStatus]:
+) -> tuple[list[ServiceStatus], bool]:
     """The status of every service matching ``instance`` (``*``: any) that answers within
-    ``timeout`` seconds; empty when none does."""
+    ``timeout`` seconds (empty when none does), and whether any such service was seen
+    alive (its liveliness token) at all."""
     deadline = time.monotonic() + timeout
     token = keys.service_token(namespace, instance)
+    alive = False
     while (left := deadline - time.monotonic()) > 0:
         replies = session.liveliness().get(token, timeout=min(0.25, left))
         if any(reply.ok is not None for reply in replies):
+            alive = True
             answers = ask(session, namespace, instance, max(deadline - time.monotonic(), 0.1))
             if answers:
-                return answers
+                return answers, alive
         time.sleep(min(0.05, max(deadline - time.monotonic(), 0)))
-    return []
+    return [], alive
 
 
 def ask(
@@ -48,6 +51,26 @@ def ask(
         for reply in session.get(keys.status_key(namespace, instance), timeout=timeout)
         if reply.ok is not None
     ]
+
+
+def _why_no_answer(
+    settings: Settings, instance: str, timeout: float, alive: bool, identity: str | None
+) -> str:
+    """The usual cause first: no service at all; then one alive that did not answer."""
+    if not alive:
+        return (
+            f"no facing service found: no liveliness token on "
+            f"{keys.service_token(settings.namespace, instance)} in {timeout:g} s (is one "
+            f"running, in namespace '{settings.namespace}', reachable from here?)"
+        )
+    hint = (
+        ""
+        if identity
+        else " (under access control, give the health check an identity allowed to "
+        f"query it: {HEALTH_CONFIG_ENV} or --health-config)"
+    )
+    selector = keys.status_key(settings.namespace, instance)
+    return f"a facing service is alive, but no answer on {selector}{hint}"
 
 
 #: A zenoh config file for the health check's own identity (``--health-config``).
@@ -82,22 +105,13 @@ def check(
         return 2
     try:
         with zenoh.open(config) as session:
-            answers = statuses(session, settings.namespace, instance, timeout)
+            answers, alive = statuses(session, settings.namespace, instance, timeout)
     except zenoh.ZError as error:
-        print(
-            f"facing-service health: cannot reach zenoh: {public_zenoh_error(error)}",
-            file=sys.stderr,
-        )
+        print(zenoh_failure("health", error), file=sys.stderr)
         return 1
     for status in answers:
         print(status.model_dump_json())
     if not answers:
-        selector = keys.status_key(settings.namespace, instance)
-        hint = (
-            ""
-            if identity
-            else " (under access control, give the health check an identity allowed to "
-            f"query it: {HEALTH_CONFIG_ENV} or --health-config)"
-        )
-        print(f"facing-service health: no answer on {selector}{hint}", file=sys.stderr)
+        why = _why_no_answer(settings, instance, timeout, alive, identity)
+        print(f"facing-service health: {why}", file=sys.stderr)
     return 0 if any(status.status == "ok" for status in answers) else 1

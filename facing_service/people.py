@@ -44,6 +44,14 @@ S = 1_000_000_000
 #: time to have gone back (a stream at 30 Hz says so within 0.1 s).
 TIME_BACK_NS = S // 2
 TIME_BACK_MESSAGES = 3
+#: Said with a /tf_static transform refused because its frame is dynamic: seen on the
+#: shared two-person recordings (a camera frame with a static and a dynamic parent, the
+#: /tf one first), harmless there, and alarming without a word.
+STATIC_INTO_DYNAMIC = (
+    " (a /tf_static transform of a frame first seen on /tf: tf2 keeps a frame static or "
+    "dynamic as its first transform was, so this one is refused; harmless when the /tf "
+    "parent is the one meant)"
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -94,7 +102,10 @@ class People:
             if reason is None:
                 changed.add(t.child)
             else:
-                update.refused.append((f"tf_{reason}", f"{t.parent} -> {t.child}"))
+                what = f"{t.parent} -> {t.child}"
+                if static and self.tf.newest(t.child) is not None:  # a dynamic frame
+                    what += STATIC_INTO_DYNAMIC
+                update.refused.append((f"tf_{reason}", what))
         if changed:
             self._resolve(self._concerned(changed), update)
         return update

@@ -27,7 +27,7 @@ from rosbags.interfaces import Qos, QosDurability
 
 from . import ros2_types
 from .config import Settings, zenoh_config
-from .disclosure import public_zenoh_error
+from .disclosure import zenoh_failure
 from .record import Recording
 from .ros2_output import CDR, TopicWriter
 from .ros2_wire import GID_SIZE, RosFormat, Wire
@@ -134,8 +134,16 @@ def replay(
                 time.sleep(0.5)  # the service's last answers on their way
                 recorded, topics = recording.close()
                 print(f"recorded {recorded} messages on {topics} topics to {recording.path}")
+                if not recorded:
+                    print(
+                        "facing-service replay: recorded nothing: no service answered on the "
+                        "robot's topics (is one running with --output ros2, in the same "
+                        "--ros-format, domain and namespace, reachable from here?)",
+                        file=sys.stderr,
+                    )
+                    return 1
     except zenoh.ZError as error:
-        print(f"facing-service replay: {public_zenoh_error(error)}", file=sys.stderr)
+        print(zenoh_failure("replay", error), file=sys.stderr)
         return 1
     except Exception as error:  # rosbags' errors for a folder that is not a bag
         print(f"facing-service replay: {bag}: {error}", file=sys.stderr)

@@ -105,25 +105,24 @@ def engage_intent(person: str) -> RosMessage:
     return RosMessage("/intents", INTENT, ros2_types.serialize(message, INTENT))
 
 
-def facing_lists(frame: FrameFacing) -> list[RosMessage]:
-    """The facing ids of one base frame, one IdsList per kind (empty lists included: a
-    kind nobody faces any more is said so)."""
+def facing_ids(frame: FrameFacing) -> dict[str, list[str]]:
+    """The ids facing the robot in one base frame, by ROS4HRI facing list (every list,
+    empty ones included)."""
     ids: dict[str, list[str]] = {topic: [] for topic in FACING_TOPICS.values()}
     for subject in frame.bodies_facing:
         prefix = next((p for p in FACING_TOPICS if subject.startswith(p)), "")
         ids[FACING_TOPICS.get(prefix, "/humans/bodies/facing")].append(subject[len(prefix) :])
+    return ids
+
+
+def facing_list(frame: FrameFacing, topic: str, ids: list[str]) -> RosMessage:
     stamp = (frame.stamp.sec, frame.stamp.nanosec) if frame.stamp else (0, 0)
-    out = []
-    for topic, facing in ids.items():
-        message = ros2_types.message_type(ros2_types.IDS_LIST)(
-            header=_header(frame.frame_id, stamp), ids=facing
-        )
-        out.append(
-            RosMessage(
-                topic, ros2_types.IDS_LIST, ros2_types.serialize(message, ros2_types.IDS_LIST)
-            )
-        )
-    return out
+    message = ros2_types.message_type(ros2_types.IDS_LIST)(
+        header=_header(frame.frame_id, stamp), ids=ids
+    )
+    return RosMessage(
+        topic, ros2_types.IDS_LIST, ros2_types.serialize(message, ros2_types.IDS_LIST)
+    )
 
 
 class RosOutput:
@@ -134,6 +133,7 @@ class RosOutput:
         self.period_s = 1.0 / rate_hz
         self.intents = intents
         self.next_tick: float | None = None
+        self._said_facing: dict[tuple[str, str], list[str]] = {}  # (frame, topic) -> ids
 
     def on_changes(self, changes: Changes) -> list[RosMessage]:
         out: list[RosMessage] = []
@@ -146,7 +146,18 @@ class RosOutput:
             elif update.level is Level.ENGAGED and self.intents:
                 out.append(engage_intent(update.body_id.removeprefix(PERSON)))
         for frame in changes.frames:
-            out.extend(facing_lists(frame))
+            out.extend(self._facing_changes(frame))
+        return out
+
+    def _facing_changes(self, frame: FrameFacing) -> list[RosMessage]:
+        """The facing lists whose ids changed: a frame's aggregate also changes when only
+        its stamp or its tracked bodies do, which is nothing to say on a facing list.
+        Each list is said once at first, empty included (nobody faces: said so)."""
+        out = []
+        for topic, ids in facing_ids(frame).items():
+            if self._said_facing.get((frame.frame_id, topic)) != ids:
+                self._said_facing[(frame.frame_id, topic)] = ids
+                out.append(facing_list(frame, topic, ids))
         return out
 
     def tick(

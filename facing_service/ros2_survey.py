@@ -20,7 +20,7 @@ import zenoh.ext
 
 from . import ros2_types
 from .config import Settings, zenoh_config
-from .disclosure import public_endpoint, public_zenoh_error
+from .disclosure import public_endpoint, zenoh_failure
 from .ros2_wire import HASH_NOT_SUPPORTED, Attachment, Distro, attachment_layout, distro_of
 
 #: The topics surveyed (without their leading slash), and their types.
@@ -298,7 +298,7 @@ def inspect_robot(settings: Settings, seconds: float, base_frame: str) -> int:
                 for entity in entities:
                     entity.undeclare()
     except zenoh.ZError as error:
-        print(f"facing-service inspect: {public_zenoh_error(error)}", file=sys.stderr)
+        print(zenoh_failure("inspect", error), file=sys.stderr)
         return 1
     with lock:
         print("\n".join(survey.report(base_frame, seconds)))

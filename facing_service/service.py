@@ -42,8 +42,8 @@ from functools import partial
 import zenoh
 
 from . import __version__, keys
-from .config import Settings, mode_and_endpoints, zenoh_config
-from .disclosure import public_endpoint, public_settings, public_zenoh_error
+from .config import Settings, effective_session, mode_and_endpoints, zenoh_config
+from .disclosure import public_endpoint, public_settings, zenoh_failure
 from .intake import Intake
 from .keys import BodyRef
 from .ledger import Ledger
@@ -136,13 +136,16 @@ class FacingService:
         self._entities: list[zenoh.Subscriber[None] | zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
         self._threads: list[threading.Thread] = []
+        self._session_said: dict[str, object] = {}  # mode and scouting in force (status)
 
     # -- lifecycle -------------------------------------------------------------------
 
     def start(self) -> FacingService:
         s = self.settings
         ns, frame = s.namespace, s.base_frame
-        self._session = session = zenoh.open(zenoh_config(s))
+        conf = zenoh_config(s)
+        self._session_said = effective_session(s, conf)
+        self._session = session = zenoh.open(conf)
         try:
             self._publish(Changes(frames=self._tracker.frames()))
             self._hand_over()
@@ -194,7 +197,7 @@ class FacingService:
         log.info(
             "facing-service %s started: instance %s, zenoh id %s, %s; poses from %s; results "
             "on %s and %s (queryable); status on %s; threshold %.1f deg, hysteresis %.1f deg, "
-            "stale after %.1f s, at most %d bodies",
+            "stale after %.1f s, at most %d bodies%s",
             __version__,
             s.instance,
             session.zid(),
@@ -207,8 +210,29 @@ class FacingService:
             s.hysteresis_deg,
             s.stale_after_s,
             s.max_bodies,
+            self._ros_said(),
         )
         return self
+
+    def _ros_said(self) -> str:
+        """The ROS 2 part of the start line: what is read, how faces are judged, what is
+        answered on the robot's topics."""
+        s = self.settings
+        said = ""
+        if s.input == "ros2":
+            wire = self._wire
+            where = f"domain {wire.domain_id}, " if wire.format.value == "rmw_zenoh" else ""
+            ns = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
+            head = s.head_profile()
+            said += (
+                f"; ROS 2 input in {wire.format.value} format ({where}{ns}), people looked up "
+                f"in {s.ros_base_frame}, faces facing within {head.threshold_deg:.1f} deg "
+                f"({s.head_cone})"
+            )
+        if s.output == "ros2":
+            topics = "engagement_status, facing lists" + (", /intents" if s.ros_intents else "")
+            said += f"; ROS 2 output on the robot's topics ({topics})"
+        return said
 
     def _links(self) -> str:
         """Mode and endpoints, as the start line says them (no secret: see disclosure)."""
@@ -278,7 +302,7 @@ class FacingService:
             version=__version__,
             zenoh_id=str(self._session.zid()) if self._session is not None else "",
             uptime_s=round(self._clock() - self._started_at, 3),
-            config=public_settings(self.settings.model_dump(mode="json")),
+            config=public_settings(self.settings.model_dump(mode="json") | self._session_said),
             connected=self.connected(),
             inbox_depth=len(self._intake) if self._intake is not None else 0,
             ros2=self._ros2_status(),
@@ -564,15 +588,12 @@ def run_until(settings: Settings, stop: threading.Event) -> int:
     # router) inside native code, where Python never runs signal handlers; so it runs on a
     # helper thread and this one stays responsive to SIGTERM and Ctrl-C.
     threading.Thread(target=start, name="facing-open", daemon=True).start()
-    while not opened.wait(0.1):
-        if stop.is_set():  # nothing is open yet, so nothing to close
-            log.info("stopped before zenoh connected")
-            logging.shutdown()
-            os._exit(0)  # the helper thread is stuck in zenoh.open; do not wait for it
+    if not wait_until_open(opened, settings, stop):  # nothing is open yet, nothing to close
+        log.info("stopped before zenoh connected")
+        logging.shutdown()
+        os._exit(0)  # the helper thread is stuck in zenoh.open; do not wait for it
     if failure:
-        print(
-            f"facing-service: cannot start zenoh: {public_zenoh_error(failure[0])}", file=sys.stderr
-        )
+        print(zenoh_failure("run", failure[0]), file=sys.stderr)
         return 1
     try:
         warn_while_unreachable(service, settings, stop)
@@ -584,6 +605,24 @@ def run_until(settings: Settings, stop: threading.Event) -> int:
 
 #: How often ``run`` says that its connect endpoints are still unreachable.
 UNREACHABLE_WARNING_S = 10.0
+
+
+def wait_until_open(opened: threading.Event, settings: Settings, stop: threading.Event) -> bool:
+    """True once zenoh.open has returned, False if ``stop`` came first. A client told to
+    wait for its router (``connect/timeout_ms: -1``, as compose.yaml sets) waits inside
+    zenoh.open, where zenoh says nothing: this says it, every UNREACHABLE_WARNING_S."""
+    next_warning = time.monotonic() + UNREACHABLE_WARNING_S
+    while not opened.wait(0.1):
+        if stop.is_set():
+            return False
+        if time.monotonic() >= next_warning:
+            next_warning += UNREACHABLE_WARNING_S
+            log.warning(
+                "still waiting for a router at %s before the session opens (zenoh keeps "
+                "trying); nothing is read or published meanwhile",
+                ", ".join(public_endpoint(e) for e in settings.connect) or "any endpoint",
+            )
+    return True
 
 
 def warn_while_unreachable(

@@ -48,8 +48,9 @@ class PersonView:
     facing: bool | None  # None: no result yet
     angle_deg: float | None
     distance_m: float | None
-    since_s: float | None  # how long the facing decision has held
+    since_s: float | None  # how long the facing decision has held, in pose time
     engagement: str | None = None  # the engagement level, when known
+    since_seen: bool = True  # False: held since before the view started (at least since_s)
 
 
 def natural_order(name: str) -> tuple[tuple[int, int | str], ...]:
@@ -105,7 +106,7 @@ def render(
             canvas.append("\n")
 
     table = Table(title=f"frame {frame_id}", expand=False)
-    for name in ("id", "facing", "angle °", "distance m", "since s", "engagement"):
+    for name in ("id", "facing", "angle °", "distance m", "held s", "engagement"):
         table.add_column(name, justify="left" if name == "id" else "right")
     for person in sorted(people, key=lambda p: natural_order(p.body_id)):
         table.add_row(
@@ -113,7 +114,8 @@ def render(
             "?" if person.facing is None else ("yes" if person.facing else "no"),
             _number(person.angle_deg, 1),
             _number(person.distance_m, 2),
-            _number(person.since_s, 1),
+            ("" if person.since_seen or person.since_s is None else "≥")
+            + _number(person.since_s, 1),
             Text(
                 person.engagement or "-",
                 style="bold magenta" if person.engagement == "ENGAGED" else "",
@@ -147,7 +149,8 @@ class Watcher:
         self.frame = frame
         self._lock = threading.Lock()
         self._poses: dict[str, tuple[float, float, float]] = {}
-        self._since: dict[str, tuple[bool, float]] = {}
+        # body -> (facing, pose time it began, whether the view saw it begin, latest time)
+        self._since: dict[str, tuple[bool, float, bool, float]] = {}
         self._levels: dict[str, str] = {}
         self._subscribers = [
             client.session.declare_subscriber(
@@ -185,12 +188,19 @@ class Watcher:
                 store[body_id] = read(json.loads(sample.payload.to_bytes()))
 
     def _on_result(self, state: FacingState) -> None:
+        """How long each decision has held, in the poses' own time (so a replayed
+        recording reads right, and ``--once`` does not say "1.0" for everyone)."""
         if state.frame_id != self.frame:
             return
+        t = state.stamp.sec + state.stamp.nanosec / 1e9
         with self._lock:
             previous = self._since.get(state.body_id)
-            if previous is None or previous[0] != state.facing:
-                self._since[state.body_id] = (state.facing, time.monotonic())
+            if previous is None:
+                self._since[state.body_id] = (state.facing, t, False, t)
+            elif previous[0] != state.facing:
+                self._since[state.body_id] = (state.facing, t, True, t)
+            else:
+                self._since[state.body_id] = (*previous[:3], max(previous[3], t))
 
     def _on_lost(self, body: keys.BodyRef) -> None:
         if body.frame_id == self.frame:
@@ -200,7 +210,6 @@ class Watcher:
 
     def people(self) -> list[PersonView]:
         states = self.client.bodies(self.frame)
-        now = time.monotonic()
         with self._lock:
             poses = dict(self._poses)
             since = dict(self._since)
@@ -219,8 +228,9 @@ class Watcher:
                     None if state is None else state.facing,
                     None if state is None else state.angle_deg,
                     None if state is None else state.distance_m,
-                    None if changed is None else now - changed[1],
+                    None if changed is None else changed[3] - changed[1],
                     levels.get(body_id),
+                    changed is None or changed[2],
                 )
             )
         return people

@@ -4,6 +4,8 @@ The full table is `python -m benchmarks.recordings` (README, On a ROS 2 robot)."
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from benchmarks.recordings import REFERENCE_FIGURES, evaluate, print_table
@@ -38,3 +40,17 @@ def test_the_service_beats_the_rule(results):
         f"the service never engaged most of the engaged people: {results['service']['rows']}"
     )
     assert ours["first_engaged_s"] * 3 <= rule["first_engaged_s"], (ours, rule)
+
+
+def test_a_quick_run_leaves_the_committed_results_alone(results, monkeypatch, tmp_path):
+    """`python -m benchmarks.recordings --quick` (the docs' reproduction) must not rewrite
+    the tracked results/recordings.json, which holds the full run's figures."""
+    from benchmarks import recordings
+
+    monkeypatch.setattr(recordings, "evaluate", lambda *_args: results)
+    committed = recordings.RESULTS.read_bytes()
+    recordings.main(["--quick"])
+    assert recordings.RESULTS.read_bytes() == committed
+    out = tmp_path / "quick.json"
+    recordings.main(["--quick", "--out", str(out)])
+    assert json.loads(out.read_text())["rate"] == 4.0

@@ -8,6 +8,7 @@ import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 import pytest
 
@@ -17,6 +18,8 @@ from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint, free_port, get, send, wait_until_answered
 from poses import pose_json
+
+ROOT = Path(__file__).resolve().parent.parent
 
 
 @pytest.mark.slow
@@ -232,3 +235,77 @@ def test_the_watch_table_and_the_demo_order_ids_as_numbers():
 
     ids = ["p10", "p4", "p1", "alice", "p2b", "p2a", "b7"]
     assert sorted(ids, key=natural_order) == ["alice", "b7", "p1", "p2a", "p2b", "p4", "p10"]
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["watch", "--once"],
+        ["simulate", "--duration-s", "1"],
+        ["run"],
+        ["replay", "../shared/data/hri_engagement_bags/1p_AA_eng_1"],
+        ["inspect", "--seconds", "1"],
+    ],
+    ids=lambda c: c[0],
+)
+def test_no_router_is_one_line_naming_connect(command):
+    """A client with no router fails at once: every command says so in one line that
+    names --connect, never a traceback."""
+    nobody = endpoint(free_port())
+    proc = subprocess.run(
+        [sys.executable, "-m", "facing_service", *command, "-m", "client", "-e", nobody],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        cwd=ROOT,
+    )
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    assert lines[0].startswith(f"facing-service {command[0]}: cannot open the zenoh session")
+    assert nobody in lines[0] and "--connect" in lines[0]
+
+
+def test_help_log_and_status_say_the_same(net, tmp_path, caplog):
+    """The status shows the session's mode and scouting whether a flag or the config file
+    set them; the start line says how faces are judged and what goes to the robot; the
+    router offers no --mode; --log-level's help lists every level it accepts."""
+    import logging
+
+    from facing_service.cli import build_parser
+
+    port = free_port()
+    conf = tmp_path / "service.json5"
+    conf.write_text(
+        '{mode: "peer", scouting: {multicast: {enabled: false}, delay: 0}, '
+        f'listen: {{endpoints: ["{endpoint(port)}"]}}}}'
+    )
+    caplog.set_level(logging.INFO, "facing_service")
+    service, _ = net.service(config=conf, listen=[], input="ros2", output="ros2")
+    config = service.status().config
+    assert (config["mode"], config["no_multicast_scouting"]) == ("peer", True)
+    (started,) = [r.getMessage() for r in caplog.records if "started" in r.getMessage()]
+    assert "faces facing within 24.0 deg (3d)" in started
+    assert "ROS 2 output on the robot's topics (engagement_status, facing lists)" in started
+    commands = build_parser().commands
+    assert "--mode {" not in commands["router"].format_help()  # its description names it only
+    assert "CRITICAL" in commands["run"].format_help().split("--log-level")[-1].split("--")[0]
+
+
+def test_a_client_waiting_for_its_router_says_so(monkeypatch, caplog):
+    """compose.yaml's client waits for its router inside zenoh.open (connect/timeout_ms
+    -1), where zenoh says nothing: run warns every period all the same."""
+    from facing_service import service as shell
+    from facing_service.config import Settings
+
+    monkeypatch.setattr(shell, "UNREACHABLE_WARNING_S", 0.2)
+    nobody = endpoint(free_port())
+    settings = Settings(mode="client", connect=[nobody], cfg=["connect/timeout_ms:-1"])
+    never_opens, stop = threading.Event(), threading.Event()
+    timer = threading.Timer(0.7, stop.set)
+    timer.start()
+    assert shell.wait_until_open(never_opens, settings, stop) is False
+    warnings = [
+        r.getMessage() for r in caplog.records if "still waiting for a router" in r.getMessage()
+    ]
+    assert len(warnings) >= 2 and nobody in warnings[0]

@@ -67,3 +67,12 @@ def test_the_configuration_table_is_the_settings():
         "regenerate: python -c 'from facing_service.config import settings_table; "
         "print(settings_table())'"
     )
+
+
+def test_no_recipe_backgrounds_the_live_view():
+    """`watch` redraws its terminal: a recipe that runs it with `&` beside another command
+    mixes their output (and leaves jobs nobody is told how to stop)."""
+    for doc in [ROOT / "README.md", *sorted(DOCS.glob("*.md"))]:
+        for line in doc.read_text().splitlines():
+            if "facing-service watch" in line:
+                assert not line.rstrip().endswith("&"), f"{doc.name}: {line}"

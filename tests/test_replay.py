@@ -54,3 +54,21 @@ def test_replay_feeds_the_service_like_the_robot_did(net):
         lambda i: i.value["body_id"] == "person_rorql" and i.value["level"] == "ENGAGED"
     )
     assert sum(service.status().rejected.values()) == 0
+
+
+@pytest.mark.slow
+def test_recording_nothing_says_why(net, tmp_path):
+    """--record against a service without --output ros2: not 'recorded 0 messages' and
+    exit 0, but why, and a failure."""
+    router = net.router()
+    ep = endpoint(router.port)
+    net.robot_service(ep, base_frame="camera_link")  # JSON output only
+    out = tmp_path / "run.mcap"
+    flags = ("--rate", "8", "--record", str(out), "-m", "client", "-e", ep, *LOOPBACK_FLAGS)
+    with running_cli("replay", str(RECORDING), *flags) as proc:
+        code = proc.wait(timeout=60)
+        output = proc.stdout.read()
+    assert code == 1, output
+    assert "recorded nothing: no service answered on the robot's topics" in output
+    assert "--output ros2" in output
+    assert (tmp_path / "run" / "run.mcap").is_file()  # the bag is the folder run/

@@ -414,3 +414,16 @@ def test_a_moving_camera_updates_every_body_below_it_and_only_those():
         static=False,
     )
     assert sorted(p.body_id for p in update.poses) == ["body_a", "body_b"]
+
+
+def test_a_static_transform_into_a_dynamic_frame_is_refused_with_why():
+    """The shared two-person recordings give camera_color_optical_frame a /tf parent and
+    a /tf_static one; when /tf comes first the static one is refused, as tf2 does: the
+    rejection says why, so the log's summary does not alarm a newcomer for nothing."""
+    people = People("camera_link")
+    people.on_tf([tf_in("camera_link", "optical", 20)], static=False)
+    update = people.on_tf([tf_in("camera_color_frame", "optical", 0)], static=True)
+    ((reason, what),) = update.refused
+    assert reason == "tf_old_data"
+    assert what.startswith("camera_color_frame -> optical (a /tf_static transform of a frame")
+    assert "harmless when the /tf parent is the one meant" in what

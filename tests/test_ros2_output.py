@@ -86,7 +86,8 @@ def test_facing_lists_per_kind():
         bodies_facing=["body_b1", "face_f1", "person_p1", "plain"],
         bodies_tracked=[],
     )
-    messages = RosOutput(10.0, False).on_changes(Changes(frames=[frame]))
+    out = RosOutput(10.0, False)
+    messages = out.on_changes(Changes(frames=[frame]))
     lists = {m.topic: ros2_types.deserialize(m.payload, ros2_types.IDS_LIST).ids for m in messages}
     assert lists == {
         "/humans/bodies/facing": ["b1", "plain"],
@@ -94,6 +95,13 @@ def test_facing_lists_per_kind():
         "/humans/persons/facing": ["p1"],
     }
     assert engage_intent("p1").typename == INTENT
+    # Said when a set changes, not whenever the frame's aggregate does (docs/ros2.md).
+    later = frame.model_copy(update={"stamp": Stamp(sec=8, nanosec=0), "bodies_tracked": ["x"]})
+    assert out.on_changes(Changes(frames=[later])) == []
+    fewer = later.model_copy(update={"bodies_facing": ["body_b1", "plain", "person_p1"]})
+    (changed,) = out.on_changes(Changes(frames=[fewer]))
+    assert changed.topic == "/humans/faces/facing"
+    assert ros2_types.deserialize(changed.payload, ros2_types.IDS_LIST).ids == []
 
 
 # -- end to end: a real recording through the service, read back by others ------------------
