@@ -32,6 +32,7 @@ DECIDED = (
     "queries_answered",
     "queries_refused",
     "tf_lookups_unresolved",
+    "worker_errors",
 )
 #: The publisher's counters, one per kind of publication, plus its errors.
 SENT = {
@@ -57,6 +58,7 @@ COUNTERS = (
     "publish_errors",
     "tf_lookups_unresolved",
     "ros_published",
+    "worker_errors",
 )
 
 

@@ -28,7 +28,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 from . import keys
-from .schemas import Pose
+from .schemas import MAX_TRANSLATION_M, Pose
 from .tf_buffer import TfBuffer, TfError, Transform
 from .tracker import PoseSample
 
@@ -40,6 +40,9 @@ KINDS = {
 }
 PERSON_LINKS = {"face_id": "face_", "body_id": "body_"}
 S = 1_000_000_000
+#: The stamp of a transform whose own is outside builtin_interfaces/Time's range.
+INVALID_STAMP = -1
+
 #: How far back a transform's stamp must be, and for how many /tf messages in a row, for
 #: time to have gone back (a stream at 30 Hz says so within 0.1 s).
 TIME_BACK_NS = S // 2
@@ -52,6 +55,17 @@ STATIC_INTO_DYNAMIC = (
     "dynamic as its first transform was, so this one is refused; harmless when the /tf "
     "parent is the one meant)"
 )
+
+
+def out_of_range(t: TfInput) -> str | None:
+    """Why a transform carries numbers our outputs cannot (checked before tf2's own rules):
+    a stamp outside builtin_interfaces/Time's range, or a translation beyond the JSON
+    contract's bound. With every link bounded, every composed lookup is finite."""
+    if t.stamp_ns == INVALID_STAMP:
+        return "invalid_stamp"
+    if any(math.isfinite(v) and abs(v) > MAX_TRANSLATION_M for v in t.transform.translation):
+        return "out_of_range"  # (non-finite values are tf2's own check: nan)
+    return None
 
 
 @dataclass(frozen=True, slots=True)
@@ -96,7 +110,7 @@ class People:
             self._last.clear()
         changed: set[str] = set()
         for t in transforms:
-            reason = self.tf.set_transform(
+            reason = out_of_range(t) or self.tf.set_transform(
                 t.parent, t.child, t.stamp_ns, t.transform, static=static
             )
             if reason is None:

@@ -34,9 +34,9 @@ import zenoh
 import zenoh.ext
 
 from . import ros2_types
-from .people import KINDS, PERSON_LINKS, People, TfInput, Update
+from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
 from .ros2_wire import RosFormat, Wire
-from .schemas import Rejected, Rejection
+from .schemas import Rejected, Rejection, stamp_ns
 from .tf_buffer import Transform
 
 #: (topic pattern, type, transient-local?)
@@ -114,15 +114,17 @@ def _typename(topic: str | None) -> str | None:
 
 
 def tf_inputs(message: Any) -> list[TfInput]:
-    """A TFMessage's transforms as plain values."""
+    """A TFMessage's transforms as plain values (a stamp our outputs cannot carry is
+    ``INVALID_STAMP``, refused by ``People``)."""
     inputs = []
     for t in message.transforms:
         tr, rot = t.transform.translation, t.transform.rotation
+        stamp = stamp_ns(t.header.stamp.sec, t.header.stamp.nanosec)
         inputs.append(
             TfInput(
                 t.header.frame_id,
                 t.child_frame_id,
-                t.header.stamp.sec * 1_000_000_000 + t.header.stamp.nanosec,
+                INVALID_STAMP if stamp is None else stamp,
                 Transform((tr.x, tr.y, tr.z), (rot.x, rot.y, rot.z, rot.w)),
             )
         )

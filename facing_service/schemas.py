@@ -32,6 +32,15 @@ QuaternionComponent = Annotated[float, Field(ge=-2.0, le=2.0)]
 _MAX_SEC, _MAX_NANOSEC = 2**31 - 1, 999_999_999
 
 
+def stamp_ns(sec: int, nanosec: int) -> int | None:
+    """A stamp as integer nanoseconds, or None when it is outside what a
+    ``builtin_interfaces/Time`` may say, and so what any output of ours can carry
+    (negative seconds; nanoseconds past 999 999 999, as an uninitialised stamp has)."""
+    if 0 <= sec <= _MAX_SEC and 0 <= nanosec <= _MAX_NANOSEC:
+        return sec * 1_000_000_000 + nanosec
+    return None
+
+
 class Stamp(BaseModel):
     """``builtin_interfaces/Time``: ROS 2 keeps ``sec`` in an int32 and never negative."""
 
@@ -241,7 +250,11 @@ class Ros2Status(BaseModel):
 class ServiceStatus(BaseModel):
     """Reply of ``NS/services/facing/<instance>/status``: health, counters, config."""
 
-    status: str = Field(description='"ok", or "failed" when an internal thread died.')
+    status: str = Field(
+        description='"ok"; "degraded" while the worker\'s last batch raised (counted in '
+        'worker_errors, logged; back to "ok" when a batch succeeds); "failed" when an '
+        "internal thread died."
+    )
     instance: str
     version: str
     zenoh_id: str
@@ -256,8 +269,8 @@ class ServiceStatus(BaseModel):
         description="samples_accepted, results_published, results_superseded, "
         "deletes_published, frames_published, engagement_published, events_published, "
         "queries_answered, queries_refused, publish_errors, tf_lookups_unresolved, "
-        "ros_published: every one present from the start. Read with the outbox depth: "
-        "all accepted and an outbox_depth of 0 means all sent."
+        "ros_published, worker_errors: every one present from the start. Read with the "
+        "outbox depth: all accepted and an outbox_depth of 0 means all sent."
     )
     rejected: dict[str, int] = Field(description="Rejected samples per reason (all reasons).")
     connected: dict[str, list[str]] = Field(
@@ -306,6 +319,8 @@ class Rejection(str, Enum):
     TF_NO_CHILD_FRAME_ID = "tf_no_child_frame_id"
     TF_OLD_DATA = "tf_old_data"
     TF_REPEATED_DATA = "tf_repeated_data"
+    TF_INVALID_STAMP = "tf_invalid_stamp"  # outside builtin_interfaces/Time's range
+    TF_OUT_OF_RANGE = "tf_out_of_range"  # a translation beyond MAX_TRANSLATION_M
 
 
 @dataclass(frozen=True, slots=True)

@@ -137,6 +137,7 @@ class FacingService:
         self._token: zenoh.LivelinessToken | None = None
         self._threads: list[threading.Thread] = []
         self._session_said: dict[str, object] = {}  # mode and scouting in force (status)
+        self._failing = False  # the worker's last batch raised (written by the worker only)
 
     # -- lifecycle -------------------------------------------------------------------
 
@@ -295,9 +296,10 @@ class FacingService:
     def status(self) -> ServiceStatus:
         """A consistent snapshot of health, counters and state sizes; thread-safe."""
         alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
+        health = "failed" if not alive else "degraded" if self._failing else "ok"
         return self._ledger.status(
             self._outbox,
-            status="ok" if alive else "failed",
+            status=health,
             instance=self.settings.instance,
             version=__version__,
             zenoh_id=str(self._session.zid()) if self._session is not None else "",
@@ -347,7 +349,10 @@ class FacingService:
                 self._ledger.rejection_log.maybe_log()
                 self._ledger.tracked = self._tracker.tracked_per_frame()
                 self._hand_over()
-            except Exception:  # the worker must outlive any single bug
+                self._failing = False
+            except Exception:  # the worker must outlive any single bug, and say so
+                self._failing = True  # the status is "degraded" until a batch succeeds
+                self._ledger.count("worker_errors")
                 log.exception("worker: unexpected error in a batch of %d items", len(batch))
         self._ledger.rejection_log.maybe_log(force=True)
 

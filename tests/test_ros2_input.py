@@ -427,3 +427,29 @@ def test_a_static_transform_into_a_dynamic_frame_is_refused_with_why():
     assert reason == "tf_old_data"
     assert what.startswith("camera_color_frame -> optical (a /tf_static transform of a frame")
     assert "harmless when the /tf parent is the one meant" in what
+
+
+@pytest.mark.parametrize(
+    ("sec", "nanosec", "t", "reason"),
+    [
+        (2**31 - 1, 2**32 - 1, (1.0, 0.0, 0.0), "tf_invalid_stamp"),  # uninitialised
+        (-5, 0, (1.0, 0.0, 0.0), "tf_invalid_stamp"),
+        (1, 0, (1.7e308, 0.0, 0.0), "tf_out_of_range"),
+        (1, 0, (0.0, -1e10, 0.0), "tf_out_of_range"),
+    ],
+    ids=["uninitialised-stamp", "negative-seconds", "huge", "beyond-the-json-bound"],
+)
+def test_numbers_no_output_can_carry_are_refused_at_intake(sec, nanosec, t, reason):
+    """One out-of-range stamp used to become a frame's newest and make every later batch
+    raise (Stamp.sec <= 2**31-1); 1.7e308 m published inf. Both are refused, counted."""
+    message = ros2_types.message_type(ros2_types.TF_MESSAGE)(
+        transforms=[transform("base_link", "body_a", 0, t)]
+    )
+    message.transforms[0].header.stamp.sec = sec
+    message.transforms[0].header.stamp.nanosec = nanosec
+    people = People("base_link")
+    people.on_tracked("/humans/bodies/tracked", ["a"])
+    update = _route(people, TF_KEY, ros2_types.serialize(message, ros2_types.TF_MESSAGE))
+    assert [r for r, _ in update.refused] == [reason] and update.poses == []
+    assert Rejection(reason)
+    assert not people.tf.has_frame("body_a")  # never entered the buffer
