@@ -56,21 +56,22 @@ def ask(
 def _why_no_answer(
     settings: Settings, instance: str, timeout: float, alive: bool, identity: str | None
 ) -> str:
-    """The usual cause first: no service at all; then one alive that did not answer."""
+    """The usual cause first (no service at all), then the others: one alive that did
+    not answer, or access control hiding it from this identity."""
+    acl = (
+        ""
+        if identity
+        else f"; under access control, give the check an identity allowed to "
+        f"{'query' if alive else 'see and query'} it: {HEALTH_CONFIG_ENV} or --health-config"
+    )
     if not alive:
         return (
             f"no facing service found: no liveliness token on "
             f"{keys.service_token(settings.namespace, instance)} in {timeout:g} s (is one "
-            f"running, in namespace '{settings.namespace}', reachable from here?)"
+            f"running, in namespace '{settings.namespace}', reachable from here?{acl})"
         )
-    hint = (
-        ""
-        if identity
-        else " (under access control, give the health check an identity allowed to "
-        f"query it: {HEALTH_CONFIG_ENV} or --health-config)"
-    )
     selector = keys.status_key(settings.namespace, instance)
-    return f"a facing service is alive, but no answer on {selector}{hint}"
+    return f"a facing service is alive, but no answer on {selector}{acl}"
 
 
 #: A zenoh config file for the health check's own identity (``--health-config``).
