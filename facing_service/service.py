@@ -474,10 +474,9 @@ class FacingService:
         poses.extend(update.poses)
         if update.lost:
             self._flush(poses)
-            back = update.time_back_ns > 0
-            for subject in update.lost:
-                body = BodyRef(frame_id=self._people.base_frame, body_id=subject)
-                self._publish(self._tracker.lose(body, self._horizon, time_went_back=back))
+            base, back = self._people.base_frame, update.time_back_ns > 0
+            bodies = [BodyRef(frame_id=base, body_id=subject) for subject in update.lost]
+            self._publish(self._tracker.lose(bodies, self._horizon, time_went_back=back))
 
     def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
         key = str(sample.key_expr)

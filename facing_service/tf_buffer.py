@@ -24,6 +24,7 @@ Times are integer nanoseconds, as ROS 2's ``TimePoint``.
 from __future__ import annotations
 
 import math
+from bisect import bisect_left
 from dataclasses import dataclass
 
 Vec = tuple[float, float, float]
@@ -32,6 +33,8 @@ Quat = tuple[float, float, float, float]  # x, y, z, w
 DEFAULT_CACHE_TIME_NS = 10_000_000_000
 QUATERNION_NORMALIZATION_TOLERANCE = 10e-3
 MAX_GRAPH_DEPTH = 1000
+#: Most transforms one dynamic frame keeps (10 s at 1 kHz): see ``_TimeCache``.
+MAX_CACHE_ENTRIES = 10_000
 
 
 class TfError(Exception):
@@ -166,27 +169,35 @@ class _StaticCache:
 
 
 class _TimeCache:
-    """History of one dynamic frame, newest first."""
+    """History of one dynamic frame, newest first, with the stamps negated beside it
+    (ascending, for ``bisect``): an insert or a lookup costs O(log n) comparisons however
+    the stamps arrive (a linear scan let 4 MB of out-of-order /tf stall the worker for a
+    minute). At most ``MAX_CACHE_ENTRIES`` are kept: tf2 bounds a frame's history by time
+    only, so transforms 1 ns apart would grow it without bound; past the cap the oldest go
+    first, as pruning by time would take them."""
 
     is_static = False
 
     def __init__(self, cache_time: int) -> None:
         self.cache_time = cache_time
         self.items: list[_Stored] = []  # newest first
+        self._keys: list[int] = []  # -stamp of each item, ascending
 
     def insert(self, item: _Stored) -> str | None:
-        items = self.items
+        items, keys = self.items, self._keys
         if items and items[0].stamp > item.stamp + self.cache_time:
             return "old_data"
-        i = 0
-        while i < len(items) and items[i].stamp > item.stamp:
-            i += 1
-        if i < len(items) and items[i].stamp == item.stamp:
+        i = bisect_left(keys, -item.stamp)
+        if i < len(keys) and keys[i] == -item.stamp:
             return "repeated_data"
         items.insert(i, item)
+        keys.insert(i, -item.stamp)
         latest = items[0].stamp
-        while items and items[-1].stamp + self.cache_time < latest:
+        while items and (
+            items[-1].stamp + self.cache_time < latest or len(items) > MAX_CACHE_ENTRIES
+        ):
             items.pop()
+            keys.pop()
         return None
 
     def _closest(self, time: int) -> tuple[_Stored, _Stored | None]:
@@ -218,9 +229,7 @@ class _TimeCache:
                 f"Lookup would require extrapolation into the past.  Requested time "
                 f"{_seconds(time)} but the earliest data is at time {_seconds(earliest)}"
             )
-        i = 0
-        while items[i].stamp > time:
-            i += 1
+        i = bisect_left(self._keys, -time)  # the first item at or before ``time``
         return items[i], items[i - 1]  # older, newer
 
     def get(self, time: int) -> _Stored:
@@ -460,12 +469,14 @@ class TfBuffer:
         never = math.inf
         common: float = never
         seen: list[tuple[int, str]] = []  # (latest stamp, parent) walking up from the source
+        seen_parents: set[str] = set()  # the same parents, to look up in O(1)
         frame, depth = source, 0
         while (link := self._latest_link(frame)) is not None:
             stamp, parent = link
             if stamp:
                 common = min(common, stamp)
             seen.append((stamp, parent))
+            seen_parents.add(parent)
             frame = parent
             if frame == target:
                 return 0 if common == never else int(common)
@@ -478,7 +489,7 @@ class TfBuffer:
             stamp, parent = link
             if stamp:
                 common = min(common, stamp)
-            if any(p == parent for _, p in seen):
+            if parent in seen_parents:
                 common_parent = parent
                 break
             frame = parent

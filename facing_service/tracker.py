@@ -332,21 +332,28 @@ class Tracker:
                 changes.engagement.append(update)
         changes.results.extend(states)
 
-    def lose(self, body: BodyRef, now: float = 0.0, *, time_went_back: bool = False) -> Changes:
-        """The tracker said the body is gone (an input DELETE). Poses of it stamped at or
-        before its last accepted one are refused for ``TOMBSTONE_S`` after (a late pose
-        must not bring back a body its tracker deleted), unless it is lost because time
-        went back: then older stamps are the new timeline."""
+    def lose(
+        self, bodies: BodyRef | Iterable[BodyRef], now: float = 0.0, *, time_went_back: bool = False
+    ) -> Changes:
+        """The tracker said these bodies are gone (an input DELETE, or ids leaving a
+        tracked list). Poses of each stamped at or before its last accepted one are
+        refused for ``TOMBSTONE_S`` after (a late pose must not bring back a body its
+        tracker deleted), unless it is lost because time went back: then older stamps are
+        the new timeline. One aggregate per frame for all of them: a list replacing N ids
+        costs N DELETEs, not N aggregates of everyone."""
         changes = Changes()
-        key = body
-        if (track := self._tracks.get(key)) is not None:
+        frames = set()
+        for key in [bodies] if isinstance(bodies, BodyRef) else bodies:
+            if (track := self._tracks.get(key)) is None:
+                continue
             if not time_went_back:
                 self._tombstones[key] = (track.pose.stamp, now + TOMBSTONE_S)
                 self._tombstones.move_to_end(key)
                 while len(self._tombstones) > self.max_bodies:
                     self._tombstones.popitem(last=False)
             self._remove(key, changes)
-            changes.frames = self._frame_changes({body.frame_id})
+            frames.add(key.frame_id)
+        changes.frames = self._frame_changes(frames)
         return changes
 
     def advance(self, now: float) -> Changes:

@@ -274,3 +274,21 @@ def test_descendants_follow_reparenting():
     assert b.descendants("base") == {"base", "cam", "body_1"}
     b.set_transform("map", "cam", 0, tf(), static=True)  # cam now hangs from map
     assert b.descendants("base") == {"base"} and b.descendants("map") >= {"cam", "body_1"}
+
+
+def test_a_frames_history_is_capped_whatever_its_stamps():
+    """tf2 bounds a frame's history by time only: transforms 1 ns apart (or arriving each
+    older than the last) would grow it, and each insert, without bound. The oldest go
+    past MAX_CACHE_ENTRIES; the newest and every lookup stay tf2's."""
+    from facing_service.tf_buffer import MAX_CACHE_ENTRIES, TfBuffer, Transform
+
+    buffer = TfBuffer()
+    one = Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+    newest = 10**10
+    for i in range(MAX_CACHE_ENTRIES + 500):  # each older than the last
+        assert buffer.set_transform("base", "x", newest - i, one, static=False) is None
+    assert buffer.set_transform("base", "x", newest, one, static=False) == "repeated_data"
+    assert buffer.lookup("base", "x", 0)[1] == newest
+    assert buffer.lookup("base", "x", newest - 100)[0].translation == (1.0, 0.0, 0.0)
+    kept = buffer._caches["x"].items
+    assert len(kept) == MAX_CACHE_ENTRIES and kept[-1].stamp == newest - MAX_CACHE_ENTRIES + 1

@@ -127,6 +127,18 @@ def test_lose_removes_the_body_and_updates_the_frame():
     assert t.lose(BodyRef(frame_id="nowhere", body_id="zzz")).lost == []
 
 
+def test_losing_many_bodies_at_once_says_one_aggregate():
+    """A tracked list replacing N ids used to publish N aggregates, each listing everyone
+    left (1 000 ids: 42 MB out): now N DELETEs and one aggregate per frame."""
+    t = tracker()
+    t.ingest([sample(f"b{i}", sec=1) for i in range(1000)], now=0.0)
+    gone = [BodyRef(frame_id="cam", body_id=f"b{i}") for i in range(1000)]
+    changes = t.lose(gone, now=0.0)
+    assert len(changes.lost) == 1000
+    (frame,) = changes.frames
+    assert frame.bodies_tracked == []
+
+
 def test_staleness_on_the_injected_clock():
     t = tracker(stale_after_s=2.0)
     t.ingest([sample("a", sec=1)], now=10.0)
