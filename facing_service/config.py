@@ -23,6 +23,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from . import keys
 from .disclosure import public_cfg_entry, public_endpoint, public_value
 from .engagement import EngagementParams
+from .ros2_input import DEFAULT_MAX_MESSAGE_BYTES
 from .ros2_wire import Distro, RosFormat, Wire
 from .schemas import DEFAULT_MAX_PAYLOAD_BYTES
 from .tracker import Profile
@@ -184,6 +185,14 @@ class Settings(BaseModel):
         **_flag(
             "rmw_zenoh's form to answer in: `auto` (learned from the robot's keys), `humble` "
             "(TypeHashNotSupported), `jazzy` (RIHS01 hashes: Jazzy, Kilted, Rolling)",
+            ROS_IN,
+        ),
+    )
+    ros_max_message_bytes: int = Field(
+        DEFAULT_MAX_MESSAGE_BYTES,
+        gt=0,
+        **_flag(
+            "a robot's message larger than this is refused undecoded (`payload_too_large`)",
             ROS_IN,
         ),
     )

@@ -40,6 +40,7 @@ PUBLIC_FIELDS = frozenset(
         "input",
         "ros_format",
         "ros_distro",
+        "ros_max_message_bytes",
         "ros_domain_id",
         "ros_namespace",
         "output",

@@ -51,6 +51,10 @@ TOPICS = (
 )
 
 
+#: A robot's message larger than this is refused undecoded (``--ros-max-message-bytes``).
+DEFAULT_MAX_MESSAGE_BYTES = 1 << 20
+
+
 @dataclass(frozen=True, slots=True)
 class RosSample:
     """A sample from one of the robot's topics, as the zenoh callback hands it over."""
@@ -58,22 +62,26 @@ class RosSample:
     key: str
     payload: bytes
     attachment: bytes | None = None  # rmw_zenoh's: its form is learned from it
+    size: int = 0  # of a payload too large to be copied (then ``payload`` is empty)
 
     @classmethod
-    def of(cls, sample: zenoh.Sample) -> RosSample:
-        extra = sample.attachment
-        return cls(
-            str(sample.key_expr),
-            sample.payload.to_bytes(),
-            None if extra is None else extra.to_bytes(),
-        )
+    def of(cls, sample: zenoh.Sample, max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES) -> RosSample:
+        """The sample as plain bytes; a payload over ``max_bytes`` is not even copied."""
+        extra = None if sample.attachment is None else sample.attachment.to_bytes()
+        if (size := len(sample.payload)) > max_bytes:
+            return cls(str(sample.key_expr), b"", extra, size)
+        return cls(str(sample.key_expr), sample.payload.to_bytes(), extra)
 
 
-def route(people: People, wire: Wire, sample: RosSample) -> Update | Rejected:
+def route(
+    people: People, wire: Wire, sample: RosSample, max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES
+) -> Update | Rejected:
     """Decode one sample and apply it to ``people``; never raises on any input."""
     read = reading(wire, sample.key)
     if isinstance(read, Rejected):
         return read
+    if sample.size > max_bytes:  # refused before decoding: a 104 MB TFMessage took 2.2 GB
+        return Rejected(Rejection.PAYLOAD_TOO_LARGE, f"{sample.size} bytes > {max_bytes}")
     topic, typename = read
     try:
         message = ros2_types.deserialize(sample.payload, typename)
@@ -153,15 +161,17 @@ class Ros2Subscriptions:
         wire: Wire,
         hand_off: Callable[[RosSample], None],
         skip: tuple[str, str] | None = None,
+        max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES,
     ) -> None:
         def on_sample(sample: zenoh.Sample) -> None:
             if sample.kind == zenoh.SampleKind.PUT:
-                hand_off(RosSample.of(sample))
+                hand_off(RosSample.of(sample, max_bytes))
 
         self.keys: list[str] = []
         self._entities: list[Any] = []
         self._session = session
         self._hand_off = hand_off
+        self._max_bytes = max_bytes
         self._cached: list[str] = []  # publication cache selectors (older generation)
         self._timer: threading.Timer | None = None
         try:
@@ -194,7 +204,7 @@ class Ros2Subscriptions:
 
         def on_reply(reply: zenoh.Reply) -> None:
             if (sample := reply.ok) is not None:
-                self._hand_off(RosSample.of(sample))
+                self._hand_off(RosSample.of(sample, self._max_bytes))
 
         for selector in self._cached:
             try:

@@ -161,7 +161,9 @@ class FacingService:
             if s.input == "ros2":  # the hot topic is /tf; the others come by callbacks
                 hot = self._wire.subscription(*HOT_ROS_TOPIC)
                 self._intake = Intake(session, hot, INBOX_SIZE, self._closing, self._clock)
-                self._ros = Ros2Subscriptions(session, self._wire, self._enqueue, HOT_ROS_TOPIC)
+                self._ros = Ros2Subscriptions(
+                    session, self._wire, self._enqueue, HOT_ROS_TOPIC, s.ros_max_message_bytes
+                )
                 subscription = ", ".join([hot, *self._ros.keys])
                 self._sniffers = [
                     session.declare_subscriber(
@@ -439,7 +441,8 @@ class FacingService:
             if isinstance(item, zenoh.Sample):
                 if ros:  # the robot's /tf, from the intake's channel
                     if item.kind == zenoh.SampleKind.PUT:
-                        self._on_ros(RosSample.of(item), poses)
+                        sample = RosSample.of(item, self.settings.ros_max_message_bytes)
+                        self._on_ros(sample, poses)
                 elif item.kind == zenoh.SampleKind.PUT:
                     pose = self._decode(item)
                     if pose is not None:
@@ -459,7 +462,7 @@ class FacingService:
         after the poses before them, in order."""
         if (learned := self._form.learn(sample.key, sample.attachment)) is not None:
             log.log(learned[0], "%s", learned[1])
-        update = route(self._people, self._wire, sample)
+        update = route(self._people, self._wire, sample, self.settings.ros_max_message_bytes)
         if isinstance(update, Rejected):
             self._reject(update.reason, sample.key, update.detail)
             return

@@ -104,3 +104,21 @@ def test_a_worker_error_turns_the_status_degraded_until_a_batch_succeeds(
     while service.status().status != "ok":
         assert time.monotonic() < deadline + 5
         time.sleep(0.02)
+
+
+def test_an_oversized_message_is_refused_undecoded(net, robot_and_service):
+    """One 104 MB TFMessage peaked at 2.2 GB: a message over --ros-max-message-bytes
+    (1 MiB) is refused before it is copied or decoded, beside a person who goes on."""
+    _, service, robot, consumer = robot_and_service
+    results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
+    many = [transform("base_link", f"f{i}", 10 * S, (1.0, 0.0, 0.0)) for i in range(20_000)]
+    huge = tf_message(*many)
+    assert len(huge) > 1 << 20
+    person_then(robot, huge)
+    deadline = time.monotonic() + 5
+    while sum(i.kind == "put" for i in results.items) < 30:
+        assert time.monotonic() < deadline, "the person's results stopped"
+        time.sleep(0.02)
+    status = service.status()
+    assert status.rejected["payload_too_large"] == 1 and status.status == "ok"
+    assert not service._people.tf.has_frame("f0")
