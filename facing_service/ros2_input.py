@@ -25,7 +25,7 @@ after the robot gets them from the publishers' caches, of either generation:
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -150,6 +150,32 @@ def publication_cache_selector(wire: Wire, key: str) -> str:
     return f"*/{key}"
 
 
+def query_publication_caches(
+    session: zenoh.Session,
+    selectors: Iterable[str],
+    on_sample: Callable[[zenoh.Sample], None],
+) -> None:
+    """Query publication caches as their generation's late joiners did: every replier
+    (target ALL), every reply (no consolidation: /tf_static has many publishers), on any
+    key (they answer on the sample's own). Quietly nothing once the session is closed."""
+
+    def on_reply(reply: zenoh.Reply) -> None:
+        if (sample := reply.ok) is not None:
+            on_sample(sample)
+
+    for selector in selectors:
+        try:
+            session.get(
+                selector,
+                on_reply,
+                target=zenoh.QueryTarget.ALL,
+                consolidation=zenoh.ConsolidationMode.NONE,
+                accept_replies=zenoh.ReplyKeyExpr.ANY,
+            )
+        except zenoh.ZError:
+            return
+
+
 class Ros2Subscriptions:
     """The robot's topics on a zenoh session, but ``skip`` (a topic the caller reads
     itself); each sample goes to ``hand_off`` as a RosSample (the service's intake).
@@ -201,22 +227,11 @@ class Ros2Subscriptions:
         """Ask the older generation's publication caches for what they hold; replies go
         to ``hand_off`` like samples (a reply also held by a newer cache is a duplicate
         the topics' rules absorb: a static transform or a list said twice)."""
-
-        def on_reply(reply: zenoh.Reply) -> None:
-            if (sample := reply.ok) is not None:
-                self._hand_off(RosSample.of(sample, self._max_bytes))
-
-        for selector in self._cached:
-            try:
-                self._session.get(
-                    selector,
-                    on_reply,
-                    target=zenoh.QueryTarget.ALL,
-                    consolidation=zenoh.ConsolidationMode.NONE,
-                    accept_replies=zenoh.ReplyKeyExpr.ANY,
-                )
-            except zenoh.ZError:
-                return  # the session closed meanwhile
+        query_publication_caches(
+            self._session,
+            self._cached,
+            lambda sample: self._hand_off(RosSample.of(sample, self._max_bytes)),
+        )
 
     def close(self) -> None:
         if self._timer is not None:

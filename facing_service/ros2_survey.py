@@ -21,7 +21,16 @@ import zenoh.ext
 from . import ros2_types
 from .config import Settings, zenoh_config
 from .disclosure import public_endpoint, zenoh_failure
-from .ros2_wire import HASH_NOT_SUPPORTED, Attachment, Distro, attachment_layout, distro_of
+from .ros2_input import publication_cache_selector, query_publication_caches
+from .ros2_wire import (
+    HASH_NOT_SUPPORTED,
+    Attachment,
+    Distro,
+    RosFormat,
+    Wire,
+    attachment_layout,
+    distro_of,
+)
 
 #: The topics surveyed (without their leading slash), and their types.
 TOPICS = {
@@ -254,10 +263,6 @@ def inspect_robot(settings: Settings, seconds: float, base_frame: str) -> int:
                 time.monotonic(),
             )
 
-    def on_reply(reply: zenoh.Reply) -> None:
-        if reply.ok is not None:
-            on_sample(reply.ok)
-
     links = ", ".join(public_endpoint(e) for e in settings.connect) or "zenoh's scouting"
     print(f"listening {seconds:g} s for a robot's ROS 2 topics through {links}...", flush=True)
     entities: list[zenoh.Subscriber[None] | zenoh.ext.AdvancedSubscriber[None]] = []
@@ -274,14 +279,8 @@ def inspect_robot(settings: Settings, seconds: float, base_frame: str) -> int:
                                     session, key, on_sample, history=history
                                 )
                             )
-                            for old in (f"*/{key}", f"{key}/@ros2_pub_cache/*"):
-                                session.get(
-                                    old,
-                                    on_reply,
-                                    target=zenoh.QueryTarget.ALL,
-                                    consolidation=zenoh.ConsolidationMode.NONE,
-                                    accept_replies=zenoh.ReplyKeyExpr.ANY,
-                                )
+                            older = [publication_cache_selector(Wire(f), key) for f in RosFormat]
+                            query_publication_caches(session, older, on_sample)
                         else:
                             entities.append(session.declare_subscriber(key, on_sample))
                 time.sleep(seconds)
