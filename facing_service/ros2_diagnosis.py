@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .people import People
-from .ros2_wire import HASH_NOT_SUPPORTED, RosFormat, Wire, distro_of
+from .ros2_wire import HASH_NOT_SUPPORTED, RosFormat, Wire, where
 from .tf_buffer import TfError
 
 #: Seconds of nothing (or of a tree without the base frame) before a finding is said: a
@@ -31,29 +31,25 @@ def _names(items: list[str]) -> str:
 
 
 def where_else(wire: Wire, key: str) -> str:
-    """What a key of ROS data that this wire does not read says about the robot, as the
+    """What a key of /tf that this wire does not read says about the robot, as the
     settings that would read it."""
-    chunks = key.split("/")
-    if len(chunks) >= 4 and "::msg::dds_::" in chunks[-2]:  # rmw_zenoh's form
-        domain, topic = chunks[0], chunks[1:-2]
-        hints = []
-        if wire.format is RosFormat.BRIDGE:
-            hints.append("--ros-format rmw_zenoh")
-        if domain != str(wire.domain_id):
-            hints.append(f"--ros-domain-id {domain}")
-        namespace = "/".join(topic[:-1])
-        if namespace != wire.namespace:
-            hints.append(f"--ros-namespace '{namespace}'")
-        if not hints and distro_of(key) is None:
-            hints.append(f"a type hash that is neither RIHS01 nor {HASH_NOT_SUPPORTED}")
-        return ", ".join(hints) or "another type hash (another message version)"
+    place = where(key, ("tf",))
+    if place is None:
+        return "a key of neither format"
     hints = []
-    if wire.format is RosFormat.RMW_ZENOH:
-        hints.append("--ros-format bridge")
-    namespace = "/".join(chunks[:-1])
-    if namespace != wire.namespace:
-        hints.append(f"--ros-namespace '{namespace}'")
-    return ", ".join(hints) or "the same settings (check the router's access control)"
+    if place.format != wire.format.value:
+        hints.append(f"--ros-format {place.format}")
+    if place.domain is not None and place.domain != wire.domain_id:
+        hints.append(f"--ros-domain-id {place.domain}")
+    if place.namespace != wire.namespace:
+        hints.append(f"--ros-namespace '{place.namespace}'")
+    if hints:
+        return ", ".join(hints)
+    if place.format == RosFormat.BRIDGE.value:
+        return "the same settings (check the router's access control)"
+    if place.distro is None:
+        return f"a type hash that is neither RIHS01 nor {HASH_NOT_SUPPORTED}"
+    return "another type hash (another message version)"
 
 
 @dataclass

@@ -33,7 +33,6 @@ from . import ros2_types
 from .engagement import Level
 from .ros2_wire import (
     QOS_RELIABLE_VOLATILE,
-    Attachment,
     Form,
     FormLearner,
     RosFormat,
@@ -280,8 +279,7 @@ class TopicWriter:
         self.sequence_number += 1
         extra = None
         if self._rmw:
-            layout: Attachment = self.form.attachment
-            extra = attachment(self.sequence_number, time.time_ns(), self.gid, layout)
+            extra = attachment(self.sequence_number, time.time_ns(), self.gid, self.form.attachment)
         self._entity.put(payload, attachment=extra)
 
     def undeclare(self) -> None:

@@ -25,11 +25,11 @@ from .ros2_input import publication_cache_selector, query_publication_caches
 from .ros2_wire import (
     HASH_NOT_SUPPORTED,
     Attachment,
-    Distro,
     RosFormat,
+    Where,
     Wire,
     attachment_layout,
-    distro_of,
+    where,
 )
 
 #: The topics surveyed (without their leading slash), and their types.
@@ -41,49 +41,6 @@ TOPICS = {
     "humans/persons/tracked": ros2_types.IDS_LIST,
 }
 TRANSIENT_LOCAL = ("tf_static", "humans/persons/tracked")
-
-
-@dataclass(frozen=True)
-class Where:
-    """Where a key says a topic is: the settings that read it."""
-
-    topic: str  # with its leading slash
-    format: str  # rmw_zenoh or bridge
-    domain: int | None  # rmw_zenoh only
-    namespace: str
-    distro: Distro | None  # rmw_zenoh only (None: an unknown type hash)
-
-    def flags(self) -> str:
-        said = [f"--ros-format {self.format}"]
-        if self.domain is not None:
-            said.append(f"--ros-domain-id {self.domain}")
-        if self.namespace:
-            said.append(f"--ros-namespace {self.namespace}")
-        return " ".join(said)
-
-    def describe(self) -> str:
-        if self.format == "bridge":
-            return "bridge" + (f", namespace {self.namespace}" if self.namespace else "")
-        ns = f", namespace {self.namespace}" if self.namespace else ""
-        form = self.distro.describe() if self.distro else "an unknown type hash"
-        return f"rmw_zenoh, domain {self.domain}{ns}, {form}"
-
-
-def where(key: str) -> Where | None:
-    """What a key of one of the surveyed topics says (None: none of them)."""
-    chunks = key.split("/")
-    rmw = len(chunks) >= 4 and "::msg::dds_::" in chunks[-2]
-    body = chunks[1:-2] if rmw else chunks
-    for topic in sorted(TOPICS, key=lambda t: -t.count("/")):
-        parts = topic.split("/")
-        if body[-len(parts) :] == parts:
-            namespace = "/".join(body[: -len(parts)])
-            if not rmw:
-                return Where("/" + topic, "bridge", None, namespace, None)
-            if not chunks[0].isdigit():
-                return None
-            return Where("/" + topic, "rmw_zenoh", int(chunks[0]), namespace, distro_of(key))
-    return None
 
 
 @dataclass
@@ -116,7 +73,7 @@ class Survey:
     def on_sample(self, key: str, payload: bytes, extra: bytes | None, now: float) -> None:
         seen = self.keys.get(key)
         if seen is None:
-            place = where(key)
+            place = where(key, TOPICS)
             if place is None:
                 return
             seen = self.keys[key] = _Seen(place, first=now)

@@ -31,6 +31,7 @@ Pure: builds and parses strings and bytes, decides nothing else.
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterable
 from dataclasses import dataclass
 from enum import Enum
 from functools import lru_cache
@@ -130,6 +131,50 @@ class Wire:
         if got not in (ros2_types.type_hash(typename), HASH_NOT_SUPPORTED):
             return f"type hash {got} is not {typename}'s {ros2_types.type_hash(typename)}"
         return None
+
+
+@dataclass(frozen=True)
+class Where:
+    """Where a key says a topic is: the settings that read it."""
+
+    topic: str  # with its leading slash
+    format: str  # rmw_zenoh or bridge
+    domain: int | None  # rmw_zenoh only
+    namespace: str
+    distro: Distro | None  # rmw_zenoh only (None: an unknown type hash)
+
+    def flags(self) -> str:
+        said = [f"--ros-format {self.format}"]
+        if self.domain is not None:
+            said.append(f"--ros-domain-id {self.domain}")
+        if self.namespace:
+            said.append(f"--ros-namespace {self.namespace}")
+        return " ".join(said)
+
+    def describe(self) -> str:
+        if self.format == "bridge":
+            return "bridge" + (f", namespace {self.namespace}" if self.namespace else "")
+        ns = f", namespace {self.namespace}" if self.namespace else ""
+        form = self.distro.describe() if self.distro else "an unknown type hash"
+        return f"rmw_zenoh, domain {self.domain}{ns}, {form}"
+
+
+def where(key: str, topics: Iterable[str]) -> Where | None:
+    """Where a key of one of ``topics`` (without their leading slash) says it is, in
+    either format (None: none of them, or no domain where rmw_zenoh's keys start)."""
+    chunks = key.split("/")
+    rmw = len(chunks) >= 4 and "::msg::dds_::" in chunks[-2]
+    body = chunks[1:-2] if rmw else chunks
+    for topic in sorted(topics, key=lambda t: -t.count("/")):
+        parts = topic.split("/")
+        if body[-len(parts) :] == parts:
+            namespace = "/".join(body[: -len(parts)])
+            if not rmw:
+                return Where("/" + topic, "bridge", None, namespace, None)
+            if not chunks[0].isdigit():
+                return None
+            return Where("/" + topic, "rmw_zenoh", int(chunks[0]), namespace, distro_of(key))
+    return None
 
 
 GID_SIZE = 16
