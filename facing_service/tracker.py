@@ -7,8 +7,10 @@ a network. The service feeds it batches and publishes what each call returns.
 
 from __future__ import annotations
 
+import copy
 from collections import OrderedDict
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -144,6 +146,13 @@ class _Frame:
     stamp: tuple[int, int] | None = None
     dirty: bool = False  # membership changed since the aggregate was last published
 
+    def __copy__(self) -> _Frame:
+        return _Frame(set(self.tracked), set(self.facing), self.stamp, self.dirty)
+
+
+#: The tracker's mutable stores, as a transaction's journal keeps them (attribute names).
+_STORES = ("_tracks", "_frames", "_tombstones", "_due")
+
 
 def _frame_facing(
     frame_id: str, stamp: tuple[int, int] | None, facing: Iterable[str], tracked: Iterable[str]
@@ -236,6 +245,46 @@ class Tracker:
         self._tombstones: OrderedDict[BodyRef, tuple[tuple[int, int], float]] = OrderedDict()
         # Bodies whose level will change with time alone (DISENGAGING's dwell): when.
         self._due: dict[BodyRef, float] = {}
+        # In a transaction: per store, each key's value before its first change (None: absent).
+        self._journal: dict[str, dict[object, object]] | None = None
+
+    @contextmanager
+    def transaction(self) -> Iterator[None]:
+        """Changes made inside apply whole, or not at all: on an exception every store is
+        put back as it was, then the exception goes on. The service wraps each tracker
+        call and the building of its publications in one, so an error while saying a
+        change (a bug, a value no output can carry) never leaves a change unsaid: no
+        ghost, no aggregate that disagrees with the results. A journal, not a copy: only
+        what the calls touch is kept (a copy of 10 000 tracks per batch cost more than
+        the batch)."""
+        assert self._journal is None, "transactions do not nest"
+        self._journal = {store: {} for store in _STORES}
+        try:
+            yield
+        except BaseException:
+            self._roll_back(self._journal)
+            raise
+        finally:
+            self._journal = None
+
+    def _keep(self, store: str, key: object) -> None:
+        """Journal ``key``'s value in ``store`` before its first change in a transaction."""
+        journal = self._journal
+        if journal is not None and key not in (kept := journal[store]):
+            value = getattr(self, store).get(key)
+            kept[key] = None if value is None else copy.copy(value)
+
+    def _roll_back(self, journal: dict[str, dict[object, object]]) -> None:
+        for store, kept in journal.items():
+            values = getattr(self, store)
+            for key, value in kept.items():
+                if value is None:
+                    values.pop(key, None)
+                else:
+                    values[key] = value
+        # Back in the orders expiry relies on: tracks by last sample, tombstones by expiry.
+        self._tracks = OrderedDict(sorted(self._tracks.items(), key=lambda kv: kv[1].last_seen))
+        self._tombstones = OrderedDict(sorted(self._tombstones.items(), key=lambda kv: kv[1][1]))
 
     def __len__(self) -> int:
         return len(self._tracks)
@@ -261,6 +310,7 @@ class Tracker:
                 if sample.pose.stamp <= tomb[0]:  # a late pose of a deleted body
                     changes.out_of_order.append(sample)
                     continue
+                self._keep("_tombstones", key)
                 del self._tombstones[key]  # newer than the DELETE: the body is back
             if last is None:  # a new body
                 if room <= 0:
@@ -347,9 +397,11 @@ class Tracker:
             if (track := self._tracks.get(key)) is None:
                 continue
             if not time_went_back:
+                self._keep("_tombstones", key)
                 self._tombstones[key] = (track.pose.stamp, now + TOMBSTONE_S)
                 self._tombstones.move_to_end(key)
                 while len(self._tombstones) > self.max_bodies:
+                    self._keep("_tombstones", next(iter(self._tombstones)))
                     self._tombstones.popitem(last=False)
             self._remove(key, changes)
             frames.add(key.frame_id)
@@ -364,10 +416,12 @@ class Tracker:
         for key, due in list(self._due.items()):
             if due > now:
                 continue
+            self._keep("_due", key)
             del self._due[key]
             track = self._tracks.get(key)
             if track is None or track.engagement.last is None:
                 continue
+            self._keep("_tracks", key)
             before = track.engagement.level
             t = track.engagement.last + (now - track.last_seen)
             track.engagement = advance(track.engagement, t, track.profile.engagement)
@@ -384,6 +438,7 @@ class Tracker:
         """Lose every body with no accepted sample for ``stale_after_s`` before ``now``,
         and forget expired tombstones."""
         while self._tombstones and next(iter(self._tombstones.values()))[1] <= now:
+            self._keep("_tombstones", next(iter(self._tombstones)))
             self._tombstones.popitem(last=False)
         changes = Changes()
         deadline = now - self.stale_after_s
@@ -452,6 +507,7 @@ class Tracker:
         """Keep the new state (``track``: the body's, None when new); the engagement update
         to publish, if one is due."""
         key = sample.body
+        self._keep("_tracks", key)
         if track is None:
             track = self._tracks[key] = _Track(sample.pose, now, state, profile)
         else:  # in place: the body's engagement carries over
@@ -459,6 +515,7 @@ class Tracker:
             track.profile = profile
         self._tracks.move_to_end(key)
         update = self._engage(track, state, now)
+        self._keep("_frames", sample.frame_id)
         frame = self._frames.setdefault(sample.frame_id, _Frame())
         if sample.body_id not in frame.tracked:
             frame.tracked.add(sample.body_id)
@@ -485,6 +542,7 @@ class Tracker:
         )
         changed = track.engagement.level is not before
         key = state.body
+        self._keep("_due", key)
         if track.engagement.level is Level.DISENGAGING:  # dwell running: due even if silent
             left = track.engagement.since + p.disengage_dwell_s - t
             self._due[key] = now + max(0.0, left)
@@ -512,6 +570,8 @@ class Tracker:
         return [self._engagement_update(track, None) for track in self._tracks.values()]
 
     def _remove(self, key: BodyRef, changes: Changes) -> None:
+        for store, k in (("_tracks", key), ("_due", key), ("_frames", key.frame_id)):
+            self._keep(store, k)
         track = self._tracks.pop(key)
         self._due.pop(key, None)
         if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
@@ -526,7 +586,7 @@ class Tracker:
     def _frame_changes(self, frame_ids: Iterable[str]) -> list[FrameFacing]:
         """Aggregates of the given frames whose lists changed since last published."""
         changed = []
-        for frame_id in sorted(frame_ids):
+        for frame_id in sorted(frame_ids):  # (each kept by _store or _remove already)
             frame = self._frames[frame_id]
             if frame.dirty:
                 frame.dirty = False

@@ -6,6 +6,8 @@ import math
 from dataclasses import replace
 
 import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from facing_service.config import Settings
 from facing_service.engagement import Level
@@ -266,3 +268,70 @@ def test_a_silent_body_disengages_on_time():
     (update,) = t.advance(now=due + 0.01).engagement
     assert update.level is Level.DISENGAGED and update.previous is Level.DISENGAGING
     assert t.next_due() is None
+
+
+def _everything(t: Tracker) -> tuple:
+    """All a tracker would ever say or decide from, in the order it would (frames in any
+    order: a rolled-back frame may come back last among them, which nothing reads)."""
+    return (
+        t.states(),
+        sorted(t.frames(), key=lambda f: f.frame_id),
+        t.engagements(),
+        t.next_expiry(),
+        t.next_due(),
+        list(t._tombstones.items()),
+        [(k, tr.last_seen) for k, tr in t._tracks.items()],
+        {f: (fr.dirty, fr.stamp, fr.tracked, fr.facing) for f, fr in t._frames.items()},
+    )
+
+
+_OPS = st.lists(
+    st.tuples(
+        st.sampled_from(["ingest", "lose", "expire", "advance"]),
+        st.sampled_from(["a", "b", "c"]),
+        st.sampled_from(["cam", "map"]),
+        st.sampled_from([0, 60]),  # off-axis degrees: facing or not
+        st.integers(1, 30),  # stamp, seconds
+    ),
+    max_size=16,
+)
+
+
+def _do(t: Tracker, op: tuple, now: float) -> None:
+    what, body, frame, off, sec = op
+    if what == "ingest":
+        t.ingest([sample(body, frame, off_deg=off, sec=sec)], now)
+    elif what == "lose":
+        t.lose(BodyRef(frame_id=frame, body_id=body), now)
+    elif what == "expire":
+        t.expire(now)
+    else:
+        t.advance(now)
+
+
+_ENGAGED_THEN_AWAY = [("ingest", "a", "cam", 0, sec) for sec in range(1, 9)] + [
+    ("ingest", "a", "cam", 60, 9)
+]
+
+
+@given(before=_OPS, inside=_OPS)
+@example(before=_ENGAGED_THEN_AWAY, inside=[("advance", "a", "cam", 0, 1)] * 6)  # the dwell
+@settings(max_examples=300, deadline=None)
+def test_a_transaction_that_raises_leaves_the_tracker_as_it_was(before, inside):
+    """The service wraps each tracker call and the building of its publications in a
+    transaction: whatever the calls inside changed, an exception puts everything back,
+    orders included (expiry pops the oldest first)."""
+    t, t2 = tracker(max_bodies=2), tracker(max_bodies=2)
+    for i, op in enumerate(before):
+        _do(t, op, now=i * 0.7)
+        _do(t2, op, now=i * 0.7)
+    now = len(before) * 0.7
+    with pytest.raises(RuntimeError), t.transaction():
+        for i, op in enumerate(inside):
+            _do(t, op, now + i * 0.7)
+        raise RuntimeError("building the publications failed")
+    assert _everything(t) == _everything(t2)
+    for i, op in enumerate(inside):  # and it goes on exactly as the untouched one does
+        _do(t, op, now + i * 0.7)
+        _do(t2, op, now + i * 0.7)
+    assert _everything(t) == _everything(t2)
