@@ -26,6 +26,7 @@ from .engagement import EngagementParams
 from .ros2_input import DEFAULT_MAX_MESSAGE_BYTES
 from .ros2_wire import Distro, RosFormat, Wire
 from .schemas import DEFAULT_MAX_PAYLOAD_BYTES
+from .tf_buffer import DEFAULT_MAX_FRAMES
 from .tracker import Profile
 
 ENV_PREFIX = "FACING_"
@@ -193,6 +194,15 @@ class Settings(BaseModel):
         gt=0,
         **_flag(
             "a robot's message larger than this is refused undecoded (`payload_too_large`)",
+            ROS_IN,
+        ),
+    )
+    ros_max_frames: int = Field(
+        DEFAULT_MAX_FRAMES,
+        gt=0,
+        **_flag(
+            "most TF frames kept; frames silent for 10 s are forgotten to make room, and a "
+            "transform naming one more is refused (`tf_too_many_frames`)",
             ROS_IN,
         ),
     )

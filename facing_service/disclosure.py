@@ -41,6 +41,7 @@ PUBLIC_FIELDS = frozenset(
         "ros_format",
         "ros_distro",
         "ros_max_message_bytes",
+        "ros_max_frames",
         "ros_domain_id",
         "ros_namespace",
         "output",

@@ -26,6 +26,9 @@ log = logging.getLogger("facing_service")
 
 #: Rejections are summarized in the log at most this often, never one line per sample.
 REJECTION_LOG_PERIOD_S = 5.0
+#: How much of the first offending key and detail the summary quotes: both can come from
+#: a sender (a 1 MB frame name made a 3 MB log line).
+FIRST_SAID = 300
 #: The worker's counters (it is their only writer).
 DECIDED = (
     "samples_accepted",
@@ -74,7 +77,10 @@ class RejectionLog:
 
     def add(self, reason: Rejection, key: str, detail: str) -> None:
         self._since_summary[reason] += 1
-        self._first.setdefault(reason, f"{key}: {detail}")
+        if reason not in self._first:
+            first = f"{key}: {detail}"
+            cut = f"... ({len(first)} chars)" if len(first) > FIRST_SAID else ""
+            self._first[reason] = first[:FIRST_SAID] + cut
 
     def next_due(self) -> float | None:
         return self._last_summary + REJECTION_LOG_PERIOD_S if self._since_summary else None

@@ -13,6 +13,15 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
 - Each pose is tf2's lookup of that frame in the base frame at the latest common time,
   redone whenever a transform on its chain (or the base frame's) changes; a pose is
   emitted only when that time moves forward, so nothing already said is repeated.
+- First results are delayed, never lost: the lists and person links come through other
+  subscriptions than /tf and may be handled after /tf that came after them (as may a
+  /tf_static link), so when a subject's pose first becomes known, the poses its frame
+  already holds from the last ``FIRST_RESULTS_NS`` are said first, oldest first (at most
+  ``MAX_FIRST_RESULTS``), each looked up at its own stamp.
+- Bounded, whatever the robot sends: at most ``max_ids`` ids per list (the first kept,
+  the others refused as ``capacity``), at most ``max_ids`` person links of each kind
+  (those of untracked persons are kept for when they come, and the oldest forgotten
+  first), and the TF buffer's ``max_frames``.
 - Time going back (a recording replayed again, a robot's clock reset): ROS's TF listener
   clears its buffer when its clock jumps back. Here the clock is the stamps: after
   ``TIME_BACK_MESSAGES`` /tf messages in a row whose every transform is more than
@@ -29,7 +38,7 @@ from dataclasses import dataclass, field
 
 from . import keys
 from .schemas import MAX_TRANSLATION_M, Pose
-from .tf_buffer import TfBuffer, TfError, Transform
+from .tf_buffer import DEFAULT_MAX_FRAMES, TfBuffer, TfError, Transform
 from .tracker import PoseSample
 
 #: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
@@ -42,6 +51,14 @@ PERSON_LINKS = {"face_id": "face_", "body_id": "body_"}
 S = 1_000_000_000
 #: The stamp of a transform whose own is outside builtin_interfaces/Time's range.
 INVALID_STAMP = -1
+
+#: When a subject's pose first becomes known: how far back its frame's poses are said too,
+#: and at most how many (a tracker's list handled 0.2-1 s after the /tf that came with it,
+#: under load, lost those results; 64 covers 2 s at 30 Hz).
+FIRST_RESULTS_NS = 2 * S
+MAX_FIRST_RESULTS = 64
+#: Ids per list and person links per kind, unless the caller says (``--max-bodies``).
+DEFAULT_MAX_IDS = 10_000
 
 #: How far back a transform's stamp must be, and for how many /tf messages in a row, for
 #: time to have gone back (a stream at 30 Hz says so within 0.1 s).
@@ -90,9 +107,16 @@ class Update:
 class People:
     """The robot's people, as seen in ``base_frame``."""
 
-    def __init__(self, base_frame: str) -> None:
+    def __init__(
+        self,
+        base_frame: str,
+        *,
+        max_ids: int = DEFAULT_MAX_IDS,
+        max_frames: int = DEFAULT_MAX_FRAMES,
+    ) -> None:
         self.base_frame = base_frame
-        self.tf = TfBuffer()
+        self.max_ids = max_ids
+        self.tf = TfBuffer(max_frames=max_frames)
         self._tracked: dict[str, set[str]] = {topic: set() for topic in KINDS}
         self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}  # person -> id
         self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
@@ -116,7 +140,7 @@ class People:
             if reason is None:
                 changed.add(t.child)
             else:
-                what = f"{t.parent} -> {t.child}"
+                what = f"{_said(t.parent)} -> {_said(t.child)}"
                 if static and self.tf.newest(t.child) is not None:  # a dynamic frame
                     what += STATIC_INTO_DYNAMIC
                 update.refused.append((f"tf_{reason}", what))
@@ -163,13 +187,19 @@ class People:
     def on_tracked(self, topic: str, ids: Sequence[str]) -> Update:
         update = Update()
         prefix = KINDS[topic][0]
-        valid = set()
+        valid, current = set(), self._tracked[topic]
         for ros_id in ids:
-            if keys.is_name(prefix + ros_id):
-                valid.add(ros_id)
+            if not keys.is_name(prefix + ros_id):
+                update.refused.append(("invalid_id", f"{topic}: {_said(ros_id)!r}"))
             else:
-                update.refused.append(("invalid_id", f"{topic}: {ros_id!r}"))
-        current = self._tracked[topic]
+                valid.add(ros_id)
+        if len(valid) > self.max_ids:  # those tracked already first, then in list order
+            kept = [i for i in ids if i in current and i in valid]
+            kept += [i for i in ids if i not in current and i in valid]
+            update.refused.append(
+                ("capacity", f"{topic}: {len(valid)} ids, only the first {self.max_ids} kept")
+            )
+            valid = set(kept[: self.max_ids])
         gone, new = current - valid, valid - current
         self._tracked[topic] = valid
         if gone or new:
@@ -186,18 +216,30 @@ class People:
         update = Update()
         links = self._links[PERSON_LINKS[link]]
         if target and not keys.is_name(PERSON_LINKS[link] + target):
-            update.refused.append(("invalid_id", f"{person_id}/{link}: {target!r}"))
+            update.refused.append(("invalid_id", f"{person_id}/{link}: {_said(target)!r}"))
             return update
         if links.get(person_id, "") == target:
             return update
+        links.pop(person_id, None)  # (re)inserted last: the oldest are forgotten first
         if target:
             links[person_id] = target
-        else:
-            links.pop(person_id, None)
+            self._forget_links(links, link, update)
         self._by_frame = None
         if person_id in self._tracked["/humans/persons/tracked"]:
             self._resolve(["person_" + person_id], update)
         return update
+
+    def _forget_links(self, links: dict[str, str], link: str, update: Update) -> None:
+        """Over ``max_ids`` links of a kind: forget the oldest of untracked persons."""
+        tracked = self._tracked["/humans/persons/tracked"]
+        while len(links) > self.max_ids:
+            oldest = next((p for p in links if p not in tracked), None)
+            if oldest is None:
+                return  # (cannot happen: at most max_ids persons are tracked)
+            del links[oldest]
+            update.refused.append(
+                ("capacity", f"{oldest}/{link}: forgotten, over {self.max_ids} person links")
+            )
 
     # -- state -----------------------------------------------------------------------------
 
@@ -225,17 +267,41 @@ class People:
             except TfError:
                 update.unresolved += 1
                 continue
-            if stamp <= self._last.get(subject, -1):
+            last = self._last.get(subject)
+            if last is not None and stamp <= last:
                 continue  # nothing newer than what was already said
+            if last is None:  # first known: what its frame already holds, said first
+                self._first_results(subject, frame, stamp, update)
             self._last[subject] = stamp
-            profile = "head" if frame.startswith("face_") else "body"
-            update.poses.append(
-                PoseSample(
-                    keys.BodyRef(frame_id=self.base_frame, body_id=subject),
-                    _pose(transform, stamp),
-                    profile,
-                )
-            )
+            update.poses.append(self._sample(subject, frame, transform, stamp))
+
+    def _first_results(self, subject: str, frame: str, upto: int, update: Update) -> None:
+        """The subject's poses before ``upto`` that its frame holds (see the module's rules);
+        a stamp that cannot be looked up (another link has no data then) is skipped."""
+        stamps = self.tf.stamps(frame, upto - FIRST_RESULTS_NS, upto - 1)
+        for stamp in stamps[-MAX_FIRST_RESULTS:]:
+            try:
+                transform, _ = self.tf.lookup(self.base_frame, frame, stamp)
+            except TfError:
+                continue
+            update.poses.append(self._sample(subject, frame, transform, stamp))
+
+    def _sample(self, subject: str, frame: str, transform: Transform, stamp: int) -> PoseSample:
+        profile = "head" if frame.startswith("face_") else "body"
+        return PoseSample(
+            keys.BodyRef(frame_id=self.base_frame, body_id=subject),
+            _pose(transform, stamp),
+            profile,
+        )
+
+
+#: How much of a name from the robot a refusal quotes (a 1 MB id made a 3 MB log line).
+NAME_SAID = 80
+
+
+def _said(name: str) -> str:
+    """A name from the robot as a refusal quotes it: cut to NAME_SAID."""
+    return name if len(name) <= NAME_SAID else f"{name[:NAME_SAID]}... ({len(name)} chars)"
 
 
 def _pose(transform: Transform, stamp_ns: int) -> Pose:

@@ -204,7 +204,7 @@ class Ros2Subscriptions:
             for topic, typename, transient_local in TOPICS:
                 if (topic, typename) == skip:
                     continue
-                key = wire.subscription(topic, typename)
+                key = wire.subscription(topic, typename, any_type=True)
                 self.keys.append(key)
                 if transient_local:
                     history = zenoh.ext.HistoryConfig(detect_late_publishers=True)

@@ -96,12 +96,14 @@ class Wire:
         name = ros2_types.dds_type_name(typename)
         return f"{self.domain_id}/{self._topic(topic)}/{name}/{self.type_hash(typename)}"
 
-    def subscription(self, topic_pattern: str, typename: str) -> str:
+    def subscription(self, topic_pattern: str, typename: str, *, any_type: bool = False) -> str:
         """What to subscribe to for a topic (``*`` allowed in chunks), any type hash: the
-        hash is checked per sample (``check``), so a mismatch is counted, not unseen."""
+        hash is checked per sample (``check``), so a mismatch is counted, not unseen.
+        ``any_type``: any type name too (the service's input: a robot publishing another
+        type on the topic is then counted as ``type_mismatch``, not unseen)."""
         if self.format is RosFormat.BRIDGE:
             return self._topic(topic_pattern)
-        name = ros2_types.dds_type_name(typename)
+        name = "*" if any_type else ros2_types.dds_type_name(typename)
         return f"{self.domain_id}/{self._topic(topic_pattern)}/{name}/*"
 
     def topic_of(self, key: str) -> str | None:

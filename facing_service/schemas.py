@@ -308,6 +308,7 @@ class Rejection(str, Enum):
     QUATERNION_NOT_NORMALIZED = "quaternion_not_normalized"
     OUT_OF_ORDER = "out_of_order"
     CAPACITY = "capacity"
+    INTERNAL_ERROR = "internal_error"  # handling it met a bug (counted in worker_errors too)
     # ROS 2 input (--input ros2)
     TYPE_MISMATCH = "type_mismatch"  # key of another type, or another RIHS01 type hash
     MALFORMED_CDR = "malformed_cdr"
@@ -321,6 +322,7 @@ class Rejection(str, Enum):
     TF_REPEATED_DATA = "tf_repeated_data"
     TF_INVALID_STAMP = "tf_invalid_stamp"  # outside builtin_interfaces/Time's range
     TF_OUT_OF_RANGE = "tf_out_of_range"  # a translation beyond MAX_TRANSLATION_M
+    TF_TOO_MANY_FRAMES = "tf_too_many_frames"  # over --ros-max-frames, none gone to forget
 
 
 @dataclass(frozen=True, slots=True)

@@ -69,6 +69,11 @@ STRAY_TF_KEYS = ("**/tf", "**/tf/tf2_msgs::msg::dds_::TFMessage_/*")
 
 #: Most inbox items handled per batch: bounds the latency a backlog adds to a query.
 MAX_BATCH = 1024
+#: Wall time a batch may take before the rest of it waits for the next turn of the loop:
+#: between turns, what was decided is handed to the publisher, bodies expire, the ROS
+#: tick and diagnosis run. Input that is dear to handle (a robot's deep TF chains) then
+#: delays the others' results by at most this much, not by the whole batch.
+BATCH_BUDGET_S = 0.05
 #: ROS 2 input: the topic read from zenoh's channel by the worker (the others stream far
 #: less, and come through callbacks).
 HOT_ROS_TOPIC = ("/tf", TF_MESSAGE)
@@ -110,7 +115,11 @@ class FacingService:
         # ROS 2 input: the robot's people from its TF tree and tracked lists.
         self._wire = settings.ros_wire()
         self._form = FormLearner(settings.forced_distro)
-        self._people = People(settings.ros_base_frame)
+        self._people = People(
+            settings.ros_base_frame,
+            max_ids=settings.max_bodies,
+            max_frames=settings.ros_max_frames,
+        )
         self._ros: Ros2Subscriptions | None = None
         self._watch = RobotWatch(self._wire, clock())
         self._findings: dict[str, str] = {}  # replaced whole by the worker
@@ -138,6 +147,8 @@ class FacingService:
         self._threads: list[threading.Thread] = []
         self._session_said: dict[str, object] = {}  # mode and scouting in force (status)
         self._failing = False  # the worker's last batch raised (written by the worker only)
+        self._faults = 0  # errors in the current batch (the worker's)
+        self._carried: list[object] = []  # the rest of a batch over BATCH_BUDGET_S
 
     # -- lifecycle -------------------------------------------------------------------
 
@@ -159,7 +170,7 @@ class FacingService:
                 threading.Thread(target=publisher.run, name="facing-publisher", daemon=True),
             ]
             if s.input == "ros2":  # the hot topic is /tf; the others come by callbacks
-                hot = self._wire.subscription(*HOT_ROS_TOPIC)
+                hot = self._wire.subscription(*HOT_ROS_TOPIC, any_type=True)
                 self._intake = Intake(session, hot, INBOX_SIZE, self._closing, self._clock)
                 self._ros = Ros2Subscriptions(
                     session, self._wire, self._enqueue, HOT_ROS_TOPIC, s.ros_max_message_bytes
@@ -343,6 +354,7 @@ class FacingService:
                 batch = self._next_batch()
             except zenoh.ZError:  # the channel closed: shutting down
                 break
+            self._faults = 0
             try:
                 self._handle(batch)
                 self._expire()
@@ -351,18 +363,28 @@ class FacingService:
                 self._ledger.rejection_log.maybe_log()
                 self._ledger.tracked = self._tracker.tracked_per_frame()
                 self._hand_over()
-                self._failing = False
-            except Exception:  # the worker must outlive any single bug, and say so
-                self._failing = True  # the status is "degraded" until a batch succeeds
-                self._ledger.count("worker_errors")
-                log.exception("worker: unexpected error in a batch of %d items", len(batch))
+            except Exception as error:  # the worker must outlive any single bug, and say so
+                self._fault(error, f"a batch of {len(batch)} items")
+            self._failing = self._faults > 0  # "degraded" until a batch succeeds
         self._ledger.rejection_log.maybe_log(force=True)
+
+    def _fault(self, error: Exception, where: str) -> None:
+        """A bug met in the worker: counted, logged (the first of a batch with its
+        traceback), and the status says "degraded" until a batch has none."""
+        self._ledger.count("worker_errors")
+        self._faults += 1
+        if self._faults == 1:
+            log.error("worker: unexpected error in %s", where, exc_info=error)
 
     def _next_batch(self) -> list[object]:
         """What arrived (at most MAX_BATCH), waiting for it until the next deadline
         (worked out only when the last take emptied the intake: otherwise there is no
-        wait, and it is the loop's dearest step)."""
+        wait, and it is the loop's dearest step). The rest of a batch over its budget
+        comes first, at the time it was taken (``_horizon``)."""
         assert self._intake is not None
+        if self._carried:
+            batch, self._carried = self._carried, []
+            return batch
         if self._drained:
             self._intake.set_alarm(self._next_deadline())
         batch, self._drained = self._intake.take(MAX_BATCH)
@@ -389,16 +411,15 @@ class FacingService:
     def _expire(self) -> None:
         """Lose bodies with no sample for ``stale_after_s``.
 
-        While a backlog waits in the intake, "now" is when the worker took what it just
-        handled: a body whose next sample is already queued is not stale, however long
-        the worker took to get to it.
+        "Now" is when the worker took what it just handled: a body whose next sample was
+        already queued is not stale, however long the worker took to get to it, and a
+        batch slower than ``stale_after_s`` does not make the bodies it updated stale.
         """
-        now = self._clock() if self._drained else self._horizon
-        tracker = self._tracker
+        now, tracker = self._horizon, self._tracker
         if (expiry := tracker.next_expiry()) is not None and expiry <= now:
-            self._publish(tracker.expire(now))
+            self._apply(lambda: tracker.expire(now))
         if (due := tracker.next_due()) is not None and due <= now:
-            self._publish(tracker.advance(now))
+            self._apply(lambda: tracker.advance(now))
 
     def _ros_tick(self) -> None:
         """--output ros2: every tracked person's level at hri_engagement's rate."""
@@ -434,28 +455,40 @@ class FacingService:
         self._sniffers = []
 
     def _handle(self, batch: list[object]) -> None:
-        """Handle the items in order; consecutive poses go to the core together."""
+        """Handle the items in order; consecutive poses go to the core together. An item
+        that meets a bug is counted and skipped: the others are handled. Past
+        BATCH_BUDGET_S the rest waits for the next turn (see ``_next_batch``)."""
         poses: list[PoseSample] = []
-        ros = self._ros is not None
-        for item in batch:
-            if isinstance(item, zenoh.Sample):
-                if ros:  # the robot's /tf, from the intake's channel
-                    if item.kind == zenoh.SampleKind.PUT:
-                        sample = RosSample.of(item, self.settings.ros_max_message_bytes)
-                        self._on_ros(sample, poses)
-                elif item.kind == zenoh.SampleKind.PUT:
-                    pose = self._decode(item)
-                    if pose is not None:
-                        poses.append(pose)
-                else:
-                    self._flush(poses)
-                    self._on_delete(str(item.key_expr))
-            elif isinstance(item, RosSample):
-                self._on_ros(item, poses)
-            elif isinstance(item, _QueryItem):
-                self._flush(poses)
-                self._answer(item)
+        deadline = time.monotonic() + BATCH_BUDGET_S
+        for i, item in enumerate(batch):
+            if self._closing.is_set():  # SIGTERM under a flood: the backlog is abandoned
+                return
+            if i and time.monotonic() > deadline:
+                self._carried = batch[i:]
+                break
+            try:
+                self._handle_one(item, poses)
+            except Exception as error:
+                self._fault(error, f"an input item ({type(item).__name__})")
         self._flush(poses)
+
+    def _handle_one(self, item: object, poses: list[PoseSample]) -> None:
+        if isinstance(item, zenoh.Sample):
+            if self._ros is not None:  # the robot's /tf, from the intake's channel
+                if item.kind == zenoh.SampleKind.PUT:
+                    self._on_ros(RosSample.of(item, self.settings.ros_max_message_bytes), poses)
+            elif item.kind == zenoh.SampleKind.PUT:
+                pose = self._decode(item)
+                if pose is not None:
+                    poses.append(pose)
+            else:
+                self._flush(poses)
+                self._on_delete(str(item.key_expr))
+        elif isinstance(item, RosSample):
+            self._on_ros(item, poses)
+        elif isinstance(item, _QueryItem):
+            self._flush(poses)
+            self._answer(item)
 
     def _on_ros(self, sample: RosSample, poses: list[PoseSample]) -> None:
         """A sample of the robot's topics: poses join the batch; losses are published
@@ -479,7 +512,7 @@ class FacingService:
             self._flush(poses)
             base, back = self._people.base_frame, update.time_back_ns > 0
             bodies = [BodyRef(frame_id=base, body_id=subject) for subject in update.lost]
-            self._publish(self._tracker.lose(bodies, self._horizon, time_went_back=back))
+            self._apply(lambda: self._tracker.lose(bodies, self._horizon, time_went_back=back))
 
     def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
         key = str(sample.key_expr)
@@ -498,33 +531,73 @@ class FacingService:
         return PoseSample(parsed, decoded)
 
     def _flush(self, poses: list[PoseSample]) -> None:
-        """Run the pending poses through the tracker, publish, and empty the list."""
+        """Run the pending poses through the tracker, publish, and empty the list. When
+        that meets a bug, the poses go again one by one: only the one at fault is lost
+        (refused as internal_error), never the batch's others."""
         if not poses:
             return
-        changes = self._tracker.ingest(poses, self._horizon)
-        ns = self.settings.namespace
+        batch = list(poses)
+        poses.clear()
+        try:
+            self._ingest(batch)
+            return
+        except Exception as error:
+            self._fault(error, f"a batch of {len(batch)} poses")
+            failed = error
+        for sample in batch:
+            try:
+                if len(batch) > 1:
+                    self._ingest([sample])
+                    continue
+            except Exception as error:
+                self._fault(error, f"the pose of {sample.body_id} in {sample.frame_id}")
+                failed = error
+            detail = f"{type(failed).__name__}: {failed}"
+            self._reject(Rejection.INTERNAL_ERROR, self._input_of(sample), detail)
+
+    def _ingest(self, poses: list[PoseSample]) -> None:
+        changes = self._apply(lambda: self._tracker.ingest(poses, self._horizon))
         for sample in changes.out_of_order:
             self._reject(
                 Rejection.OUT_OF_ORDER,
-                keys.pose_key(ns, sample.body_id, sample.frame_id),
+                self._input_of(sample),
                 f"stamp {sample.pose.stamp} older than the latest accepted",
             )
         for sample in changes.over_capacity:
             self._reject(
                 Rejection.CAPACITY,
-                keys.pose_key(ns, sample.body_id, sample.frame_id),
+                self._input_of(sample),
                 f"already tracking max_bodies={self.settings.max_bodies}",
             )
-        poses.clear()
-        self._publish(changes)
         self._accepted += len(changes.results)
+
+    def _input_of(self, sample: PoseSample) -> str:
+        """Where a pose came from, as its sender names it: the pose key of the JSON input,
+        the TF lookup on the ROS 2 input (whose wire has no pose keys)."""
+        if self._ros is None:
+            return keys.pose_key(self.settings.namespace, sample.body_id, sample.frame_id)
+        frame = self._people.frame_of(sample.body_id) or "?"
+        return f"/tf {sample.frame_id} -> {frame} ({sample.body_id})"
+
+    def _apply(self, change: Callable[[], Changes]) -> Changes:
+        """One tracker call and the publications it calls for, whole or not at all: when
+        either raises, the tracker is as before and nothing of it is said."""
+        said = len(self._said)
+        try:
+            with self._tracker.transaction():
+                changes = change()
+                self._publish(changes)
+        except Exception:
+            del self._said[said:]
+            raise
+        return changes
 
     def _on_delete(self, key: str) -> None:
         parsed = self._pose_key(key)
         if parsed is None:
             self._reject(Rejection.INVALID_KEY, key, "DELETE on an invalid key")
             return
-        self._publish(self._tracker.lose(parsed, self._horizon))
+        self._apply(lambda: self._tracker.lose(parsed, self._horizon))
 
     def _reject(self, reason: Rejection, key: str, detail: str) -> None:
         self._ledger.reject(reason, key, detail)
@@ -564,6 +637,8 @@ class FacingService:
             query.drop()
             self._ledger.count("queries_refused")
             return
+        # The status then agrees with the answer (a client reading it next sees the same).
+        self._ledger.tracked = self._tracker.tracked_per_frame()
         if threshold is None:
             states, frames = self._tracker.states(), self._tracker.frames()
         else:

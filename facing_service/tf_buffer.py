@@ -30,11 +30,15 @@ from dataclasses import dataclass
 Vec = tuple[float, float, float]
 Quat = tuple[float, float, float, float]  # x, y, z, w
 
-DEFAULT_CACHE_TIME_NS = 10_000_000_000
+S_NS = 1_000_000_000
+DEFAULT_CACHE_TIME_NS = 10 * S_NS
 QUATERNION_NORMALIZATION_TOLERANCE = 10e-3
 MAX_GRAPH_DEPTH = 1000
 #: Most transforms one dynamic frame keeps (10 s at 1 kHz): see ``_TimeCache``.
 MAX_CACHE_ENTRIES = 10_000
+#: Most frames a buffer names (``--ros-max-frames``): tf2 never forgets a frame, so a
+#: robot naming new frames without end (400 000 took 517 MB) would grow it without bound.
+DEFAULT_MAX_FRAMES = 10_000
 
 
 class TfError(Exception):
@@ -252,6 +256,11 @@ class _TimeCache:
     def latest(self) -> tuple[int, str | None]:
         return (self.items[0].stamp, self.items[0].parent) if self.items else (0, None)
 
+    def stamps(self, after: int, upto: int) -> list[int]:
+        """The stamps held in ``(after, upto]``, oldest first."""
+        keys = self._keys
+        return [-k for k in reversed(keys[bisect_left(keys, -upto) : bisect_left(keys, -after)])]
+
 
 # -- the buffer -----------------------------------------------------------------------------
 
@@ -274,20 +283,37 @@ def check_transform(parent: str, child: str, transform: Transform) -> str | None
 
 
 class TfBuffer:
-    """Transforms by child frame; ``set_transform`` and ``lookup`` as tf2's BufferCore."""
+    """Transforms by child frame; ``set_transform`` and ``lookup`` as tf2's BufferCore.
 
-    def __init__(self, cache_time_ns: int = DEFAULT_CACHE_TIME_NS) -> None:
+    Unlike tf2, it names at most ``max_frames`` frames: a transform that would name more
+    is refused (``too_many_frames``) unless frames that are gone can be forgotten first,
+    dynamic leaves with nothing newer than ``cache_time`` before the buffer's newest
+    stamp (a person who left). The sweep runs at most once per second of stamps, so a
+    robot that keeps naming new frames costs one pass over them a second, not one each."""
+
+    def __init__(
+        self, cache_time_ns: int = DEFAULT_CACHE_TIME_NS, max_frames: int = DEFAULT_MAX_FRAMES
+    ) -> None:
         self.cache_time_ns = cache_time_ns
+        self.max_frames = max_frames
         self._caches: dict[str, _StaticCache | _TimeCache] = {}
         self._frames: set[str] = set()  # every frame named so far, as child or parent
         self._children: dict[str, set[str]] = {}  # by each child's latest parent
+        self._newest = 0  # the newest stamp stored, of any frame
+        self._swept = -cache_time_ns  # ``_newest`` at the last sweep for gone frames
 
     def set_transform(
         self, parent: str, child: str, stamp_ns: int, transform: Transform, *, static: bool
     ) -> str | None:
-        """Store a transform; returns None, or the reason tf2 would refuse it."""
+        """Store a transform; returns None, or the reason tf2 would refuse it (or
+        ``too_many_frames``)."""
         if reason := check_transform(parent, child, transform):
             return reason
+        new = (child not in self._frames) + (parent not in self._frames)
+        if new and len(self._frames) + new > self.max_frames and not self._forget_gone(new):
+            return "too_many_frames"
+        if not static:
+            self._newest = max(self._newest, stamp_ns)
         cache = self._caches.get(child)
         if cache is None:
             cache = _StaticCache() if static else _TimeCache(self.cache_time_ns)
@@ -305,12 +331,42 @@ class TfBuffer:
     def has_frame(self, frame: str) -> bool:
         return frame in self._frames
 
+    def _forget_gone(self, room: int) -> bool:
+        """Forget dynamic leaf frames silent for ``cache_time`` (and roots left with no
+        child); whether ``room`` more frames now fit. At most one sweep per second of
+        stamps."""
+        if self._newest - self._swept < S_NS:
+            return False
+        self._swept = self._newest
+        horizon = self._newest - self.cache_time_ns
+        for frame, cache in list(self._caches.items()):
+            if cache.is_static or self._children.get(frame) or cache.latest()[0] >= horizon:
+                continue
+            parent = cache.latest()[1]
+            del self._caches[frame]
+            self._frames.discard(frame)
+            self._children.pop(frame, None)
+            siblings = self._children.get(parent)  # type: ignore[arg-type]
+            if siblings is not None:
+                siblings.discard(frame)
+                if not siblings and parent not in self._caches:  # a root left alone
+                    del self._children[parent]  # type: ignore[arg-type]
+                    self._frames.discard(parent)  # type: ignore[arg-type]
+        return len(self._frames) + room <= self.max_frames
+
+    def stamps(self, frame: str, after: int, upto: int) -> list[int]:
+        """The stamps of ``frame``'s own transforms in ``(after, upto]``, oldest first
+        (none for a static frame)."""
+        cache = self._caches.get(frame)
+        return cache.stamps(after, upto) if isinstance(cache, _TimeCache) else []
+
     def clear(self) -> None:
         """Forget every dynamic transform, keep the static ones: tf2's ``BufferCore::clear``
         (a static cache's ``clearList`` keeps its transform), which ROS's TF listener calls
         when time jumps back."""
         static = {c: cache for c, cache in self._caches.items() if cache.is_static}
         self._caches, self._frames, self._children = {}, set(), {}
+        self._newest, self._swept = 0, -self.cache_time_ns
         for child, cache in static.items():
             self._caches[child] = cache
             parent = cache.latest()[1]

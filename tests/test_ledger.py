@@ -112,3 +112,13 @@ def test_the_status_schema_names_every_counter_in_order():
     description = ServiceStatus.model_fields["counters"].description or ""
     named = [c for c in description.replace(":", ",").split(", ") if c.strip() in COUNTERS]
     assert named == list(COUNTERS)
+
+
+def test_a_summary_quotes_a_huge_key_cut(caplog):
+    """A 1 MB frame name made a 3 MB log line."""
+    ledger = Ledger(Clock())
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    ledger.reject(Rejection.TF_NAN, "0/tf/x/y", "map -> " + "x" * 1_000_000)
+    ledger.rejection_log.maybe_log(force=True)
+    (line,) = [r.getMessage() for r in caplog.records]
+    assert len(line) < 500 and "(1000017 chars)" in line

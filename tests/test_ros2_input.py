@@ -453,3 +453,45 @@ def test_numbers_no_output_can_carry_are_refused_at_intake(sec, nanosec, t, reas
     assert [r for r, _ in update.refused] == [reason] and update.poses == []
     assert Rejection(reason)
     assert not people.tf.has_frame("body_a")  # never entered the buffer
+
+
+# -- bounds: what a robot can make People hold ----------------------------------------------
+
+
+def test_a_list_longer_than_max_ids_keeps_the_tracked_first_and_is_counted():
+    people = People("base_link", max_ids=3)
+    people.on_tracked("/humans/bodies/tracked", ["c"])
+    update = people.on_tracked("/humans/bodies/tracked", ["a", "b", "c", "d", "e"])
+    assert people.subjects() == ["body_a", "body_b", "body_c"]  # c kept, then list order
+    assert update.refused == [("capacity", "/humans/bodies/tracked: 5 ids, only the first 3 kept")]
+
+
+def test_links_of_untracked_persons_are_kept_then_the_oldest_forgotten():
+    """A link may come before its person's list (kept for then); a robot naming persons
+    without end costs at most max_ids links of each kind."""
+    people = People("base_link", max_ids=2)
+    people.on_tf([tf_in("base_link", "body_b1", 1, (2.0, 0.0, 0.0))], static=False)
+    assert people.on_person_link("p1", "body_id", "b1").refused == []
+    people.on_person_link("p2", "body_id", "b2")
+    update = people.on_person_link("p3", "body_id", "b3")
+    assert update.refused == [("capacity", "p1/body_id: forgotten, over 2 person links")]
+    people.on_tracked("/humans/persons/tracked", ["p2", "p3"])
+    assert [people.frame_of(s) for s in people.subjects()] == ["body_b2", "body_b3"]
+
+
+def test_a_huge_name_is_quoted_cut():
+    people = People("base_link")
+    update = people.on_tf([tf_in("base_link", "x" * 1_000_000, 1, (math.nan, 0, 0))], static=False)
+    ((reason, what),) = update.refused
+    assert reason == "tf_nan" and len(what) < 200 and what.endswith("(1000000 chars)")
+
+
+def test_first_results_are_said_from_what_the_buffer_holds():
+    """A list handled after the /tf that came with it: the poses of the last 2 s first."""
+    people = People("base_link")
+    for i in range(90):  # 3 s at 30 Hz before the list
+        people.on_tf([tf_in("base_link", "body_a", 1 + i / 30, (2.0, 0.0, 0.0))], static=False)
+    poses = people.on_tracked("/humans/bodies/tracked", ["a"]).poses
+    stamps = [p.pose.stamp[0] * S + p.pose.stamp[1] for p in poses]
+    assert stamps == sorted(stamps) and len(stamps) == 60  # 2 s at 30 Hz, the latest last
+    assert stamps[-1] == int((1 + 89 / 30) * S)

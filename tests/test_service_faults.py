@@ -10,7 +10,7 @@ import pytest
 
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
-from loopback import endpoint, free_port, get, send, wait_until_answered
+from loopback import endpoint, free_port, get, send, wait_until, wait_until_answered
 from poses import pose_json
 
 pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
@@ -105,3 +105,31 @@ def test_sigterm_during_a_flood_exits_cleanly_within_two_seconds(net):
     # The contract's deadline, not a performance measurement.
     assert elapsed < 2.0, f"took {elapsed:.2f} s; output:\n{output[-2000:]}"
     assert "stopped" in output
+
+
+def test_a_pose_that_meets_a_bug_is_refused_alone(net, monkeypatch):
+    """A bug used to lose the whole batch around it, and leave the tracker half-changed.
+    Now the batch is undone and its poses go again one by one: only the one at fault is
+    refused (internal_error); the status is degraded until a batch has no error."""
+    service, ep = net.service()
+    ingest = service._tracker.ingest
+
+    def fails_on_bad(samples, now):
+        if any(s.body_id == "bad" for s in samples):
+            raise RuntimeError("a bug that one pose meets")
+        return ingest(samples, now)
+
+    monkeypatch.setattr(service._tracker, "ingest", fails_on_bad)
+    tracker = net.client(ep)
+    results = net.recorder(tracker, "hri/bodies/*/facing/cam")
+    wait_until_answered(tracker, FRAME_KEY)
+    for sec in range(1, 21):
+        send(tracker, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=sec))
+        send(tracker, "hri/bodies/bad/pose/cam", pose_json("bad", "cam", sec=sec))
+    results.wait_for(lambda i: i.key.startswith("hri/bodies/a/"), count=20)
+    status = service.status()
+    assert status.rejected["internal_error"] == 20 and status.counters["samples_accepted"] == 20
+    assert status.counters["worker_errors"] >= 20
+    assert not [i for i in results.items if "/bad/" in i.key]
+    send(tracker, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=21))
+    wait_until(lambda: service.status().status == "ok", 5, "ok after a clean batch")

@@ -292,3 +292,26 @@ def test_a_frames_history_is_capped_whatever_its_stamps():
     assert buffer.lookup("base", "x", newest - 100)[0].translation == (1.0, 0.0, 0.0)
     kept = buffer._caches["x"].items
     assert len(kept) == MAX_CACHE_ENTRIES and kept[-1].stamp == newest - MAX_CACHE_ENTRIES + 1
+
+
+def test_frames_are_bounded_and_the_gone_forgotten():
+    """tf2 never forgets a frame (400 000 names took 517 MB): at most max_frames, room
+    made by forgetting dynamic leaves silent for the cache time, else refused."""
+    buffer = TfBuffer(max_frames=10)
+    for i in range(9):
+        assert buffer.set_transform("map", f"f{i}", S, tf(), static=False) is None
+    assert buffer.set_transform("map", "f9", S, tf(), static=False) == "too_many_frames"
+    assert buffer.set_transform("map", "f0", 12 * S, tf(), static=False) is None  # f0 lives
+    assert buffer.set_transform("map", "new", 12 * S, tf(), static=False) is None
+    assert buffer.frames() == {"map", "f0", "new"}  # f1..f8 gone: silent for 10 s
+    assert buffer.lookup("map", "f0", 0)[1] == 12 * S
+
+
+def test_stamps_of_a_frame_in_a_window():
+    buffer = TfBuffer()
+    for sec in (1, 2, 3, 4):
+        buffer.set_transform("map", "a", sec * S, tf(), static=False)
+    buffer.set_transform("map", "s", 0, tf(), static=True)
+    assert buffer.stamps("a", 1 * S, 3 * S) == [2 * S, 3 * S]
+    assert buffer.stamps("a", 0, 10 * S) == [S, 2 * S, 3 * S, 4 * S]
+    assert buffer.stamps("s", 0, 10 * S) == [] and buffer.stamps("nothing", 0, S) == []
