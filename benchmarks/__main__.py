@@ -1,11 +1,14 @@
-"""One benchmark run: the bare relay and the real service, fed by the same driver.
+"""One benchmark run: the bare relays and the real service, fed by the same driver.
 
-    python -m benchmarks                  # full sizes (about 4 minutes)
+    python -m benchmarks                  # full sizes (about 9 minutes)
     python -m benchmarks --quick          # seconds; what CI runs so this never rots
 
-Prints a table in which every service figure is also a ratio to the relay measured in
-the same run (this machine is shared and noisy: ratios, not absolute numbers, are the
-comparison), and writes benchmarks/results/latest.json.
+For each tracker style (a ``Session.put`` per sample, or declared publishers), both bare
+relays (``Session.put``, declared publishers) and the service; then the ROS 2 path, fed
+as a robot feeds it. Prints tables in which every service figure is also a ratio to the
+cheapest relay (by soak CPU) for the same tracker style, measured in the same run (this
+machine is shared and noisy: ratios, not absolute numbers, are the comparison), and
+writes benchmarks/results/latest.json.
 """
 
 from __future__ import annotations
@@ -33,10 +36,14 @@ from facing_service.testing import (
 )
 
 from . import core
-from .driver import Driver
+from .driver import STYLES, Driver
 from .report import CORE_SPEEDUP_MIN, PAGE, TARGETS, render, verdicts
 
 RESULTS = Path(__file__).resolve().parent / "results" / "latest.json"
+
+
+#: The bare relays, by how they publish (``benchmarks.relay --style``).
+RELAYS = ("relay_put", "relay_publishers")
 
 
 def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]:
@@ -52,7 +59,10 @@ def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]
             *ros,
             capture=False,
         )
-    return running_cli("-l", endpoint(port), module="benchmarks.relay", capture=False)
+    style = kind.removeprefix("relay_")
+    return running_cli(
+        "-l", endpoint(port), "--style", style, module="benchmarks.relay", capture=False
+    )
 
 
 def wait_ready(session: zenoh.Session, timeout: float = 20.0) -> None:
@@ -60,13 +70,13 @@ def wait_ready(session: zenoh.Session, timeout: float = 20.0) -> None:
     wait_until(lambda: any(r.ok for r in session.get(selector, timeout=0.5)), timeout, "the target")
 
 
-def measure(kind: str, args: argparse.Namespace) -> dict:
+def measure(kind: str, args: argparse.Namespace, style: str = "put") -> dict:
     port = free_port()
     with (
         start(kind, port) as proc,
         zenoh.open(loopback_config(connect=[endpoint(port)])) as session,
     ):
-        driver = Driver(session, ros=kind == "service-ros")
+        driver = Driver(session, ros=kind == "service-ros", style=style)
         try:
             wait_ready(session)
             driver.announce(max(args.burst_bodies, args.soak_bodies, 1))
@@ -79,6 +89,11 @@ def measure(kind: str, args: argparse.Namespace) -> dict:
         finally:
             driver.close()
     return result
+
+
+def cheapest_relay(runs: dict) -> str:
+    """The relay that spent the least CPU in the soak, for one tracker style."""
+    return min(RELAYS, key=lambda name: runs[name]["soak"]["cpu_percent"])
 
 
 def ratios(relay: dict, service: dict) -> dict[str, float]:
@@ -137,13 +152,18 @@ def main() -> None:
             "zenoh": metadata.version("eclipse-zenoh"),
         },
         "parameters": {k: v for k, v in vars(args).items() if k != "out"} | {"out": str(args.out)},
-        "relay": measure("relay", args),
-        "service": measure("service", args),
+        "styles": {
+            style: {kind: measure(kind, args, style) for kind in (*RELAYS, "service")}
+            for style in STYLES
+        },
         "service_ros": measure("service-ros", args),
         "core": core.measure(sizes, min_time=0.05 if args.quick else 0.3),
     }
-    report["ratios"] = ratios(report["relay"], report["service"]) | ros_ratios(
-        report["service"], report["service_ros"]
+    for runs in report["styles"].values():
+        runs["cheapest"] = cheapest_relay(runs)
+        runs["ratios"] = ratios(runs[runs["cheapest"]], runs["service"])
+    report["ros_ratios"] = ros_ratios(
+        report["styles"]["publishers"]["service"], report["service_ros"]
     )
     report["verdicts"] = verdicts(report)
     report["targets"] = TARGETS

@@ -1,6 +1,12 @@
 """Drives a target (the bare relay or the service) through zenoh and measures it.
 
-The same code drives both, from the same process, so the figures compare like with like:
+Two tracker styles (``STYLES``), since what a target costs depends on it (docs/
+performance.md): ``put``, a ``Session.put`` per sample (what a script does), and
+``publishers``, a declared publisher per key (how rmw_zenoh and most trackers publish:
+the ROS 2 mode always does, with its attachments).
+
+The same code drives every target, from the same process, so the figures compare like
+with like:
 - latency: one pose in flight at a time, pose -> per-body result;
 - burst: N poses over M bodies as fast as BLOCK puts go; results/s and loss;
 - soak: M bodies at a fixed rate (a tracker) for S seconds; the target's CPU %, p99
@@ -68,15 +74,23 @@ def percentiles(values_s: list[float]) -> dict[str, float]:
     return {f"p{p}_ms": float(np.percentile(ms, p)) for p in (50, 90, 99)}
 
 
+#: How a tracker publishes: a Session.put per sample, or a declared publisher per key.
+STYLES = ("put", "publishers")
+
+
 class Driver:
     """One zenoh session that feeds a target and records its results: JSON poses, or
     (with ``ros``) the same poses as a ROS 2 robot sends them, one-body TFMessages on
-    rmw_zenoh keys with their attachment."""
+    rmw_zenoh keys with their attachment, through a declared publisher."""
 
-    def __init__(self, session: zenoh.Session, namespace: str = "hri", ros: bool = False) -> None:
+    def __init__(
+        self, session: zenoh.Session, namespace: str = "hri", ros: bool = False, style: str = "put"
+    ) -> None:
         self.session = session
         self.ns = namespace
         self.ros = ros
+        self.style = "publishers" if ros else style
+        self._publishers: dict[str, zenoh.Publisher] = {}
         self._wire = Wire()
         self._gid = os.urandom(GID_SIZE)
         self._sequence_number = 0
@@ -87,6 +101,8 @@ class Driver:
         self._payloads: dict[tuple[int, int, int], bytes] = {}
 
     def close(self) -> None:
+        for publisher in self._publishers.values():
+            publisher.undeclare()
         self._subscriber.undeclare()
 
     def announce(self, bodies: int) -> None:
@@ -110,9 +126,17 @@ class Driver:
         if self.ros:
             self._sequence_number += 1
             extra = attachment(self._sequence_number, time.time_ns(), self._gid)
-        self.session.put(
-            key, payload, attachment=extra, congestion_control=zenoh.CongestionControl.BLOCK
-        )
+        if self.style == "put":
+            self.session.put(
+                key, payload, attachment=extra, congestion_control=zenoh.CongestionControl.BLOCK
+            )
+            return
+        publisher = self._publishers.get(key)
+        if publisher is None:
+            publisher = self._publishers[key] = self.session.declare_publisher(
+                key, congestion_control=zenoh.CongestionControl.BLOCK
+            )
+        publisher.put(payload, attachment=extra)
 
     def reset(self, keep_times: bool = False) -> None:
         with self.results.lock:

@@ -59,6 +59,7 @@ def test_a_late_pose_never_resurrects_a_deleted_body(net):
     wait_until_answered(tracker, "hri/facing/cam")  # the worker is past them
     assert get(tracker, "hri/bodies/bob/facing/cam") == []
     assert service.status().rejected["out_of_order"] == 2
+    results.wait_for(lambda i: i.kind == "delete")  # sent by the publisher thread, after
     assert [i.kind for i in results.items] == ["put", "delete"]
     send(tracker, "hri/bodies/bob/pose/cam", pose_json("bob", "cam", sec=6))  # really back
     results.wait_for(lambda i: i.kind == "put" and i.value["stamp"]["sec"] == 6)
