@@ -413,8 +413,11 @@ class FacingService:
 
         "Now" is when the worker took what it just handled: a body whose next sample was
         already queued is not stale, however long the worker took to get to it, and a
-        batch slower than ``stale_after_s`` does not make the bodies it updated stale.
+        batch slower than ``stale_after_s`` does not make the bodies it updated stale. Nor
+        does the rest of a batch over its budget: expiry waits until it is handled.
         """
+        if self._carried:  # taken at the horizon, not handled yet: they may refresh bodies
+            return
         now, tracker = self._horizon, self._tracker
         if (expiry := tracker.next_expiry()) is not None and expiry <= now:
             self._apply(lambda: tracker.expire(now))
