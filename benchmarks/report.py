@@ -46,6 +46,15 @@ STYLE_SAID = {
 }
 
 
+def _lost(run: dict[str, Any]) -> str:
+    """What a target lost: in the burst, and in the soak."""
+    return f"{run['burst']['lost']}, {run['soak']['sent'] - run['soak']['received']}"
+
+
+def _nothing_lost(run: dict[str, Any]) -> bool:
+    return run["burst"]["lost"] == 0 and run["soak"]["received"] == run["soak"]["sent"]
+
+
 def _met(name: str, value: float, limit: float) -> bool:
     return value >= limit if name in AT_LEAST else value <= limit
 
@@ -56,18 +65,13 @@ def verdicts(report: dict[str, Any]) -> dict[str, bool]:
         service = runs["service"]
         for name, (limit, _goal) in TARGETS.items():
             met[f"{style}_{name}"] = _met(name, runs["ratios"][name], limit)
-        met[f"{style}_zero_loss"] = (
-            service["burst"]["lost"] == 0 and service["soak"]["received"] == service["soak"]["sent"]
-        )
+        met[f"{style}_zero_loss"] = _nothing_lost(service)
         met[f"{style}_nothing_superseded"] = (
             service["burst"].get("service_results_superseded", 0) == 0
         )
     for name, (limit, _goal) in ROS_TARGETS.items():
         met[name] = _met(name, report["ros_ratios"][name], limit)
-    ros = report["service_ros"]
-    met["ros_zero_loss"] = (
-        ros["burst"]["lost"] == 0 and ros["soak"]["received"] == ros["soak"]["sent"]
-    )
+    met["ros_zero_loss"] = _nothing_lost(report["service_ros"])
     big = [row for row in report["core"] if row["n"] >= 10_000]
     met["core_speedup"] = all(row["speedup"] >= CORE_SPEEDUP_MIN for row in big)
     return met
@@ -123,11 +127,9 @@ def _style_table(style: str, runs: dict[str, Any], parameters: dict, verdict: di
         ),
         (
             "lost (burst, soak), superseded",
-            *three(
-                lambda x: f"{x['burst']['lost']}, {x['soak']['sent'] - x['soak']['received']}", str
-            )[:2],
-            f"{service['burst']['lost']}, {service['soak']['sent'] - service['soak']['received']}"
-            f", {superseded}",
+            _lost(put),
+            _lost(pub),
+            f"{_lost(service)}, {superseded}",
             None,
             "0 ✓"
             if verdict[f"{style}_zero_loss"] and verdict[f"{style}_nothing_superseded"]
@@ -200,9 +202,8 @@ def render(report: dict[str, Any]) -> str:
         ),
         _row(
             "lost (burst, soak)",
-            f"{json_path['burst']['lost']}, "
-            f"{json_path['soak']['sent'] - json_path['soak']['received']}",
-            f"{ros['burst']['lost']}, {ros['soak']['sent'] - ros['soak']['received']}",
+            _lost(json_path),
+            _lost(ros),
             None,
             "0 ✓" if verdict["ros_zero_loss"] else "0 ✗",
         ),

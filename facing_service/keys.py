@@ -41,6 +41,16 @@ def is_name(name: str) -> bool:
     return _NAME.fullmatch(name) is not None
 
 
+#: How much of one name from a sender a refusal, log line or finding quotes.
+NAME_QUOTED = 80
+
+
+def cut(text: str, most: int = NAME_QUOTED) -> str:
+    """``text`` from a sender as the service quotes it: at most ``most`` characters, and
+    its full length said when cut (a 1 MB frame name made a 3 MB log line)."""
+    return text if len(text) <= most else f"{text[:most]}... ({len(text)} chars)"
+
+
 def validate_name(name: str, what: str = "name") -> str:
     if not is_name(name):
         raise ValueError(f"invalid {what} {name!r}: must match {NAME_PATTERN}")

@@ -19,6 +19,7 @@ from collections import Counter
 from collections.abc import Callable
 from typing import Any
 
+from .keys import cut
 from .outbox import Kind, Outbox
 from .schemas import Rejection, ServiceStatus
 
@@ -78,9 +79,7 @@ class RejectionLog:
     def add(self, reason: Rejection, key: str, detail: str) -> None:
         self._since_summary[reason] += 1
         if reason not in self._first:
-            first = f"{key}: {detail}"
-            cut = f"... ({len(first)} chars)" if len(first) > FIRST_SAID else ""
-            self._first[reason] = first[:FIRST_SAID] + cut
+            self._first[reason] = cut(f"{key}: {detail}", FIRST_SAID)
 
     def next_due(self) -> float | None:
         return self._last_summary + REJECTION_LOG_PERIOD_S if self._since_summary else None

@@ -140,7 +140,7 @@ class People:
             if reason is None:
                 changed.add(t.child)
             else:
-                what = f"{_said(t.parent)} -> {_said(t.child)}"
+                what = f"{keys.cut(t.parent)} -> {keys.cut(t.child)}"
                 if static and self.tf.newest(t.child) is not None:  # a dynamic frame
                     what += STATIC_INTO_DYNAMIC
                 update.refused.append((f"tf_{reason}", what))
@@ -190,7 +190,7 @@ class People:
         valid, current = set(), self._tracked[topic]
         for ros_id in ids:
             if not keys.is_name(prefix + ros_id):
-                update.refused.append(("invalid_id", f"{topic}: {_said(ros_id)!r}"))
+                update.refused.append(("invalid_id", f"{topic}: {keys.cut(ros_id)!r}"))
             else:
                 valid.add(ros_id)
         if len(valid) > self.max_ids:  # those tracked already first, then in list order
@@ -216,7 +216,7 @@ class People:
         update = Update()
         links = self._links[PERSON_LINKS[link]]
         if target and not keys.is_name(PERSON_LINKS[link] + target):
-            update.refused.append(("invalid_id", f"{person_id}/{link}: {_said(target)!r}"))
+            update.refused.append(("invalid_id", f"{person_id}/{link}: {keys.cut(target)!r}"))
             return update
         if links.get(person_id, "") == target:
             return update
@@ -293,15 +293,6 @@ class People:
             _pose(transform, stamp),
             profile,
         )
-
-
-#: How much of a name from the robot a refusal quotes (a 1 MB id made a 3 MB log line).
-NAME_SAID = 80
-
-
-def _said(name: str) -> str:
-    """A name from the robot as a refusal quotes it: cut to NAME_SAID."""
-    return name if len(name) <= NAME_SAID else f"{name[:NAME_SAID]}... ({len(name)} chars)"
 
 
 def _pose(transform: Transform, stamp_ns: int) -> Pose:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from .keys import cut
 from .people import People
 from .ros2_wire import HASH_NOT_SUPPORTED, RosFormat, Wire, where
 from .tf_buffer import TfError
@@ -25,17 +26,9 @@ NAMED = 6
 STRAYS_KEPT = 8
 
 
-#: At most this much of one name (they come from the robot: frame names of 1 MB exist).
-NAME_CUT = 80
-
-
 def _names(items: list[str]) -> str:
     more = f" and {len(items) - NAMED} more" if len(items) > NAMED else ""
-    return ", ".join(_name(i) for i in items[:NAMED]) + more
-
-
-def _name(item: str) -> str:
-    return item if len(item) <= NAME_CUT else f"{item[:NAME_CUT]}... ({len(item)} chars)"
+    return ", ".join(cut(i) for i in items[:NAMED]) + more
 
 
 def where_else(wire: Wire, key: str) -> str:
@@ -113,7 +106,7 @@ class RobotWatch:
         roots = tf.roots()
         if not tf.has_frame(base):
             trees = ", ".join(
-                f"'{_name(root)}' ({len(tf.descendants(root))} frames)" for root in roots[:NAMED]
+                f"'{cut(root)}' ({len(tf.descendants(root))} frames)" for root in roots[:NAMED]
             )
             return {
                 "base_frame_not_in_tree": (
@@ -142,7 +135,7 @@ class RobotWatch:
         if apart:
             found["people_not_connected"] = (
                 f"the frames of tracked people, {_names(apart)}, are in the tree of "
-                f"'{_name(tf.root_of(apart[0]))}', and base frame '{base}' in that of "
+                f"'{cut(tf.root_of(apart[0]))}', and base frame '{base}' in that of "
                 f"'{tf.root_of(base)}': nothing links the two trees"
             )
         return found

@@ -546,17 +546,20 @@ class FacingService:
             return
         except Exception as error:
             self._fault(error, f"a batch of {len(batch)} poses")
-            failed = error
+            if len(batch) == 1:
+                self._refuse(batch[0], error)
+                return
         for sample in batch:
             try:
-                if len(batch) > 1:
-                    self._ingest([sample])
-                    continue
+                self._ingest([sample])
             except Exception as error:
                 self._fault(error, f"the pose of {sample.body_id} in {sample.frame_id}")
-                failed = error
-            detail = f"{type(failed).__name__}: {failed}"
-            self._reject(Rejection.INTERNAL_ERROR, self._input_of(sample), detail)
+                self._refuse(sample, error)
+
+    def _refuse(self, sample: PoseSample, error: Exception) -> None:
+        """A pose whose handling met a bug: refused alone, as internal_error."""
+        detail = f"{type(error).__name__}: {error}"
+        self._reject(Rejection.INTERNAL_ERROR, self._input_of(sample), detail)
 
     def _ingest(self, poses: list[PoseSample]) -> None:
         changes = self._apply(lambda: self._tracker.ingest(poses, self._horizon))
