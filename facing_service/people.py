@@ -122,6 +122,7 @@ class People:
         self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
         self._by_frame: dict[str, set[str]] | None = None  # frame -> subjects; None: stale
         self._back_in_a_row = 0  # /tf messages whose every transform went back in time
+        self._base_chain: tuple[int, frozenset[str]] = (-1, frozenset())  # (tf.shape, chain)
 
     # -- inputs --------------------------------------------------------------------------
 
@@ -170,7 +171,11 @@ class People:
         """The subjects whose lookup a change of these frames can change: all of them when
         the base frame's chain moved, else those whose frame is at or below a changed one
         (an index, not a scan: a robot's /tf is mostly one body per message)."""
-        if changed.intersection(self.tf.parent_chain(self.base_frame)):
+        shape, chain = self._base_chain
+        if shape != self.tf.shape:  # walked again only when the tree's shape changed
+            chain = frozenset(self.tf.parent_chain(self.base_frame))
+            self._base_chain = (self.tf.shape, chain)
+        if not chain.isdisjoint(changed):
             return self.subjects()
         by_frame = self._subjects_by_frame()
         frames = set().union(*(self.tf.descendants(frame) for frame in changed))

@@ -365,7 +365,8 @@ class FacingService:
                 self._hand_over()
             except Exception as error:  # the worker must outlive any single bug, and say so
                 self._fault(error, f"a batch of {len(batch)} items")
-            self._failing = self._faults > 0  # "degraded" until a batch succeeds
+            if batch or self._faults:  # "degraded" until a batch succeeds: a turn woken
+                self._failing = self._faults > 0  # by the alarm alone proves nothing
         self._ledger.rejection_log.maybe_log(force=True)
 
     def _fault(self, error: Exception, where: str) -> None:

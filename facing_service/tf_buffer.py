@@ -301,6 +301,9 @@ class TfBuffer:
         self._children: dict[str, set[str]] = {}  # by each child's latest parent
         self._newest = 0  # the newest stamp stored, of any frame
         self._swept = -cache_time_ns  # ``_newest`` at the last sweep for gone frames
+        #: Counts changes of the tree's shape (a frame's latest parent, frames forgotten):
+        #: what a caller's cache of chains is keyed on.
+        self.shape = 0
 
     def set_transform(
         self, parent: str, child: str, stamp_ns: int, transform: Transform, *, static: bool
@@ -323,6 +326,7 @@ class TfBuffer:
         refused = cache.insert(_Stored(stamp_ns, parent, transform))
         after = cache.latest()[1]
         if after != before:
+            self.shape += 1
             if before is not None:
                 self._children[before].discard(child)
             self._children.setdefault(after, set()).add(child)  # type: ignore[arg-type]
@@ -344,6 +348,7 @@ class TfBuffer:
                 continue
             parent = cache.latest()[1]
             del self._caches[frame]
+            self.shape += 1
             self._frames.discard(frame)
             self._children.pop(frame, None)
             siblings = self._children.get(parent)  # type: ignore[arg-type]
@@ -367,6 +372,7 @@ class TfBuffer:
         static = {c: cache for c, cache in self._caches.items() if cache.is_static}
         self._caches, self._frames, self._children = {}, set(), {}
         self._newest, self._swept = 0, -self.cache_time_ns
+        self.shape += 1
         for child, cache in static.items():
             self._caches[child] = cache
             parent = cache.latest()[1]
@@ -416,6 +422,8 @@ class TfBuffer:
     # -- lookups -------------------------------------------------------------------------
 
     def _validate(self, frame: str, argument: str) -> None:
+        if frame in self._frames and frame[0] != "/":  # the usual case, first
+            return
         if not frame:
             raise InvalidArgumentError(
                 f"Invalid argument passed to lookupTransform argument {argument} in tf2 "

@@ -7,7 +7,6 @@ a network. The service feeds it batches and publishes what each call returns.
 
 from __future__ import annotations
 
-import copy
 from collections import OrderedDict
 from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
@@ -137,6 +136,18 @@ class _Track:
     profile: Profile
     engagement: Engagement = field(default_factory=Engagement)
     engagement_published: float = float("-inf")  # the caller's clock, at the last update
+
+    def __copy__(self) -> _Track:
+        """Shallow, as ``copy.copy`` was, without its generic path (a quarter of a
+        one-pose batch went to the journal's copies)."""
+        return _Track(
+            self.pose,
+            self.last_seen,
+            self.state,
+            self.profile,
+            self.engagement,
+            self.engagement_published,
+        )
 
 
 @dataclass
@@ -272,7 +283,8 @@ class Tracker:
         journal = self._journal
         if journal is not None and key not in (kept := journal[store]):
             value = getattr(self, store).get(key)
-            kept[key] = None if value is None else copy.copy(value)
+            # tracks and frames are mutable records (own __copy__); the rest immutable
+            kept[key] = value.__copy__() if isinstance(value, _Track | _Frame) else value
 
     def _roll_back(self, journal: dict[str, dict[object, object]]) -> None:
         for store, kept in journal.items():
