@@ -17,7 +17,9 @@ Both levels are sampled every 0.1 s of recording time. Per person-recording: the
 samples after a 2 s warm-up where the level equals the label, and where "ENGAGED or not"
 matches, the final level, the time to the first ENGAGED, the number of level changes.
 Summaries are means over person-recordings (how the rule's reference figures were made).
-``--quick`` replays at 4x (CI); the full run replays at recorded speed.
+``--quick`` replays at 4x (CI); the full run replays at recorded speed. Then the same
+recordings offline (``benchmarks.crossval``): the figures in-sample and cross-validated,
+leaving one recording out in turn, per family of candidate settings.
 """
 
 from __future__ import annotations
@@ -154,17 +156,21 @@ def service_timelines(
             subscriber.undeclare()
     messages = [t for _, t, _ in ros2_types.read_bag(bag)]
     start, end = messages[0], messages[-1]
-    timelines: dict[str, Timeline] = {}
-    for person in persons:
-        mine = sorted((s, level) for s, body, level in events if body == f"person_{person}")
-        timeline, j, level = [], 0, Level.UNKNOWN
-        for tick in ticks(start, end):
-            while j < len(mine) and mine[j][0] <= tick:
-                level = mine[j][1]
-                j += 1
-            timeline.append(((tick - start) / 1e9, level))
-        timelines[person] = timeline
-    return timelines
+    return {person: timeline_of(events, f"person_{person}", start, end) for person in persons}
+
+
+def timeline_of(
+    events: list[tuple[int, str, Level]], body: str, start_ns: int, end_ns: int
+) -> Timeline:
+    """A body's level at every tick, from its engagement events (stamp ns, body, level)."""
+    mine = sorted((s, level) for s, who, level in events if who == body)
+    timeline, j, level = [], 0, Level.UNKNOWN
+    for tick in ticks(start_ns, end_ns):
+        while j < len(mine) and mine[j][0] <= tick:
+            level = mine[j][1]
+            j += 1
+        timeline.append(((tick - start_ns) / 1e9, level))
+    return timeline
 
 
 def _wait_for_service(session: zenoh.Session, timeout: float = 10.0) -> None:
@@ -271,6 +277,12 @@ def main(argv: list[str] | None = None) -> None:
     out = args.out or (RESULTS if rate == 1.0 and args.bags == BAGS else None)
     results = evaluate(args.bags, rate, RosFormat(args.format))
     print_table(results)
+    from . import crossval  # (it builds on this module)
+
+    judged = crossval.evaluate(args.bags)
+    print("\nOffline, in-sample and cross-validated (python -m benchmarks.crossval):")
+    crossval.print_results(judged)
+    results["crossval"] = judged
     if out is None:
         print(f"(not written: {RESULTS} keeps the full run's figures; --out to write these)")
         return

@@ -144,12 +144,13 @@ class Settings(BaseModel):
             metavar="INTIMATE,PERSONAL,SOCIAL",
         ),
     )
-    # Heads (face frames, from ROS 2 input): measured on the shared recordings.
+    # Heads (face frames, from ROS 2 input): chosen by cross-validation on the shared
+    # recordings (benchmarks/crossval.py, docs/engagement.md).
     head_cone: Literal["3d", "planar"] = Field(
         "3d", **_flag("how a face's angle to the robot is measured: `3d` or `planar`", HEADS)
     )
     head_threshold_deg: float = Field(
-        24.0,
+        28.0,
         gt=0.0,
         lt=180.0,
         **_flag(

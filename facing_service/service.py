@@ -90,6 +90,22 @@ class _QueryItem:
     space: str  # which output key space it reached us through: facing, frame, engagement
 
 
+def tracker_for(settings: Settings) -> Tracker:
+    """The tracker a service with these settings runs (also the offline evaluation's, in
+    benchmarks.crossval: the same decisions without the network)."""
+    fixed = [] if settings.base_frame == keys.ALL_FRAMES else [settings.base_frame]
+    return Tracker(
+        settings.threshold_deg,
+        settings.hysteresis_deg,
+        settings.stale_after_s,
+        frames=fixed,
+        max_bodies=settings.max_bodies,
+        engagement=settings.engagement_params(),
+        engagement_period_s=settings.engagement_period_s,
+        head=settings.head_profile(),
+    )
+
+
 class FacingService:
     """One running facing service on one zenoh session.
 
@@ -101,17 +117,7 @@ class FacingService:
         self.settings = settings
         self._clock = clock
         self._started_at = clock()
-        fixed = [] if settings.base_frame == keys.ALL_FRAMES else [settings.base_frame]
-        self._tracker = Tracker(
-            settings.threshold_deg,
-            settings.hysteresis_deg,
-            settings.stale_after_s,
-            frames=fixed,
-            max_bodies=settings.max_bodies,
-            engagement=settings.engagement_params(),
-            engagement_period_s=settings.engagement_period_s,
-            head=settings.head_profile(),
-        )
+        self._tracker = tracker_for(settings)
         # ROS 2 input: the robot's people from its TF tree and tracked lists.
         self._wire = settings.ros_wire()
         self._form = FormLearner(settings.forced_distro)
