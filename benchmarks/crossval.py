@@ -34,7 +34,6 @@ import itertools
 import json
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass
-from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -150,10 +149,8 @@ def events(recording: Recording, settings: Settings) -> list[tuple[int, str, Lev
             collect(tracker.ingest(step.poses, now))
         if step.lost:
             collect(tracker.lose(step.lost, now, time_went_back=step.time_went_back))
-        if (expiry := tracker.next_expiry()) is not None and expiry <= now:
-            collect(tracker.expire(now))
-        if (due := tracker.next_due()) is not None and due <= now:
-            collect(tracker.advance(now))
+        for call in tracker.timed(now):
+            collect(call())
     return said
 
 
@@ -199,15 +196,6 @@ def candidates(grid: Mapping[str, Sequence[Any]]) -> list[dict[str, Any]]:
     return [dict(zip(names, combination, strict=True)) for combination in values]
 
 
-@cache
-def _settings(items: tuple[tuple[str, Any], ...]) -> Settings:
-    return Settings(**BASE, **dict(items))
-
-
-def settings_of(candidate: Mapping[str, Any]) -> Settings:
-    return _settings(tuple(sorted(candidate.items())))
-
-
 @dataclass
 class Judged:
     family: str
@@ -225,7 +213,10 @@ def judge(
 ) -> list[Judged]:
     """In-sample and leave-one-recording-out figures of one family, per criterion."""
     options = candidates(grid)
-    table = [{r.name: rows(r, settings_of(c)) for r in recordings} for c in options]
+    table = []
+    for candidate in options:
+        settings = Settings(**BASE, **candidate)
+        table.append({r.name: rows(r, settings) for r in recordings})
     everyone = [r.name for r in recordings]
 
     def scored(i: int, names: Iterable[str]) -> list[Row]:

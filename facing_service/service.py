@@ -425,11 +425,8 @@ class FacingService:
         """
         if self._carried:  # taken at the horizon, not handled yet: they may refresh bodies
             return
-        now, tracker = self._horizon, self._tracker
-        if (expiry := tracker.next_expiry()) is not None and expiry <= now:
-            self._apply(lambda: tracker.expire(now))
-        if (due := tracker.next_due()) is not None and due <= now:
-            self._apply(lambda: tracker.advance(now))
+        for call in self._tracker.timed(self._horizon):
+            self._apply(call)
 
     def _ros_tick(self) -> None:
         """--output ros2: every tracked person's level at hri_engagement's rate."""

@@ -8,7 +8,7 @@ a network. The service feeds it batches and publishes what each call returns.
 from __future__ import annotations
 
 from collections import OrderedDict
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 
@@ -445,6 +445,16 @@ class Tracker:
     def next_due(self) -> float | None:
         """When ``advance`` has something to do (caller's clock), or None."""
         return min(self._due.values(), default=None)
+
+    def timed(self, now: float) -> Iterator[Callable[[], Changes]]:
+        """The calls time alone makes due at ``now``, in order: ``expire``, then
+        ``advance``. Lazy: whether the second is due is asked once the caller has run
+        the first (which may lose bodies that were due). The caller runs each (the
+        service in a transaction, with its publications)."""
+        if (expiry := self.next_expiry()) is not None and expiry <= now:
+            yield lambda: self.expire(now)
+        if (due := self.next_due()) is not None and due <= now:
+            yield lambda: self.advance(now)
 
     def expire(self, now: float) -> Changes:
         """Lose every body with no accepted sample for ``stale_after_s`` before ``now``,
