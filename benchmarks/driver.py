@@ -9,8 +9,8 @@ The same code drives every target, from the same process, so the figures compare
 with like:
 - latency: one pose in flight at a time, pose -> per-body result;
 - burst: N poses over M bodies as fast as BLOCK puts go; results/s and loss;
-- soak: M bodies at a fixed rate (a tracker) for S seconds; the target's CPU %, p99
-  latency and resident memory at start and end.
+- soak: M bodies at a fixed rate (a tracker) for S seconds; the target's CPU % (whole
+  and per thread group), p99 latency and resident memory at start and end.
 """
 
 from __future__ import annotations
@@ -36,10 +36,54 @@ _STAMP = re.compile(rb'"sec":\s*(\d+)')
 _TICKS = os.sysconf("SC_CLK_TCK")
 
 
+def _cpu_of(stat: Path) -> float:
+    """User + system CPU seconds in a /proc stat file (a process's or a thread's)."""
+    fields = stat.read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / _TICKS
+
+
 def cpu_seconds(pid: int) -> float:
     """User + system CPU time a process has used so far (Linux /proc)."""
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / _TICKS
+    return _cpu_of(Path(f"/proc/{pid}/stat"))
+
+
+def thread_cpu_seconds(pid: int) -> dict[int, tuple[str, float]]:
+    """Each live thread of a process: its OS name and the CPU seconds it has used."""
+    threads = {}
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        try:
+            threads[int(task.name)] = ((task / "comm").read_text().strip(), _cpu_of(task / "stat"))
+        except OSError:  # the thread ended meanwhile
+            continue
+    return threads
+
+
+def thread_group(name: str) -> str:
+    """Who a thread works for, from its OS name: the service names its own
+    (``facing-worker``, ``facing-publish``, ``facing-alarm``); zenoh's runtime names its
+    (``rx-0``, ``tx-0``, ``net-0``, ``acc-0``, ``app-0``); the rest are Python's (the
+    main thread, zenoh's Python callback threads)."""
+    if name.startswith("facing-"):
+        return name
+    role = name.split("-", 1)[0]
+    if role in ("rx", "tx"):
+        return f"zenoh {role}"
+    if role in ("net", "acc", "app"):
+        return "zenoh other"
+    return "python, other"
+
+
+def cpu_by_thread(
+    before: dict[int, tuple[str, float]], after: dict[int, tuple[str, float]], wall_s: float
+) -> dict[str, float]:
+    """CPU % of one core per thread group between two readings (threads that ended in
+    between are not counted: the soak's threads live throughout)."""
+    groups: dict[str, float] = {}
+    for tid, (name, cpu) in after.items():
+        spent = cpu - before.get(tid, (name, 0.0))[1]
+        group = thread_group(name)
+        groups[group] = groups.get(group, 0.0) + 100 * spent / wall_s
+    return dict(sorted(groups.items()))
 
 
 @dataclass
@@ -198,7 +242,7 @@ class Driver:
         """A tracker's load: every 1/hz s, one pose per body. CPU, p99 latency, memory."""
         self.reset(keep_times=True)
         sent: dict[tuple[str, int], float] = {}
-        rss_start, cpu_start = rss_mb(pid), cpu_seconds(pid)
+        rss_start, cpu_start, threads_start = rss_mb(pid), cpu_seconds(pid), thread_cpu_seconds(pid)
         started = time.perf_counter()
         frame = 0
         while (now := time.perf_counter()) - started < seconds:
@@ -214,7 +258,7 @@ class Driver:
                 )
         wall = time.perf_counter() - started
         time.sleep(1.0)  # let the last results arrive
-        cpu = cpu_seconds(pid) - cpu_start
+        cpu, threads = cpu_seconds(pid) - cpu_start, thread_cpu_seconds(pid)
         with self.results.lock:
             arrivals = dict(self.results.arrivals)
         latencies = [arrivals[k] - t for k, t in sent.items() if k in arrivals]
@@ -225,6 +269,7 @@ class Driver:
             "sent": len(sent),
             "received": len(latencies),
             "cpu_percent": 100 * cpu / wall,
+            "cpu_by_thread": cpu_by_thread(threads_start, threads, wall),
             "rss_start_mb": rss_start,
             "rss_end_mb": rss_mb(pid),
             **{k: v for k, v in percentiles(latencies).items() if k == "p99_ms"},

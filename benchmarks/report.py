@@ -169,6 +169,30 @@ def _style_table(style: str, runs: dict[str, Any], parameters: dict, verdict: di
     ]
 
 
+def _thread_table(report: dict[str, Any]) -> list[str]:
+    """Where each target's soak CPU went, by thread group (``driver.thread_group``): what
+    tells a relay's cost in zenoh's threads from the service's in Python."""
+    columns = [
+        (f"{style}: {kind.replace('_', ' ')}", runs[kind]["soak"]["cpu_by_thread"])
+        for style, runs in report["styles"].items()
+        for kind in ("relay_put", "relay_publishers", "service")
+    ] + [("ROS 2 path: service", report["service_ros"]["soak"]["cpu_by_thread"])]
+    groups = sorted({group for _, by_thread in columns for group in by_thread})
+    return [
+        "| soak CPU % of one core, by thread (tracker style: target) | "
+        + " | ".join(name for name, _ in columns)
+        + " |",
+        "| --- |" + " --- |" * len(columns),
+        *(
+            f"| {group} | "
+            + " | ".join(f"{by_thread.get(group, 0.0):.1f}" for _, by_thread in columns)
+            + " |"
+            for group in groups
+        ),
+        "",
+    ]
+
+
 def render(report: dict[str, Any]) -> str:
     """The tables, with every service figure beside the relays' and its ratio."""
     machine, parameters, verdict = report["machine"], report["parameters"], report["verdicts"]
@@ -215,6 +239,7 @@ def render(report: dict[str, Any]) -> str:
             "",
         ),
         "",
+        *_thread_table(report),
         "| detector core, bodies/s | "
         + " | ".join(f"N = {row['n']:,}" for row in report["core"])
         + " |",

@@ -31,6 +31,7 @@ import zenoh
 
 from . import keys
 from .inbox import Inbox
+from .threads import daemon_thread
 
 _ITEM, _ALARM = b"i", b"a"  # why a wake-up was sent: a side item, or the alarm
 
@@ -54,7 +55,7 @@ class Intake:
         self._channel = session.declare_subscriber(key_expr, zenoh.handlers.FifoChannel(capacity))
         self._alarm = threading.Condition()
         self._alarm_at: float | None = None
-        self._alarm_thread = threading.Thread(target=self._ring, name="facing-alarm", daemon=True)
+        self._alarm_thread = daemon_thread(self._ring, "facing-alarm")
         self._alarm_thread.start()
 
     # -- producers (zenoh callbacks, the alarm) ------------------------------------------

@@ -57,6 +57,7 @@ from .ros2_output import RosOutput, RosPublishers
 from .ros2_types import TF_MESSAGE
 from .ros2_wire import FormLearner
 from .schemas import QueryError, Rejected, Rejection, Ros2Status, ServiceStatus, decode_pose
+from .threads import daemon_thread
 from .tracker import Changes, PoseSample, Tracker
 
 log = logging.getLogger("facing_service")
@@ -172,8 +173,8 @@ class FacingService:
                 ros = partial(RosPublishers, session, self._wire, s.ros_node_name, self._form)
             publisher = Publisher(session, self._outbox, self._ledger, self._closing, ros)
             self._threads = [
-                threading.Thread(target=self._run, name="facing-worker", daemon=True),
-                threading.Thread(target=publisher.run, name="facing-publisher", daemon=True),
+                daemon_thread(self._run, "facing-worker"),
+                daemon_thread(publisher.run, "facing-publish"),
             ]
             if s.input == "ros2":  # the hot topic is /tf; the others come by callbacks
                 hot = self._wire.subscription(*HOT_ROS_TOPIC, any_type=True)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import AbstractContextManager
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -215,6 +215,26 @@ def _classify(
     ]
 
 
+class _Transaction:
+    """``Tracker.transaction()``. A class rather than a generator-based context manager:
+    the worker opens one per tracker call, and the generator's machinery was a third of
+    a one-pose transaction's cost."""
+
+    __slots__ = ("_tracker",)
+
+    def __init__(self, tracker: Tracker) -> None:
+        self._tracker = tracker
+
+    def __enter__(self) -> None:
+        assert self._tracker._journal is None, "transactions do not nest"
+        self._tracker._journal = {store: {} for store in _STORES}
+
+    def __exit__(self, kind: type[BaseException] | None, *_: object) -> None:
+        journal, self._tracker._journal = self._tracker._journal, None
+        if kind is not None and journal is not None:
+            self._tracker._roll_back(journal)  # then the exception goes on
+
+
 class Tracker:
     """Latest pose and decision per (frame, body).
 
@@ -259,8 +279,7 @@ class Tracker:
         # In a transaction: per store, each key's value before its first change (None: absent).
         self._journal: dict[str, dict[object, object]] | None = None
 
-    @contextmanager
-    def transaction(self) -> Iterator[None]:
+    def transaction(self) -> AbstractContextManager[None]:
         """Changes made inside apply whole, or not at all: on an exception every store is
         put back as it was, then the exception goes on. The service wraps each tracker
         call and the building of its publications in one, so an error while saying a
@@ -268,15 +287,7 @@ class Tracker:
         ghost, no aggregate that disagrees with the results. A journal, not a copy: only
         what the calls touch is kept (a copy of 10 000 tracks per batch cost more than
         the batch)."""
-        assert self._journal is None, "transactions do not nest"
-        self._journal = {store: {} for store in _STORES}
-        try:
-            yield
-        except BaseException:
-            self._roll_back(self._journal)
-            raise
-        finally:
-            self._journal = None
+        return _Transaction(self)
 
     def _keep(self, store: str, key: object) -> None:
         """Journal ``key``'s value in ``store`` before its first change in a transaction."""

@@ -43,6 +43,11 @@ def test_quick_benchmark_run_writes_every_figure(tmp_path):
         assert burst["sent"] > 0 and soak["sent"] > 0
         assert (burst["received"], burst["lost"]) == (burst["sent"], 0), burst  # BLOCK: none lost
         assert soak["received"] == soak["sent"], soak
+        assert "zenoh rx" in soak["cpu_by_thread"], soak  # the breakdown reads every thread
+    for style in ("put", "publishers"):  # the service's own threads are told apart by name
+        for kind, ours in (("relay_put", False), ("relay_publishers", False), ("service", True)):
+            groups = set(report["styles"][style][kind]["soak"]["cpu_by_thread"])
+            assert ({"facing-worker", "facing-publish"} <= groups) is ours, (style, kind, groups)
     assert {"ros_cpu_per_pose", "ros_burst_throughput"} <= set(report["ros_ratios"])
     assert report["verdicts"]["ros_zero_loss"] is True
     assert [row["n"] for row in report["core"]] == [1, 100, 10_000]
