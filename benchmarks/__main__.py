@@ -25,7 +25,8 @@ from pathlib import Path
 
 import zenoh
 
-from facing_service import __version__, keys
+from facing_service import __version__
+from facing_service.contract import keys
 from facing_service.testing import (
     LOOPBACK_FLAGS,
     endpoint,

@@ -11,8 +11,9 @@ from pathlib import Path
 
 import zenoh
 
-from facing_service import keys, ros2_types
-from facing_service.schemas import ServiceStatus, pose_dict, yaw_rotation
+from facing_service.contract import keys
+from facing_service.contract.schemas import ServiceStatus, pose_dict, yaw_rotation
+from facing_service.ros2 import types as ros2_types
 from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
 
 __all__ = ["free_port", "loopback_config"]  # re-exported for the scripts

@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from facing_service.detector import classify
+from facing_service.core.detector import classify
 
 
 def tutorial_loop(translations: list[tuple], quaternions: list[tuple], threshold_deg: float):

@@ -37,16 +37,16 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from facing_service import ros2_types
-from facing_service.config import Settings
-from facing_service.engagement import Level
-from facing_service.keys import BodyRef
-from facing_service.people import People
-from facing_service.ros2_input import RosSample, route
-from facing_service.ros2_wire import Wire
-from facing_service.schemas import Rejected
-from facing_service.service import tracker_for
-from facing_service.tracker import Changes, PoseSample
+from facing_service.config.settings import Settings
+from facing_service.contract.keys import BodyRef
+from facing_service.contract.schemas import Rejected
+from facing_service.core.engagement import Level
+from facing_service.core.tracker import Changes, PoseSample
+from facing_service.ros2 import types as ros2_types
+from facing_service.ros2.input import RosSample, route
+from facing_service.ros2.people import People
+from facing_service.ros2.wire import Wire
+from facing_service.shell.service import tracker_for
 
 from .recordings import BAGS, BASE_FRAME, Row, score, summary, timeline_of
 

@@ -27,8 +27,9 @@ from pathlib import Path
 import numpy as np
 import zenoh
 
-from facing_service import keys, ros2_types
-from facing_service.ros2_wire import GID_SIZE, Wire, attachment
+from facing_service.contract import keys
+from facing_service.ros2 import types as ros2_types
+from facing_service.ros2.wire import GID_SIZE, Wire, attachment
 
 from .common import ids_payload, pose_payload, rss_mb, tf_payload
 

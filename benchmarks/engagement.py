@@ -1,5 +1,5 @@
 """Engagement levels, side by side: our smoothed-score state machine vs the reference
-vote-window rule of ROS4HRI's hri_engagement (facing_service.engagement.VoteWindow, a
+vote-window rule of ROS4HRI's hri_engagement (facing_service.core.engagement.VoteWindow, a
 re-implementation for comparison, not our method), on the same noisy tracks.
 
     python -m benchmarks.engagement [--people 20] [--seed 0] [--quick]
@@ -25,9 +25,10 @@ import random
 import statistics
 from pathlib import Path
 
-from facing_service.config import Settings
-from facing_service.detector import classify_one
-from facing_service.engagement import (
+from facing_service.client.sim import LabelledSample, Segment, labelled_track
+from facing_service.config.settings import Settings
+from facing_service.core.detector import classify_one
+from facing_service.core.engagement import (
     Engagement,
     EngagementParams,
     Level,
@@ -36,7 +37,6 @@ from facing_service.engagement import (
     facing_score,
     step,
 )
-from facing_service.sim import LabelledSample, Segment, labelled_track
 
 RESULTS = Path(__file__).resolve().parent / "results" / "engagement.json"
 TARGETS = {"to_engaged_s": 1.0, "to_disengaged_s": 1.5, "spurious_per_person_minute": 0.1}

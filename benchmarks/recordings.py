@@ -35,16 +35,17 @@ from pathlib import Path
 
 import zenoh
 
-from facing_service import keys, ros2_types
-from facing_service.config import Settings
-from facing_service.engagement import Level, VoteWindow, visual_social_engagement
-from facing_service.people import People
-from facing_service.replay import Replay
-from facing_service.ros2_input import tf_inputs
-from facing_service.ros2_wire import RosFormat, Wire
-from facing_service.service import FacingService
+from facing_service.config.settings import Settings
+from facing_service.contract import keys
+from facing_service.core.engagement import Level, VoteWindow, visual_social_engagement
+from facing_service.core.tf_buffer import TfError
+from facing_service.ros2 import types as ros2_types
+from facing_service.ros2.input import tf_inputs
+from facing_service.ros2.people import People
+from facing_service.ros2.wire import RosFormat, Wire
+from facing_service.shell.service import FacingService
 from facing_service.testing import endpoint, free_port, loopback_config, wait_until
-from facing_service.tf_buffer import TfError
+from facing_service.tools.replay import Replay
 
 BAGS = Path(__file__).resolve().parents[2] / "shared" / "data" / "hri_engagement_bags"
 RESULTS = Path(__file__).resolve().parent / "results" / "recordings.json"

@@ -16,7 +16,7 @@ import signal
 
 import zenoh
 
-from facing_service import keys
+from facing_service.contract import keys
 from facing_service.testing import loopback_config
 
 

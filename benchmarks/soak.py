@@ -16,7 +16,7 @@ import time
 
 import zenoh
 
-from facing_service import keys
+from facing_service.contract import keys
 
 from .common import (
     free_port,

@@ -8,8 +8,7 @@ except PackageNotFoundError:  # running from a source tree that was never instal
     __version__ = "0.0.0+unknown"
 
 from .client import FacingClient
-from .keys import BodyRef
-from .schemas import EngagementEvent, EngagementState, FacingState, FrameFacing
+from .contract import BodyRef, EngagementEvent, EngagementState, FacingState, FrameFacing
 
 __all__ = [
     "BodyRef",

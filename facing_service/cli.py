@@ -23,9 +23,13 @@ from typing import Any, Literal, NoReturn, get_args, get_origin
 import zenoh
 from rich.console import Console
 
-from . import __version__, health, keys
-from .client import FacingClient
-from .config import (
+from . import __version__
+from .client import health
+from .client.client import FacingClient
+from .client.sim import Scene, TrackerPublisher, simulate
+from .client.watch import Watcher, natural_order
+from .config.disclosure import zenoh_failure
+from .config.settings import (
     SERVICE,
     ZENOH,
     Settings,
@@ -38,14 +42,12 @@ from .config import (
     shown_default,
     zenoh_config,
 )
-from .demo import run_demo
-from .disclosure import zenoh_failure
-from .record import replay_refusal
-from .router import router_config, serve
-from .schemas import json_schemas
-from .service import run_until
-from .sim import Scene, TrackerPublisher, simulate
-from .watch import Watcher, natural_order
+from .contract import keys
+from .contract.schemas import json_schemas
+from .ros2.record import replay_refusal
+from .shell.service import run_until
+from .tools.demo import run_demo
+from .tools.router import router_config, serve
 
 log = logging.getLogger("facing_service")
 
@@ -376,7 +378,7 @@ def _replay(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
         return 2
-    from .replay import replay  # rosbags: only for the commands that read bags
+    from .tools.replay import replay  # rosbags: only for the commands that read bags
 
     return replay(settings, args.bag, args.rate, args.record, _stop_on_signals())
 
@@ -385,7 +387,7 @@ def _inspect(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
         return 2
-    from .ros2_survey import inspect_robot  # rosbags: only for the commands that read CDR
+    from .tools.survey import inspect_robot  # rosbags: only for the commands that read CDR
 
     return inspect_robot(settings, args.seconds, args.base_frame)
 

@@ -14,7 +14,7 @@ import sys
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
-from .loopback import endpoint, free_port, loopback_config, wait_until
+from .tools.loopback import endpoint, free_port, loopback_config, wait_until
 
 __all__ = [
     "LOOPBACK_FLAGS",

@@ -6,8 +6,8 @@ from typing import Any
 import pytest
 import zenoh
 
-from facing_service.config import Settings
-from facing_service.service import FacingService
+from facing_service.config.settings import Settings
+from facing_service.shell.service import FacingService
 
 from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, loopback_config
 from routers import Router

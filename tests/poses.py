@@ -6,7 +6,9 @@ import json
 import math
 from typing import Any
 
-from facing_service import schemas
+from facing_service.contract import schemas
+
+from loopback import send
 
 #: The unit quaternion of a turn about z (the library's, named as the tests use it).
 yaw_quaternion = schemas.yaw_rotation
@@ -36,3 +38,15 @@ def pose_dict(
 
 def pose_json(body_id: str, frame_id: str, **kwargs: Any) -> bytes:
     return json.dumps(pose_dict(body_id, frame_id, **kwargs)).encode()
+
+
+def replay(tracker, body: str, offs: list[float], start_s: float = 100.0) -> None:
+    """A tracker's 30 Hz poses, each ``off`` degrees from facing the robot, stamped on the
+    tracker's clock: engagement runs on stamps, so no test time is spent waiting."""
+    for i, off in enumerate(offs):
+        sec, nanosec = divmod(round((start_s + i / 30) * 1e9), 1_000_000_000)
+        send(
+            tracker,
+            f"hri/bodies/{body}/pose/cam",
+            pose_json(body, "cam", x=1.5, off_deg=off, sec=sec, nanosec=nanosec),
+        )

@@ -29,7 +29,7 @@ import zenoh.ext
 from zenoh.ext import Int64, z_deserialize, z_serialize
 
 #: RIHS01 hashes as every Jazzy-or-later node computes them (ROS 2's own tf2_msgs and
-#: std_msgs; ros4hri's hri_msgs 2.0.0 and hri_actions_msgs 2.0.1: tests/test_ros2_types.py).
+#: std_msgs; ros4hri's hri_msgs 2.0.0 and hri_actions_msgs 2.0.1: tests/ros2/test_types.py).
 TYPE_HASHES = {
     "tf2_msgs/msg/TFMessage": (
         "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"

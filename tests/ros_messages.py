@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from facing_service import ros2_types
+from facing_service.ros2 import types as ros2_types
 
 S = 1_000_000_000
 

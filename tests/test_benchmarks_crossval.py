@@ -10,7 +10,7 @@ import pytest
 
 from benchmarks import crossval
 from benchmarks.recordings import REFERENCE_FIGURES, RESULTS
-from facing_service.config import Settings
+from facing_service.config.settings import Settings
 
 pytestmark = pytest.mark.slow  # every candidate on every recording: about 15 s
 

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from facing_service import __version__
-from facing_service.schemas import json_schemas
+from facing_service.contract.schemas import json_schemas
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint, free_port, get, send, wait_until_answered
@@ -164,9 +164,9 @@ def test_simulate_says_what_it_publishes(net):
 
 
 def test_run_warns_while_its_endpoints_stay_unreachable(monkeypatch, caplog):
-    from facing_service import service as shell
-    from facing_service.config import Settings
-    from facing_service.service import FacingService
+    from facing_service.config.settings import Settings
+    from facing_service.shell import service as shell
+    from facing_service.shell.service import FacingService
 
     monkeypatch.setattr(shell, "UNREACHABLE_WARNING_S", 0.2)
     settings = Settings(
@@ -231,7 +231,7 @@ def test_the_result_types_the_docs_name_are_importable_from_the_package():
 
 
 def test_the_watch_table_and_the_demo_order_ids_as_numbers():
-    from facing_service.watch import natural_order
+    from facing_service.client.watch import natural_order
 
     ids = ["p10", "p4", "p1", "alice", "p2b", "p2a", "b7"]
     assert sorted(ids, key=natural_order) == ["alice", "b7", "p1", "p2a", "p2b", "p4", "p10"]
@@ -295,8 +295,8 @@ def test_help_log_and_status_say_the_same(net, tmp_path, caplog):
 def test_a_client_waiting_for_its_router_says_so(monkeypatch, caplog):
     """compose.yaml's client waits for its router inside zenoh.open (connect/timeout_ms
     -1), where zenoh says nothing: run warns every period all the same."""
-    from facing_service import service as shell
-    from facing_service.config import Settings
+    from facing_service.config.settings import Settings
+    from facing_service.shell import service as shell
 
     monkeypatch.setattr(shell, "UNREACHABLE_WARNING_S", 0.2)
     nobody = endpoint(free_port())

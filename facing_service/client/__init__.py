@@ -1,0 +1,7 @@
+"""The consumer's side: ``FacingClient`` (who faces the robot, by callbacks, without a
+topic in sight), ``watch`` (a live table), ``sim`` (a tracker to test against) and
+``health`` (is a service answering, and why not)."""
+
+from .client import FacingClient
+
+__all__ = ["FacingClient"]

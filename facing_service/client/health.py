@@ -1,0 +1,118 @@
+"""``facing-service health``: is a service answering, as a container's health check asks.
+
+A session just opened has not discovered anybody yet, a peer especially: a query sent at
+once reaches nobody, and a running service would be reported absent (seen in 5 of 20
+tries). So the check first waits, up to its time-out, for a matching service's liveliness
+token, then asks for the status until an answer or the time-out.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import zenoh
+
+from ..config.disclosure import zenoh_failure
+from ..config.settings import Settings, SettingsError, env_name, load_settings, probe_config
+from ..contract import keys
+from ..contract.schemas import ServiceStatus
+
+
+def statuses(
+    session: zenoh.Session, namespace: str, instance: str, timeout: float
+) -> tuple[list[ServiceStatus], bool]:
+    """The status of every service matching ``instance`` (``*``: any) that answers within
+    ``timeout`` seconds (empty when none does), and whether any such service was seen
+    alive (its liveliness token) at all."""
+    deadline = time.monotonic() + timeout
+    token = keys.service_token(namespace, instance)
+    alive = False
+    while (left := deadline - time.monotonic()) > 0:
+        replies = session.liveliness().get(token, timeout=min(0.25, left))
+        if any(reply.ok is not None for reply in replies):
+            alive = True
+            answers = ask(session, namespace, instance, max(deadline - time.monotonic(), 0.1))
+            if answers:
+                return answers, alive
+        time.sleep(min(0.05, max(deadline - time.monotonic(), 0)))
+    return [], alive
+
+
+def ask(
+    session: zenoh.Session, namespace: str, instance: str, timeout: float
+) -> list[ServiceStatus]:
+    """One status query: the answers that came within ``timeout``."""
+    return [
+        ServiceStatus.model_validate_json(reply.ok.payload.to_bytes())
+        for reply in session.get(keys.status_key(namespace, instance), timeout=timeout)
+        if reply.ok is not None
+    ]
+
+
+def _why_no_answer(
+    settings: Settings, instance: str, timeout: float, alive: bool, identity: str | None
+) -> str:
+    """The usual cause first (no service at all), then the others: one alive that did
+    not answer, or access control hiding it from this identity."""
+    acl = (
+        ""
+        if identity
+        else f"; under access control, give the check an identity allowed to "
+        f"{'query' if alive else 'see and query'} it: {HEALTH_CONFIG_ENV} or --health-config"
+    )
+    if not alive:
+        return (
+            f"no facing service found: no liveliness token on "
+            f"{keys.service_token(settings.namespace, instance)} in {timeout:g} s (is one "
+            f"running, in namespace '{settings.namespace}', reachable from here?{acl})"
+        )
+    selector = keys.status_key(settings.namespace, instance)
+    return f"a facing service is alive, but no answer on {selector}{acl}"
+
+
+#: A zenoh config file for the health check's own identity (``--health-config``).
+HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
+
+
+def check(
+    flags: Mapping[str, Any],
+    environ: Mapping[str, str],
+    instance: str | None,
+    health_config: str | None,
+    timeout: float,
+) -> int:
+    """``facing-service health``: print every answering service's status; the exit code
+    (0: one is ok, 1: none answers ok, 2: a bad setting). With its own identity
+    (``health_config``), the service's config file and ``--cfg`` (its credentials) stay
+    out of the check's session."""
+    instance = instance or environ.get(env_name("instance")) or "*"
+    flags, environ = {**flags, "instance": None}, dict(environ)
+    identity = health_config or environ.get(HEALTH_CONFIG_ENV) or None
+    if identity:  # its own identity: the service's file and --cfg (credentials) stay out
+        flags |= {"config": Path(identity), "cfg": None}
+        environ.pop(env_name("config"), None)
+        environ.pop(env_name("cfg"), None)
+    try:
+        settings = load_settings(flags, environ)
+        if instance != "*":
+            keys.validate_name(instance, "instance")
+        config = probe_config(settings)
+    except (SettingsError, ValueError) as error:
+        print(f"facing-service health: invalid setting: {error}", file=sys.stderr)
+        return 2
+    try:
+        with zenoh.open(config) as session:
+            answers, alive = statuses(session, settings.namespace, instance, timeout)
+    except zenoh.ZError as error:
+        print(zenoh_failure("health", error), file=sys.stderr)
+        return 1
+    for status in answers:
+        print(status.model_dump_json())
+    if not answers:
+        why = _why_no_answer(settings, instance, timeout, alive, identity)
+        print(f"facing-service health: {why}", file=sys.stderr)
+    return 0 if any(status.status == "ok" for status in answers) else 1

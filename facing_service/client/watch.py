@@ -1,0 +1,254 @@
+"""``facing-service watch``: a live terminal view of a running deployment.
+
+A top-down map around the robot (each person drawn where they stand, as an arrow along
+their heading; people facing the robot highlighted and labelled) beside a table of id,
+facing, angle, distance and since when. ``render`` is pure (plain data in, a rich
+renderable out) so the view is tested without a terminal; ``Watcher`` gathers the data
+from zenoh. The rows are what the service says (its results and engagement levels),
+whatever its input; positions and headings come from the JSON poses when this session
+can read them (a result alone does not say where a person stands): on ROS 2 input, or
+under an identity that may read results only, people are listed but not drawn.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+import re
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import zenoh
+from rich.console import Console, Group, RenderableType
+from rich.live import Live
+from rich.panel import Panel
+from rich.table import Table
+from rich.text import Text
+
+from ..contract import keys
+from ..contract.schemas import FacingState
+from .client import FacingClient
+
+#: Arrows for a heading in the map (base x is up, base y is left), every 45 degrees.
+_ARROWS = "↑↖←↙↓↘→↗"
+
+
+@dataclass(frozen=True)
+class PersonView:
+    body_id: str
+    x: float | None  # None: where the person stands is not known here (no pose)
+    y: float | None
+    yaw_deg: float | None
+    facing: bool | None  # None: no result yet
+    angle_deg: float | None
+    distance_m: float | None
+    since_s: float | None  # how long the facing decision has held, in pose time
+    engagement: str | None = None  # the engagement level, when known
+    since_seen: bool = True  # False: held since before the view started (at least since_s)
+
+
+def natural_order(name: str) -> tuple[tuple[int, int | str], ...]:
+    """Sort key reading digit runs as numbers: p2 before p10 (a string sort puts p10
+    first), whatever the mix of letters and digits."""
+    return tuple(
+        (0, int(part)) if part.isdigit() else (1, part) for part in re.findall(r"\d+|\D+", name)
+    )
+
+
+def arrow(yaw_deg: float) -> str:
+    return _ARROWS[round((yaw_deg % 360) / 45) % 8]
+
+
+def render(
+    people: list[PersonView],
+    frame_id: str,
+    radius_m: float = 4.0,
+    width: int = 41,
+    height: int = 19,
+) -> RenderableType:
+    """The map and the table for one instant."""
+    grid = [[" "] * width for _ in range(height)]
+    styles: dict[tuple[int, int], str] = {}
+    cx, cy = width // 2, height // 2
+    scale_x, scale_y = (width // 2) / radius_m, (height // 2) / radius_m
+    for row in range(height):  # range rings at 1 m
+        for col in range(width):
+            r = math.hypot((col - cx) / scale_x, (row - cy) / scale_y)
+            if abs(r - round(r)) < 0.06 and 0 < round(r) <= radius_m:
+                grid[row][col] = "·"
+                styles[(row, col)] = "grey35"
+    grid[cy][cx] = "R"
+    styles[(cy, cx)] = "bold cyan"
+    for person in sorted(people, key=lambda p: natural_order(p.body_id)):
+        if person.x is None or person.y is None or person.yaw_deg is None:
+            continue
+        col, row = cx - round(person.y * scale_x), cy - round(person.x * scale_y)
+        if not (0 <= row < height and 0 <= col < width):
+            continue
+        style = "bold green" if person.facing else "yellow"
+        grid[row][col] = arrow(person.yaw_deg)
+        styles[(row, col)] = style
+        if person.facing:
+            for i, char in enumerate(person.body_id[: width - col - 2]):
+                grid[row][col + 1 + i] = char
+                styles[(row, col + 1 + i)] = "green"
+    canvas = Text()
+    for row in range(height):
+        for col in range(width):
+            canvas.append(grid[row][col], styles.get((row, col), ""))
+        if row < height - 1:
+            canvas.append("\n")
+
+    table = Table(title=f"frame {frame_id}", expand=False)
+    for name in ("id", "facing", "angle °", "distance m", "held s", "engagement"):
+        table.add_column(name, justify="left" if name == "id" else "right")
+    for person in sorted(people, key=lambda p: natural_order(p.body_id)):
+        table.add_row(
+            person.body_id,
+            "?" if person.facing is None else ("yes" if person.facing else "no"),
+            _number(person.angle_deg, 1),
+            _number(person.distance_m, 2),
+            ("" if person.since_seen or person.since_s is None else "≥")
+            + _number(person.since_s, 1),
+            Text(
+                person.engagement or "-",
+                style="bold magenta" if person.engagement == "ENGAGED" else "",
+            ),
+            style="bold green" if person.facing else None,
+        )
+    facing = sum(1 for p in people if p.facing)
+    title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
+    if unplaced := sum(1 for p in people if p.x is None):
+        title += f"; {unplaced} not drawn (no pose here: ROS 2 input, or not readable)"
+    return Group(Panel(canvas, title=title, expand=False), table)
+
+
+def _number(value: float | None, digits: int) -> str:
+    return "-" if value is None else f"{value:.{digits}f}"
+
+
+def _position_and_yaw(message: Any) -> tuple[float, float, float]:
+    """x, y and heading (degrees) of a TransformStamped pose message."""
+    t = message["transform"]
+    q = t["rotation"]
+    yaw = math.atan2(2 * (q["w"] * q["z"] + q["x"] * q["y"]), 1 - 2 * (q["y"] ** 2 + q["z"] ** 2))
+    return t["translation"]["x"], t["translation"]["y"], math.degrees(yaw)
+
+
+class Watcher:
+    """Gathers what ``render`` needs: results from a FacingClient, poses from the input."""
+
+    def __init__(self, client: FacingClient, frame: str) -> None:
+        self.client = client
+        self.frame = frame
+        self._lock = threading.Lock()
+        self._poses: dict[str, tuple[float, float, float]] = {}
+        # body -> (facing, pose time it began, whether the view saw it begin, latest time)
+        self._since: dict[str, tuple[bool, float, bool, float]] = {}
+        self._levels: dict[str, str] = {}
+        self._subscribers = [
+            client.session.declare_subscriber(
+                keys.pose_key(client.namespace, keys.ALL_FRAMES, frame), self._on_pose
+            ),
+            client.session.declare_subscriber(
+                keys.engagement_key(client.namespace, keys.ALL_FRAMES, frame),
+                self._on_engagement,
+            ),
+        ]
+        client.on_change(self._on_result)
+        client.on_lost(self._on_lost)
+
+    def close(self) -> None:
+        for subscriber in self._subscribers:
+            subscriber.undeclare()
+
+    def _on_engagement(self, sample: zenoh.Sample) -> None:
+        self._update(self._levels, sample, lambda message: message["level"])
+
+    def _on_pose(self, sample: zenoh.Sample) -> None:
+        self._update(self._poses, sample, _position_and_yaw)
+
+    def _update(
+        self, store: dict[str, Any], sample: zenoh.Sample, read: Callable[[Any], Any]
+    ) -> None:
+        """Keep what ``read`` takes from each body's latest message; a DELETE forgets it.
+        Unreadable input is skipped: the service counts bad input, the view just draws."""
+        body_id = keys.body_of(str(sample.key_expr)).body_id
+        with self._lock:
+            if sample.kind == zenoh.SampleKind.DELETE:
+                store.pop(body_id, None)
+                return
+            with contextlib.suppress(ValueError, KeyError, TypeError):
+                store[body_id] = read(json.loads(sample.payload.to_bytes()))
+
+    def _on_result(self, state: FacingState) -> None:
+        """How long each decision has held, in the poses' own time (so a replayed
+        recording reads right, and ``--once`` does not say "1.0" for everyone)."""
+        if state.frame_id != self.frame:
+            return
+        t = state.stamp.sec + state.stamp.nanosec / 1e9
+        with self._lock:
+            previous = self._since.get(state.body_id)
+            if previous is None:
+                self._since[state.body_id] = (state.facing, t, False, t)
+            elif previous[0] != state.facing:
+                self._since[state.body_id] = (state.facing, t, True, t)
+            else:
+                self._since[state.body_id] = (*previous[:3], max(previous[3], t))
+
+    def _on_lost(self, body: keys.BodyRef) -> None:
+        if body.frame_id == self.frame:
+            with self._lock:
+                self._since.pop(body.body_id, None)
+                self._poses.pop(body.body_id, None)
+
+    def people(self) -> list[PersonView]:
+        states = self.client.bodies(self.frame)
+        with self._lock:
+            poses = dict(self._poses)
+            since = dict(self._since)
+            levels = dict(self._levels)
+        people = []
+        for body_id in states.keys() | poses.keys():
+            x, y, yaw = poses.get(body_id, (None, None, None))
+            state = states.get(body_id)
+            changed = since.get(body_id)
+            people.append(
+                PersonView(
+                    body_id,
+                    x,
+                    y,
+                    yaw,
+                    None if state is None else state.facing,
+                    None if state is None else state.angle_deg,
+                    None if state is None else state.distance_m,
+                    None if changed is None else changed[3] - changed[1],
+                    levels.get(body_id),
+                    changed is None or changed[2],
+                )
+            )
+        return people
+
+    def view(self) -> RenderableType:
+        return render(self.people(), self.frame)
+
+    def live(self, keep_going: Callable[[], bool], period_s: float = 0.1) -> None:
+        """Redraw in the terminal every ``period_s`` while ``keep_going()``; the last
+        frame stays on screen."""
+        with Live(self.view(), refresh_per_second=1 / period_s) as screen:
+            while keep_going():
+                time.sleep(period_s)
+                screen.update(self.view())
+            screen.update(self.view())
+
+    def save_svg(self, path: Path) -> None:
+        """The current frame as an SVG image (rich's export), e.g. for documentation."""
+        console = Console(record=True, width=100, file=io.StringIO())
+        console.print(self.view())
+        console.save_svg(str(path), title="facing-service watch")

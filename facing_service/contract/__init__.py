@@ -1,0 +1,22 @@
+"""The wire contract: the key spaces (``keys``) and the JSON payloads (``schemas``) that
+trackers, consumers and the service agree on. Pure; imports nothing of the package."""
+
+from .keys import BodyRef
+from .schemas import (
+    EngagementEvent,
+    EngagementState,
+    FacingState,
+    FrameFacing,
+    Rejection,
+    ServiceStatus,
+)
+
+__all__ = [
+    "BodyRef",
+    "EngagementEvent",
+    "EngagementState",
+    "FacingState",
+    "FrameFacing",
+    "Rejection",
+    "ServiceStatus",
+]

@@ -1,0 +1,629 @@
+"""State over time: the latest pose and decision per (frame, body), and per-frame sets.
+
+Pure: no I/O, no threads, no clock of its own (``now`` is passed in, monotonic seconds),
+so every rule here — order, staleness, hysteresis, aggregate changes — is tested without
+a network. The service feeds it batches and publishes what each call returns.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import AbstractContextManager
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..contract.keys import BodyRef
+from ..contract.schemas import FrameFacing, Pose, Stamp, facing_state_json
+from . import detector
+from .engagement import (
+    Engagement,
+    EngagementParams,
+    Level,
+    Zone,
+    advance,
+    facing_score,
+    step,
+    zone,
+)
+
+#: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
+#: from reordered or replayed traffic arrive within well under this.
+TOMBSTONE_S = 30.0
+
+
+class _OfABody:
+    """``frame_id`` and ``body_id`` read through a record's ``body`` (a BodyRef)."""
+
+    __slots__ = ()
+    body: BodyRef
+
+    @property
+    def frame_id(self) -> str:
+        return self.body.frame_id
+
+    @property
+    def body_id(self) -> str:
+        return self.body.body_id
+
+
+@dataclass(frozen=True, slots=True)
+class PoseSample(_OfABody):
+    body: BodyRef
+    pose: Pose
+    profile: str = "body"  # which Profile decides it: "body", or "head" (a face frame)
+
+
+@dataclass(frozen=True, slots=True)
+class Profile:
+    """How one kind of frame is decided: a chest faces in the horizontal plane (REP 155's
+    body frame, the tutorial's rule), a head in 3D (people look down at a camera)."""
+
+    threshold_deg: float
+    hysteresis_deg: float
+    cone3d: bool
+    engagement: EngagementParams
+
+
+@dataclass(frozen=True, slots=True)
+class BodyState(_OfABody):
+    """The decision for one body: the fields of the wire's ``FacingState``, kept as plain
+    values (a pydantic model per sample was a third of the per-sample cost)."""
+
+    body: BodyRef
+    stamp: tuple[int, int]
+    facing: bool
+    angle_deg: float | None
+    distance_m: float | None
+    robot_in_body: tuple[float, float, float]
+    threshold_deg: float
+
+    def to_json(self, instance: str | None = None) -> bytes:
+        return facing_state_json(
+            self.body_id,
+            self.frame_id,
+            self.stamp,
+            self.facing,
+            self.angle_deg,
+            self.distance_m,
+            self.robot_in_body,
+            self.threshold_deg,
+            instance,
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class EngagementUpdate(_OfABody):
+    """A body's engagement to publish: ``previous`` is set when the level just changed
+    (then it is also an event); UNKNOWN with a previous level means the body was lost."""
+
+    body: BodyRef
+    stamp: tuple[int, int]
+    level: Level
+    score: float
+    zone: Zone
+    since: tuple[int, int]
+    previous: Level | None
+
+
+def _stamp_s(stamp: tuple[int, int]) -> float:
+    return stamp[0] + stamp[1] * 1e-9
+
+
+def _to_stamp(seconds: float) -> tuple[int, int]:
+    sec, nanosec = divmod(round(seconds * 1e9), 1_000_000_000)
+    return sec, nanosec
+
+
+@dataclass
+class Changes:
+    """What one tracker call changed, in the order it must be published."""
+
+    results: list[BodyState] = field(default_factory=list)
+    lost: list[BodyRef] = field(default_factory=list)
+    frames: list[FrameFacing] = field(default_factory=list)
+    out_of_order: list[PoseSample] = field(default_factory=list)
+    over_capacity: list[PoseSample] = field(default_factory=list)
+    engagement: list[EngagementUpdate] = field(default_factory=list)
+
+
+@dataclass(slots=True)
+class _Track:
+    pose: Pose
+    last_seen: float
+    state: BodyState
+    profile: Profile
+    engagement: Engagement = field(default_factory=Engagement)
+    engagement_published: float = float("-inf")  # the caller's clock, at the last update
+
+    def __copy__(self) -> _Track:
+        """Shallow, as ``copy.copy`` was, without its generic path (a quarter of a
+        one-pose batch went to the journal's copies)."""
+        return _Track(
+            self.pose,
+            self.last_seen,
+            self.state,
+            self.profile,
+            self.engagement,
+            self.engagement_published,
+        )
+
+
+@dataclass
+class _Frame:
+    tracked: set[str] = field(default_factory=set)
+    facing: set[str] = field(default_factory=set)
+    stamp: tuple[int, int] | None = None
+    dirty: bool = False  # membership changed since the aggregate was last published
+
+    def __copy__(self) -> _Frame:
+        return _Frame(set(self.tracked), set(self.facing), self.stamp, self.dirty)
+
+
+#: The tracker's mutable stores, as a transaction's journal keeps them (attribute names).
+_STORES = ("_tracks", "_frames", "_tombstones", "_due")
+
+
+def _frame_facing(
+    frame_id: str, stamp: tuple[int, int] | None, facing: Iterable[str], tracked: Iterable[str]
+) -> FrameFacing:
+    return FrameFacing(
+        frame_id=frame_id,
+        stamp=None if stamp is None else Stamp(sec=stamp[0], nanosec=stamp[1]),
+        bodies_facing=sorted(facing),
+        bodies_tracked=sorted(tracked),
+    )
+
+
+def _classify(
+    samples: Sequence[PoseSample],
+    thresholds: Sequence[float],
+    profiles: Sequence[Profile],
+    reported: Sequence[float],
+) -> list[BodyState]:
+    """Decide ``samples`` (one threshold and profile each) and wrap each as a BodyState
+    (reporting ``reported`` as its threshold): the vectorized core for a batch, the
+    per-body one below ``detector.SMALL_BATCH``."""
+    if len(samples) < detector.SMALL_BATCH:
+        rows = [
+            detector.classify_one(s.pose.translation, s.pose.rotation, threshold, p.cone3d)
+            for s, threshold, p in zip(samples, thresholds, profiles, strict=True)
+        ]
+    else:
+        result = detector.classify(
+            np.array([s.pose.translation for s in samples], dtype=np.float64),
+            np.array([s.pose.rotation for s in samples], dtype=np.float64),
+            np.array(thresholds, dtype=np.float64),
+            np.array([p.cone3d for p in profiles], dtype=np.bool_),
+        )
+        defined = result.defined.tolist()
+        rows = [
+            (tuple(r), a if d else None, m if d else None, f)
+            for r, a, m, d, f in zip(
+                result.robot_in_body.tolist(),
+                result.angle_deg.tolist(),
+                result.distance_m.tolist(),
+                defined,
+                result.facing.tolist(),
+                strict=True,
+            )
+        ]
+    return [
+        BodyState(s.body, s.pose.stamp, facing, angle, distance, r, threshold)
+        for s, (r, angle, distance, facing), threshold in zip(samples, rows, reported, strict=True)
+    ]
+
+
+class _Transaction:
+    """``Tracker.transaction()``. A class rather than a generator-based context manager:
+    the worker opens one per tracker call, and the generator's machinery was a third of
+    a one-pose transaction's cost."""
+
+    __slots__ = ("_tracker",)
+
+    def __init__(self, tracker: Tracker) -> None:
+        self._tracker = tracker
+
+    def __enter__(self) -> None:
+        assert self._tracker._journal is None, "transactions do not nest"
+        self._tracker._journal = {store: {} for store in _STORES}
+
+    def __exit__(self, kind: type[BaseException] | None, *_: object) -> None:
+        journal, self._tracker._journal = self._tracker._journal, None
+        if kind is not None and journal is not None:
+            self._tracker._roll_back(journal)  # then the exception goes on
+
+
+class Tracker:
+    """Latest pose and decision per (frame, body).
+
+    Rules: a sample whose stamp is older than the latest accepted one for its (frame, body)
+    is refused (equal stamps are accepted: re-sent poses still get an answer); a body
+    already facing stays facing while its angle is below ``threshold + hysteresis``; a body
+    with no accepted sample for ``stale_after_s`` of the caller's clock is lost; a new body
+    beyond ``max_bodies`` (all frames together) is refused until others are lost.
+
+    Memory is bounded by ``max_bodies``: frames other than the declared ones are forgotten
+    as soon as their last body is lost (after their empty aggregate is published).
+    """
+
+    def __init__(
+        self,
+        threshold_deg: float,
+        hysteresis_deg: float,
+        stale_after_s: float,
+        *,
+        max_bodies: int,
+        engagement: EngagementParams,
+        engagement_period_s: float,
+        frames: Iterable[str] = (),
+        head: Profile | None = None,
+    ) -> None:
+        """Every tunable comes from the caller (``config.Settings``, their one source)."""
+        self.engagement = engagement
+        body = Profile(threshold_deg, hysteresis_deg, False, self.engagement)
+        self.profiles = {"body": body, "head": head or body}
+        self.engagement_period_s = engagement_period_s
+        self.stale_after_s = stale_after_s
+        self.max_bodies = max_bodies
+        # Ordered by last accepted sample, oldest first: expiry pops from the front.
+        self._tracks: OrderedDict[BodyRef, _Track] = OrderedDict()
+        self._declared = frozenset(frames)
+        self._frames: dict[str, _Frame] = {frame: _Frame() for frame in self._declared}
+        # After a DELETE: the last accepted stamp, and when the tombstone expires (the
+        # caller's clock). Oldest first; at most max_bodies of them.
+        self._tombstones: OrderedDict[BodyRef, tuple[tuple[int, int], float]] = OrderedDict()
+        # Bodies whose level will change with time alone (DISENGAGING's dwell): when.
+        self._due: dict[BodyRef, float] = {}
+        # In a transaction: per store, each key's value before its first change (None: absent).
+        self._journal: dict[str, dict[object, object]] | None = None
+
+    def transaction(self) -> AbstractContextManager[None]:
+        """Changes made inside apply whole, or not at all: on an exception every store is
+        put back as it was, then the exception goes on. The service wraps each tracker
+        call and the building of its publications in one, so an error while saying a
+        change (a bug, a value no output can carry) never leaves a change unsaid: no
+        ghost, no aggregate that disagrees with the results. A journal, not a copy: only
+        what the calls touch is kept (a copy of 10 000 tracks per batch cost more than
+        the batch)."""
+        return _Transaction(self)
+
+    def _keep(self, store: str, key: object) -> None:
+        """Journal ``key``'s value in ``store`` before its first change in a transaction."""
+        journal = self._journal
+        if journal is not None and key not in (kept := journal[store]):
+            value = getattr(self, store).get(key)
+            # tracks and frames are mutable records (own __copy__); the rest immutable
+            kept[key] = value.__copy__() if isinstance(value, _Track | _Frame) else value
+
+    def _roll_back(self, journal: dict[str, dict[object, object]]) -> None:
+        for store, kept in journal.items():
+            values = getattr(self, store)
+            for key, value in kept.items():
+                if value is None:
+                    values.pop(key, None)
+                else:
+                    values[key] = value
+        # Back in the orders expiry relies on: tracks by last sample, tombstones by expiry.
+        self._tracks = OrderedDict(sorted(self._tracks.items(), key=lambda kv: kv[1].last_seen))
+        self._tombstones = OrderedDict(sorted(self._tombstones.items(), key=lambda kv: kv[1][1]))
+
+    def __len__(self) -> int:
+        return len(self._tracks)
+
+    def ingest(self, samples: Sequence[PoseSample], now: float) -> Changes:
+        """Accept a batch of validated poses received at ``now``.
+
+        The batch is split into generations (the k-th sample of each body goes into
+        generation k) so that each generation is one vectorized call and a body seen twice
+        in a batch is still decided in stamp order, with its own hysteresis.
+        """
+        changes = Changes()
+        newest: dict[BodyRef, tuple[int, int]] = {}
+        count: dict[BodyRef, int] = {}
+        generations: list[list[PoseSample]] = []
+        room = self.max_bodies - len(self._tracks)
+        for sample in samples:
+            key = sample.body
+            last = newest.get(key)
+            if last is None and (track := self._tracks.get(key)) is not None:
+                last = track.pose.stamp
+            if last is None and (tomb := self._tombstones.get(key)) is not None:
+                if sample.pose.stamp <= tomb[0]:  # a late pose of a deleted body
+                    changes.out_of_order.append(sample)
+                    continue
+                self._keep("_tombstones", key)
+                del self._tombstones[key]  # newer than the DELETE: the body is back
+            if last is None:  # a new body
+                if room <= 0:
+                    changes.over_capacity.append(sample)
+                    continue
+                room -= 1
+            elif sample.pose.stamp < last:
+                changes.out_of_order.append(sample)
+                continue
+            newest[key] = sample.pose.stamp
+            k = count.get(key, 0)
+            count[key] = k + 1
+            if k == len(generations):
+                generations.append([])
+            generations[k].append(sample)
+
+        touched: set[str] = set()
+        for generation in generations:
+            if len(generation) < detector.SMALL_BATCH:
+                self._decide_each(generation, now, changes)
+            else:
+                self._decide_together(generation, now, changes)
+            touched.update(s.frame_id for s in generation)
+        changes.frames = self._frame_changes(touched)
+        return changes
+
+    def _decide_each(self, samples: Sequence[PoseSample], now: float, changes: Changes) -> None:
+        """A few bodies: one pass per body on floats (``detector.classify_one``), looking
+        each track up once (the robot-scale case: most batches are a few bodies)."""
+        tracks, profiles = self._tracks, self.profiles
+        for sample in samples:
+            track = tracks.get(sample.body)
+            p = profiles[sample.profile]
+            widened = track is not None and track.state.facing
+            pose = sample.pose
+            r, angle, distance, facing = detector.classify_one(
+                pose.translation,
+                pose.rotation,
+                p.threshold_deg + p.hysteresis_deg if widened else p.threshold_deg,
+                p.cone3d,
+            )
+            state = BodyState(
+                sample.body,
+                pose.stamp,
+                facing,
+                angle,
+                distance,
+                r,
+                p.threshold_deg,
+            )
+            update = self._store(sample, state, p, now, track)
+            if update is not None:
+                changes.engagement.append(update)
+            changes.results.append(state)
+
+    def _decide_together(self, samples: Sequence[PoseSample], now: float, changes: Changes) -> None:
+        """Many bodies: one vectorized core call (``detector.classify``)."""
+        profiles = [self.profiles[s.profile] for s in samples]
+        thresholds = [
+            p.threshold_deg + (p.hysteresis_deg if self._was_facing(s.body) else 0.0)
+            for s, p in zip(samples, profiles, strict=True)
+        ]
+        reported = [p.threshold_deg for p in profiles]
+        states = _classify(samples, thresholds, profiles, reported)
+        for sample, state, profile in zip(samples, states, profiles, strict=True):
+            track = self._tracks.get(sample.body)
+            update = self._store(sample, state, profile, now, track)
+            if update is not None:
+                changes.engagement.append(update)
+        changes.results.extend(states)
+
+    def lose(
+        self, bodies: BodyRef | Iterable[BodyRef], now: float = 0.0, *, time_went_back: bool = False
+    ) -> Changes:
+        """The tracker said these bodies are gone (an input DELETE, or ids leaving a
+        tracked list). Poses of each stamped at or before its last accepted one are
+        refused for ``TOMBSTONE_S`` after (a late pose must not bring back a body its
+        tracker deleted), unless it is lost because time went back: then older stamps are
+        the new timeline. One aggregate per frame for all of them: a list replacing N ids
+        costs N DELETEs, not N aggregates of everyone."""
+        changes = Changes()
+        frames = set()
+        for key in [bodies] if isinstance(bodies, BodyRef) else bodies:
+            if (track := self._tracks.get(key)) is None:
+                continue
+            if not time_went_back:
+                self._keep("_tombstones", key)
+                self._tombstones[key] = (track.pose.stamp, now + TOMBSTONE_S)
+                self._tombstones.move_to_end(key)
+                while len(self._tombstones) > self.max_bodies:
+                    self._keep("_tombstones", next(iter(self._tombstones)))
+                    self._tombstones.popitem(last=False)
+            self._remove(key, changes)
+            frames.add(key.frame_id)
+        changes.frames = self._frame_changes(frames)
+        return changes
+
+    def advance(self, now: float) -> Changes:
+        """Level changes that time alone makes (DISENGAGING -> DISENGAGED after its dwell)
+        for bodies whose tracker went silent: their engagement clock moves on from their
+        last stamp by the caller's elapsed time."""
+        changes = Changes()
+        for key, due in list(self._due.items()):
+            if due > now:
+                continue
+            self._keep("_due", key)
+            del self._due[key]
+            track = self._tracks.get(key)
+            if track is None or track.engagement.last is None:
+                continue
+            self._keep("_tracks", key)
+            before = track.engagement.level
+            t = track.engagement.last + (now - track.last_seen)
+            track.engagement = advance(track.engagement, t, track.profile.engagement)
+            if track.engagement.level is not before:
+                track.engagement_published = now
+                changes.engagement.append(self._engagement_update(track, before))
+        return changes
+
+    def next_due(self) -> float | None:
+        """When ``advance`` has something to do (caller's clock), or None."""
+        return min(self._due.values(), default=None)
+
+    def timed(self, now: float) -> Iterator[Callable[[], Changes]]:
+        """The calls time alone makes due at ``now``, in order: ``expire``, then
+        ``advance``. Lazy: whether the second is due is asked once the caller has run
+        the first (which may lose bodies that were due). The caller runs each (the
+        service in a transaction, with its publications)."""
+        if (expiry := self.next_expiry()) is not None and expiry <= now:
+            yield lambda: self.expire(now)
+        if (due := self.next_due()) is not None and due <= now:
+            yield lambda: self.advance(now)
+
+    def expire(self, now: float) -> Changes:
+        """Lose every body with no accepted sample for ``stale_after_s`` before ``now``,
+        and forget expired tombstones."""
+        while self._tombstones and next(iter(self._tombstones.values()))[1] <= now:
+            self._keep("_tombstones", next(iter(self._tombstones)))
+            self._tombstones.popitem(last=False)
+        changes = Changes()
+        deadline = now - self.stale_after_s
+        while self._tracks:
+            key, track = next(iter(self._tracks.items()))
+            if track.last_seen > deadline:
+                break
+            self._remove(key, changes)
+        changes.frames = self._frame_changes({body.frame_id for body in changes.lost})
+        return changes
+
+    def next_expiry(self) -> float | None:
+        """When ``expire`` has something to do (caller's clock): the oldest body goes
+        stale or the oldest tombstone is forgotten; None when neither exists."""
+        when = [next(iter(self._tombstones.values()))[1]] if self._tombstones else []
+        if self._tracks:
+            when.append(next(iter(self._tracks.values())).last_seen + self.stale_after_s)
+        return min(when, default=None)
+
+    def tracked_per_frame(self) -> dict[str, int]:
+        """How many bodies each known frame tracks (for the status report)."""
+        return {frame_id: len(frame.tracked) for frame_id, frame in self._frames.items()}
+
+    def states(self) -> list[BodyState]:
+        """The latest decision of every tracked body."""
+        return [track.state for track in self._tracks.values()]
+
+    def frames(self) -> list[FrameFacing]:
+        """The aggregate of every known frame, as it stands now."""
+        return [
+            _frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked)
+            for frame_id, frame in self._frames.items()
+        ]
+
+    def evaluate(self, threshold_deg: float) -> tuple[list[BodyState], list[FrameFacing]]:
+        """Re-decide the latest poses under another cone, without hysteresis.
+
+        For queries: a what-if that leaves the tracker's state untouched.
+        """
+        samples = [PoseSample(body, track.pose) for body, track in self._tracks.items()]
+        same = [threshold_deg] * len(samples)
+        profiles = [track.profile for track in self._tracks.values()]
+        states = _classify(samples, same, profiles, same)
+        facing: dict[str, list[str]] = {frame_id: [] for frame_id in self._frames}
+        for state in states:
+            if state.facing:
+                facing[state.frame_id].append(state.body_id)
+        frames = [
+            _frame_facing(frame_id, frame.stamp, facing[frame_id], frame.tracked)
+            for frame_id, frame in self._frames.items()
+        ]
+        return states, frames
+
+    def _was_facing(self, key: BodyRef) -> bool:
+        track = self._tracks.get(key)
+        return track is not None and track.state.facing
+
+    def _store(
+        self,
+        sample: PoseSample,
+        state: BodyState,
+        profile: Profile,
+        now: float,
+        track: _Track | None,
+    ) -> EngagementUpdate | None:
+        """Keep the new state (``track``: the body's, None when new); the engagement update
+        to publish, if one is due."""
+        key = sample.body
+        self._keep("_tracks", key)
+        if track is None:
+            track = self._tracks[key] = _Track(sample.pose, now, state, profile)
+        else:  # in place: the body's engagement carries over
+            track.pose, track.last_seen, track.state = sample.pose, now, state
+            track.profile = profile
+        self._tracks.move_to_end(key)
+        update = self._engage(track, state, now)
+        self._keep("_frames", sample.frame_id)
+        frame = self._frames.setdefault(sample.frame_id, _Frame())
+        if sample.body_id not in frame.tracked:
+            frame.tracked.add(sample.body_id)
+            frame.dirty = True
+        if state.facing and sample.body_id not in frame.facing:
+            frame.facing.add(sample.body_id)
+            frame.dirty = True
+        elif not state.facing and sample.body_id in frame.facing:
+            frame.facing.remove(sample.body_id)
+            frame.dirty = True
+        if frame.stamp is None or sample.pose.stamp > frame.stamp:
+            frame.stamp = sample.pose.stamp
+        return update
+
+    def _engage(self, track: _Track, state: BodyState, now: float) -> EngagementUpdate | None:
+        """Step the body's engagement on the pose's own clock (its stamp): behaviour timing
+        is the tracker's. Unchanged levels are republished at most every period of the
+        caller's clock (``now``): that limit is about output load, whatever the stamps do."""
+        p = track.profile.engagement
+        t = _stamp_s(state.stamp)
+        before = track.engagement.level
+        track.engagement = step(
+            track.engagement, t, facing_score(state.angle_deg, state.distance_m, p), p
+        )
+        changed = track.engagement.level is not before
+        key = state.body
+        self._keep("_due", key)
+        if track.engagement.level is Level.DISENGAGING:  # dwell running: due even if silent
+            left = track.engagement.since + p.disengage_dwell_s - t
+            self._due[key] = now + max(0.0, left)
+        else:
+            self._due.pop(key, None)
+        if not changed and now - track.engagement_published < self.engagement_period_s:
+            return None
+        track.engagement_published = now
+        return self._engagement_update(track, before if changed else None)
+
+    def _engagement_update(self, track: _Track, previous: Level | None) -> EngagementUpdate:
+        state, engagement = track.state, track.engagement
+        return EngagementUpdate(
+            state.body,
+            state.stamp,
+            engagement.level,
+            engagement.score,
+            zone(state.distance_m, track.profile.engagement),
+            _to_stamp(engagement.since),
+            previous,
+        )
+
+    def engagements(self) -> list[EngagementUpdate]:
+        """The current engagement of every tracked body (for queries)."""
+        return [self._engagement_update(track, None) for track in self._tracks.values()]
+
+    def _remove(self, key: BodyRef, changes: Changes) -> None:
+        for store, k in (("_tracks", key), ("_due", key), ("_frames", key.frame_id)):
+            self._keep(store, k)
+        track = self._tracks.pop(key)
+        self._due.pop(key, None)
+        if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
+            update = self._engagement_update(track, track.engagement.level)
+            changes.engagement.append(replace(update, level=Level.UNKNOWN, since=update.stamp))
+        frame = self._frames[key.frame_id]
+        frame.tracked.discard(key.body_id)
+        frame.facing.discard(key.body_id)
+        frame.dirty = True
+        changes.lost.append(key)
+
+    def _frame_changes(self, frame_ids: Iterable[str]) -> list[FrameFacing]:
+        """Aggregates of the given frames whose lists changed since last published."""
+        changed = []
+        for frame_id in sorted(frame_ids):  # (each kept by _store or _remove already)
+            frame = self._frames[frame_id]
+            if frame.dirty:
+                frame.dirty = False
+                changed.append(_frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked))
+            if not frame.tracked and frame_id not in self._declared:
+                del self._frames[frame_id]
+        return changed

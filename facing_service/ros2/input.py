@@ -1,0 +1,242 @@
+"""A ROS 2 robot's people, read straight off zenoh: subscriptions (thin shell) and the
+routing of each sample, decoded with rosbags, into ``People`` (pure).
+
+Topics read (under ``--ros-namespace``, in ``--ros-format``):
+
+    /tf, /tf_static                          tf2_msgs/msg/TFMessage
+    /humans/{bodies,faces,persons}/tracked   hri_msgs/msg/IdsList
+    /humans/persons/<id>/{face_id,body_id}   std_msgs/msg/String
+
+``/tf_static`` and the person topics are transient-local in ROS 2, and a service started
+after the robot gets them from the publishers' caches, of either generation:
+
+- advanced publishers' caches (rmw_zenoh since Humble 0.1.2 and Jazzy 0.2.2,
+  zenoh-bridge-ros2dds since 1.5.1): read by zenoh-ext advanced subscribers with history
+  and late-publisher detection;
+- ``PublicationCache`` queryables (rmw_zenoh Humble 0.1.0-0.1.1 and Jazzy 0.2.0-0.2.1 on
+  ``<zenoh id>/<key>``; the bridge up to 1.5.0 on ``<key>/@ros2_pub_cache/<zenoh id>``):
+  queried once at start and once more after ``CACHE_QUERY_AGAIN_S`` (a peer discovers
+  the others in a moment), as those releases' own late joiners did, accepting replies on
+  any key (they come on the sample's own key).
+
+``/tf`` and the body and face lists stream: plain subscribers.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import zenoh
+import zenoh.ext
+
+from ..contract.schemas import Rejected, Rejection, stamp_ns
+from ..core.tf_buffer import Transform
+from . import types as ros2_types
+from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
+from .wire import RosFormat, Wire
+
+#: (topic pattern, type, transient-local?)
+TOPICS = (
+    ("/tf", ros2_types.TF_MESSAGE, False),
+    ("/tf_static", ros2_types.TF_MESSAGE, True),
+    ("/humans/bodies/tracked", ros2_types.IDS_LIST, False),
+    ("/humans/faces/tracked", ros2_types.IDS_LIST, False),
+    ("/humans/persons/tracked", ros2_types.IDS_LIST, True),
+    ("/humans/persons/*/face_id", ros2_types.STRING, True),
+    ("/humans/persons/*/body_id", ros2_types.STRING, True),
+)
+
+
+#: A robot's message larger than this is refused undecoded (``--ros-max-message-bytes``).
+DEFAULT_MAX_MESSAGE_BYTES = 1 << 20
+
+
+@dataclass(frozen=True, slots=True)
+class RosSample:
+    """A sample from one of the robot's topics, as the zenoh callback hands it over."""
+
+    key: str
+    payload: bytes
+    attachment: bytes | None = None  # rmw_zenoh's: its form is learned from it
+    size: int = 0  # of a payload too large to be copied (then ``payload`` is empty)
+
+    @classmethod
+    def of(cls, sample: zenoh.Sample, max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES) -> RosSample:
+        """The sample as plain bytes; a payload over ``max_bytes`` is not even copied."""
+        extra = None if sample.attachment is None else sample.attachment.to_bytes()
+        if (size := len(sample.payload)) > max_bytes:
+            return cls(str(sample.key_expr), b"", extra, size)
+        return cls(str(sample.key_expr), sample.payload.to_bytes(), extra)
+
+
+def route(
+    people: People, wire: Wire, sample: RosSample, max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES
+) -> Update | Rejected:
+    """Decode one sample and apply it to ``people``; never raises on any input."""
+    read = reading(wire, sample.key)
+    if isinstance(read, Rejected):
+        return read
+    if sample.size > max_bytes:  # refused before decoding: a 104 MB TFMessage took 2.2 GB
+        return Rejected(Rejection.PAYLOAD_TOO_LARGE, f"{sample.size} bytes > {max_bytes}")
+    topic, typename = read
+    try:
+        message = ros2_types.deserialize(sample.payload, typename)
+    except Exception as error:  # rosbags raises several kinds on truncated or bad CDR
+        return Rejected(Rejection.MALFORMED_CDR, f"{type(error).__name__}: {error}"[:200])
+    if typename == ros2_types.TF_MESSAGE:
+        return people.on_tf(tf_inputs(message), static=topic == "/tf_static")
+    if typename == ros2_types.IDS_LIST:
+        return people.on_tracked(topic, list(message.ids))
+    _, _, _, person_id, link = topic.split("/")
+    return people.on_person_link(person_id, link, message.data)
+
+
+@lru_cache(maxsize=4096)
+def reading(wire: Wire, key: str) -> tuple[str, str] | Rejected:
+    """The topic and type a key is read as, or why it is refused. Remembered: a robot
+    repeats a handful of keys (a tenth of the ROS path's worker time went here)."""
+    topic = wire.topic_of(key)
+    typename = _typename(topic)
+    if topic is None or typename is None:
+        return Rejected(Rejection.INVALID_KEY, "not a topic this service reads")
+    if reason := wire.check(key, typename):
+        return Rejected(Rejection.TYPE_MISMATCH, reason)
+    return topic, typename
+
+
+def _typename(topic: str | None) -> str | None:
+    if topic is None:
+        return None
+    if topic in ("/tf", "/tf_static"):
+        return ros2_types.TF_MESSAGE
+    if topic in KINDS:
+        return ros2_types.IDS_LIST
+    parts = topic.split("/")
+    if len(parts) == 5 and parts[1:3] == ["humans", "persons"] and parts[4] in PERSON_LINKS:
+        return ros2_types.STRING
+    return None
+
+
+def tf_inputs(message: Any) -> list[TfInput]:
+    """A TFMessage's transforms as plain values (a stamp our outputs cannot carry is
+    ``INVALID_STAMP``, refused by ``People``)."""
+    inputs = []
+    for t in message.transforms:
+        tr, rot = t.transform.translation, t.transform.rotation
+        stamp = stamp_ns(t.header.stamp.sec, t.header.stamp.nanosec)
+        inputs.append(
+            TfInput(
+                t.header.frame_id,
+                t.child_frame_id,
+                INVALID_STAMP if stamp is None else stamp,
+                Transform((tr.x, tr.y, tr.z), (rot.x, rot.y, rot.z, rot.w)),
+            )
+        )
+    return inputs
+
+
+#: The second query of the older generation's publication caches, after the first at start.
+CACHE_QUERY_AGAIN_S = 2.0
+
+
+def publication_cache_selector(wire: Wire, key: str) -> str:
+    """Where the older generation's publication caches of a subscription key answer."""
+    if wire.format is RosFormat.BRIDGE:
+        return f"{key}/@ros2_pub_cache/*"
+    return f"*/{key}"
+
+
+def query_publication_caches(
+    session: zenoh.Session,
+    selectors: Iterable[str],
+    on_sample: Callable[[zenoh.Sample], None],
+) -> None:
+    """Query publication caches as their generation's late joiners did: every replier
+    (target ALL), every reply (no consolidation: /tf_static has many publishers), on any
+    key (they answer on the sample's own). Quietly nothing once the session is closed."""
+
+    def on_reply(reply: zenoh.Reply) -> None:
+        if (sample := reply.ok) is not None:
+            on_sample(sample)
+
+    for selector in selectors:
+        try:
+            session.get(
+                selector,
+                on_reply,
+                target=zenoh.QueryTarget.ALL,
+                consolidation=zenoh.ConsolidationMode.NONE,
+                accept_replies=zenoh.ReplyKeyExpr.ANY,
+            )
+        except zenoh.ZError:
+            return
+
+
+class Ros2Subscriptions:
+    """The robot's topics on a zenoh session, but ``skip`` (a topic the caller reads
+    itself); each sample goes to ``hand_off`` as a RosSample (the service's intake).
+    Close it to undeclare everything."""
+
+    def __init__(
+        self,
+        session: zenoh.Session,
+        wire: Wire,
+        hand_off: Callable[[RosSample], None],
+        skip: tuple[str, str] | None = None,
+        max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES,
+    ) -> None:
+        def on_sample(sample: zenoh.Sample) -> None:
+            if sample.kind == zenoh.SampleKind.PUT:
+                hand_off(RosSample.of(sample, max_bytes))
+
+        self.keys: list[str] = []
+        self._entities: list[Any] = []
+        self._session = session
+        self._hand_off = hand_off
+        self._max_bytes = max_bytes
+        self._cached: list[str] = []  # publication cache selectors (older generation)
+        self._timer: threading.Timer | None = None
+        try:
+            for topic, typename, transient_local in TOPICS:
+                if (topic, typename) == skip:
+                    continue
+                key = wire.subscription(topic, typename, any_type=True)
+                self.keys.append(key)
+                if transient_local:
+                    history = zenoh.ext.HistoryConfig(detect_late_publishers=True)
+                    entity = zenoh.ext.declare_advanced_subscriber(
+                        session, key, on_sample, history=history
+                    )
+                    self._cached.append(publication_cache_selector(wire, key))
+                else:
+                    entity = session.declare_subscriber(key, on_sample)
+                self._entities.append(entity)
+            self.query_publication_caches()
+            self._timer = threading.Timer(CACHE_QUERY_AGAIN_S, self.query_publication_caches)
+            self._timer.daemon = True
+            self._timer.start()
+        except BaseException:
+            self.close()
+            raise
+
+    def query_publication_caches(self) -> None:
+        """Ask the older generation's publication caches for what they hold; replies go
+        to ``hand_off`` like samples (a reply also held by a newer cache is a duplicate
+        the topics' rules absorb: a static transform or a list said twice)."""
+        query_publication_caches(
+            self._session,
+            self._cached,
+            lambda sample: self._hand_off(RosSample.of(sample, self._max_bytes)),
+        )
+
+    def close(self) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+        for entity in self._entities:
+            entity.undeclare()
+        self._entities = []

@@ -1,0 +1,288 @@
+"""Our results on the robot's own topics (``--output ros2``), beside our JSON keys, so a
+ROS4HRI robot can replace hri_engagement with this service, unchanged.
+
+Topics (under ``--ros-namespace``; messages from the upstream ``.msg`` files in ``msg/``):
+
+    /humans/persons/<id>/engagement_status   hri_msgs/msg/EngagementLevel
+        as hri_engagement publishes it: at once on a change of level, and every
+        1/--ros-engagement-rate-hz s (10 Hz, its rate) while the person is tracked;
+        UNKNOWN once when the person is lost, then the publisher is undeclared.
+    /intents                                 hri_actions_msgs/msg/Intent (--ros-intents)
+        ENGAGE_WITH, data {"recipient": "<person id>"}, when a person becomes ENGAGED.
+    /humans/{bodies,faces,persons}/facing    hri_msgs/msg/IdsList
+        the ids facing the robot in the base frame, whenever that set changes.
+
+The pure part (``RosOutput``) turns the tracker's changes into messages; ``RosPublishers``
+(the publisher thread's) sends them in the robot's format: in rmw_zenoh's, every sample
+carries the attachment its subscriptions require, and the node and each publisher hold
+the liveliness tokens ``ros2 node list`` / ``ros2 topic list`` read.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any
+
+import zenoh
+
+from ..contract.schemas import FrameFacing
+from ..core.engagement import Level
+from ..core.tracker import Changes, EngagementUpdate
+from . import types as ros2_types
+from .wire import (
+    QOS_RELIABLE_VOLATILE,
+    Form,
+    FormLearner,
+    RosFormat,
+    Wire,
+    attachment,
+)
+
+ENGAGEMENT_LEVEL = "hri_msgs/msg/EngagementLevel"
+INTENT = "hri_actions_msgs/msg/Intent"
+#: Intent.msg: "0 is the lowest priority, 128 is the default priority, 255 is the highest".
+DEFAULT_PRIORITY = 128
+#: Our subject prefixes -> the ROS4HRI kind whose facing list they go to. Subjects from
+#: JSON input have no prefix: they are bodies.
+FACING_TOPICS = {
+    "body_": "/humans/bodies/facing",
+    "face_": "/humans/faces/facing",
+    "person_": "/humans/persons/facing",
+}
+PERSON = "person_"
+CDR = zenoh.Encoding("application/cdr")
+
+
+@dataclass(frozen=True, slots=True)
+class RosMessage:
+    """One message for the robot: a topic, its type, CDR bytes (None: undeclare the
+    topic's publisher, the person is gone)."""
+
+    topic: str
+    typename: str
+    payload: bytes | None
+
+
+def _stamp(stamp: tuple[int, int]) -> Any:
+    return ros2_types.message_type("builtin_interfaces/msg/Time")(sec=stamp[0], nanosec=stamp[1])
+
+
+def _header(frame_id: str, stamp: tuple[int, int]) -> Any:
+    return ros2_types.message_type("std_msgs/msg/Header")(stamp=_stamp(stamp), frame_id=frame_id)
+
+
+def engagement_status(update: EngagementUpdate) -> RosMessage:
+    person = update.body_id.removeprefix(PERSON)
+    message = ros2_types.message_type(ENGAGEMENT_LEVEL)(
+        header=_header(update.frame_id, update.stamp), level=int(update.level)
+    )
+    return RosMessage(
+        f"/humans/persons/{person}/engagement_status",
+        ENGAGEMENT_LEVEL,
+        ros2_types.serialize(message, ENGAGEMENT_LEVEL),
+    )
+
+
+def engage_intent(person: str) -> RosMessage:
+    """ENGAGE_WITH, filled as hri_engagement fills it (``intent`` and ``data``); the fields
+    it leaves empty take the upstream constants: the person is the source (REP 155: the
+    agent expressing the intent, by person id), the modality ``MODALITY_OTHER`` (seen, not
+    said or touched), and the message's documented default priority."""
+    intent = ros2_types.message_type(INTENT)
+    message = intent(
+        intent=intent.ENGAGE_WITH,
+        data=json.dumps({"recipient": person}),
+        source=person,
+        modality=intent.MODALITY_OTHER,
+        priority=DEFAULT_PRIORITY,
+        confidence=1.0,
+    )
+    return RosMessage("/intents", INTENT, ros2_types.serialize(message, INTENT))
+
+
+def facing_ids(frame: FrameFacing) -> dict[str, list[str]]:
+    """The ids facing the robot in one base frame, by ROS4HRI facing list (every list,
+    empty ones included)."""
+    ids: dict[str, list[str]] = {topic: [] for topic in FACING_TOPICS.values()}
+    for subject in frame.bodies_facing:
+        prefix = next((p for p in FACING_TOPICS if subject.startswith(p)), "")
+        ids[FACING_TOPICS.get(prefix, "/humans/bodies/facing")].append(subject[len(prefix) :])
+    return ids
+
+
+def facing_list(frame: FrameFacing, topic: str, ids: list[str]) -> RosMessage:
+    stamp = (frame.stamp.sec, frame.stamp.nanosec) if frame.stamp else (0, 0)
+    message = ros2_types.message_type(ros2_types.IDS_LIST)(
+        header=_header(frame.frame_id, stamp), ids=ids
+    )
+    return RosMessage(
+        topic, ros2_types.IDS_LIST, ros2_types.serialize(message, ros2_types.IDS_LIST)
+    )
+
+
+class RosOutput:
+    """Which messages the tracker's changes call for, and when the periodic
+    engagement_status is due (the caller's clock, seconds)."""
+
+    def __init__(self, rate_hz: float, intents: bool) -> None:
+        self.period_s = 1.0 / rate_hz
+        self.intents = intents
+        self.next_tick: float | None = None
+        self._said_facing: dict[tuple[str, str], list[str]] = {}  # (frame, topic) -> ids
+
+    def on_changes(self, changes: Changes) -> list[RosMessage]:
+        out: list[RosMessage] = []
+        for update in changes.engagement:
+            if not update.body_id.startswith(PERSON) or update.previous is None:
+                continue  # unchanged levels go out on the periodic tick
+            out.append(engagement_status(update))
+            if update.level is Level.UNKNOWN:  # lost: said once, then the topic goes
+                out.append(RosMessage(out[-1].topic, ENGAGEMENT_LEVEL, None))
+            elif update.level is Level.ENGAGED and self.intents:
+                out.append(engage_intent(update.body_id.removeprefix(PERSON)))
+        for frame in changes.frames:
+            out.extend(self._facing_changes(frame))
+        return out
+
+    def _facing_changes(self, frame: FrameFacing) -> list[RosMessage]:
+        """The facing lists whose ids changed: a frame's aggregate also changes when only
+        its stamp or its tracked bodies do, which is nothing to say on a facing list.
+        Each list is said once at first, empty included (nobody faces: said so)."""
+        out = []
+        for topic, ids in facing_ids(frame).items():
+            if self._said_facing.get((frame.frame_id, topic)) != ids:
+                self._said_facing[(frame.frame_id, topic)] = ids
+                out.append(facing_list(frame, topic, ids))
+        return out
+
+    def tick(
+        self, engagements: Callable[[], list[EngagementUpdate]], now: float
+    ) -> list[RosMessage]:
+        """Every period: each tracked person's current level, as hri_engagement does.
+        ``engagements`` is called only when the period is due: the worker calls ``tick``
+        every loop turn, and listing every body's level each time was wasted work."""
+        if self.next_tick is not None and now < self.next_tick:
+            return []
+        self.next_tick = now + self.period_s
+        return [engagement_status(e) for e in engagements() if e.body_id.startswith(PERSON)]
+
+
+class RosPublishers:
+    """The publisher thread's ROS 2 publishers, in the robot's format and form (``form``:
+    the worker learns it from the robot's samples; a publisher declared in another form is
+    declared again in the new one).
+
+    Congestion control is rmw_zenoh's for the QoS we advertise (reliable, keep last 10):
+    DROP, as its ``rmw_publisher_data.cpp`` chooses for every keep-last publisher, so a
+    subscriber that stops reading costs it samples, never the service a stall."""
+
+    def __init__(
+        self, session: zenoh.Session, wire: Wire, node_name: str, form: FormLearner
+    ) -> None:
+        self.session = session
+        self.wire = wire
+        self.node_name = node_name
+        self.form = form
+        self._publishers: dict[str, TopicWriter] = {}
+        self._next_entity_id = 1  # 0 is the node's
+        self._node_token = None
+        if wire.format is RosFormat.RMW_ZENOH:
+            self._node_token = session.liveliness().declare_token(self.node_token_key())
+
+    def _prefix(self, entity_id: int, kind: str) -> str:
+        ns = _mangle("/" + self.wire.namespace) if self.wire.namespace else "%"
+        return (
+            f"@ros2_lv/{self.wire.domain_id}/{self.session.zid()}/0/{entity_id}/{kind}/%/{ns}/"
+            f"{_mangle(self.node_name)}"
+        )
+
+    def node_token_key(self) -> str:
+        return self._prefix(0, "NN")
+
+    def publisher_token_key(
+        self, entity_id: int, topic: str, typename: str, wire: Wire | None = None
+    ) -> str:
+        wire = wire or self.wire
+        full_topic = f"/{wire.namespace}{topic}" if wire.namespace else topic
+        return (
+            f"{self._prefix(entity_id, 'MP')}/{_mangle(full_topic)}/"
+            f"{ros2_types.dds_type_name(typename)}/{wire.type_hash(typename)}/"
+            f"{QOS_RELIABLE_VOLATILE}"
+        )
+
+    def send(self, message: RosMessage) -> None:
+        form = self.form.current
+        publisher = self._publishers.get(message.topic)
+        if publisher is not None and (message.payload is None or publisher.form != form):
+            publisher.undeclare()  # the subject is gone, or the robot's form changed
+            del self._publishers[message.topic]
+            publisher = None
+        if message.payload is None:
+            return
+        if publisher is None:
+            publisher = self._declare(message, form)
+            self._publishers[message.topic] = publisher
+        publisher.put(message.payload)
+
+    def _declare(self, message: RosMessage, form: Form) -> TopicWriter:
+        wire = replace(self.wire, distro=form.distro)
+        token = None
+        if wire.format is RosFormat.RMW_ZENOH:
+            key = self.publisher_token_key(
+                self._next_entity_id, message.topic, message.typename, wire
+            )
+            token = self.session.liveliness().declare_token(key)
+        self._next_entity_id += 1
+        data_key = wire.key(message.topic, message.typename)
+        entity = self.session.declare_publisher(
+            data_key, encoding=CDR, congestion_control=zenoh.CongestionControl.DROP
+        )
+        # rmw_zenoh hashes the liveliness key into the GID (XXH3-128); a SHA-256 prefix
+        # of the data key and entity number is as unique, which is all a GID must be.
+        gid = hashlib.sha256(f"{data_key}#{self._next_entity_id}".encode()).digest()[:16]
+        return TopicWriter(entity, wire, gid, token, form)
+
+    def close(self) -> None:
+        for publisher in self._publishers.values():
+            publisher.undeclare()
+        self._publishers.clear()
+        if self._node_token is not None:
+            self._node_token.undeclare()
+            self._node_token = None
+
+
+def _mangle(name: str) -> str:
+    """rmw_zenoh's liveliness names: '/' becomes '%'."""
+    return name.replace("/", "%")
+
+
+class TopicWriter:
+    """Puts samples on one topic's declared publisher (plain or zenoh-ext advanced) as the
+    robot's format wants them: in rmw_zenoh's, each with its attachment in the robot's
+    layout, numbered from 1."""
+
+    def __init__(
+        self, entity: Any, wire: Wire, gid: bytes, token: Any = None, form: Form | None = None
+    ) -> None:
+        self._entity = entity
+        self._rmw = wire.format is RosFormat.RMW_ZENOH
+        self.gid = gid
+        self.form = form or Form(wire.distro)
+        self._token = token  # the publisher's liveliness token, if it holds one
+        self.sequence_number = 0
+
+    def put(self, payload: bytes) -> None:
+        self.sequence_number += 1
+        extra = None
+        if self._rmw:
+            extra = attachment(self.sequence_number, time.time_ns(), self.gid, self.form.attachment)
+        self._entity.put(payload, attachment=extra)
+
+    def undeclare(self) -> None:
+        self._entity.undeclare()
+        if self._token is not None:
+            self._token.undeclare()

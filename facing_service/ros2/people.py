@@ -1,0 +1,311 @@
+"""People of a ROS4HRI robot, from its TF tree and tracked lists, as the tracker's samples.
+
+Pure: messages in (as plain values), pose samples and losses out. The rules:
+
+- The tracked lists define who exists: ``/humans/bodies/tracked``, ``/humans/faces/tracked``
+  and ``/humans/persons/tracked``. An id that leaves its list is lost at once.
+- Each tracked id is one subject in our key space, named ``<kind>_<id>`` (``body_1f3a``,
+  ``face_959e0``, ``person_rorql``): the REP 155 frame name for bodies and faces, so the
+  same person's body and face never collide, and a person keyed by its person id.
+- A body's pose is its ``body_<id>`` frame, a face's its ``face_<id>`` frame (both x
+  forward, REP 155); a person's is its face's frame when ``/humans/persons/<id>/face_id``
+  names one, else its body's (``body_id``): engagement is about where the head points.
+- Each pose is tf2's lookup of that frame in the base frame at the latest common time,
+  redone whenever a transform on its chain (or the base frame's) changes; a pose is
+  emitted only when that time moves forward, so nothing already said is repeated.
+- First results are delayed, never lost: the lists and person links come through other
+  subscriptions than /tf and may be handled after /tf that came after them (as may a
+  /tf_static link), so when a subject's pose first becomes known, the poses its frame
+  already holds from the last ``FIRST_RESULTS_NS`` are said first, oldest first (at most
+  ``MAX_FIRST_RESULTS``), each looked up at its own stamp.
+- Bounded, whatever the robot sends: at most ``max_ids`` ids per list (the first kept,
+  the others refused as ``capacity``), at most ``max_ids`` person links of each kind
+  (those of untracked persons are kept for when they come, and the oldest forgotten
+  first), and the TF buffer's ``max_frames``.
+- Time going back (a recording replayed again, a robot's clock reset): ROS's TF listener
+  clears its buffer when its clock jumps back. Here the clock is the stamps: after
+  ``TIME_BACK_MESSAGES`` /tf messages in a row whose every transform is more than
+  ``TIME_BACK_NS`` older than its frame's newest, the dynamic transforms are cleared and
+  every subject is lost, then comes back with the new times. In a row: a stale or spoofed
+  message between fresh ones clears nothing.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+from ..contract import keys
+from ..contract.schemas import MAX_TRANSLATION_M, Pose
+from ..core.tf_buffer import DEFAULT_MAX_FRAMES, TfBuffer, TfError, Transform
+from ..core.tracker import PoseSample
+
+#: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
+KINDS = {
+    "/humans/bodies/tracked": ("body_", "body_"),
+    "/humans/faces/tracked": ("face_", "face_"),
+    "/humans/persons/tracked": ("person_", None),
+}
+PERSON_LINKS = {"face_id": "face_", "body_id": "body_"}
+S = 1_000_000_000
+#: The stamp of a transform whose own is outside builtin_interfaces/Time's range.
+INVALID_STAMP = -1
+
+#: When a subject's pose first becomes known: how far back its frame's poses are said too,
+#: and at most how many (a tracker's list handled 0.2-1 s after the /tf that came with it,
+#: under load, lost those results; 64 covers 2 s at 30 Hz).
+FIRST_RESULTS_NS = 2 * S
+MAX_FIRST_RESULTS = 64
+#: Ids per list and person links per kind, unless the caller says (``--max-bodies``).
+DEFAULT_MAX_IDS = 10_000
+
+#: How far back a transform's stamp must be, and for how many /tf messages in a row, for
+#: time to have gone back (a stream at 30 Hz says so within 0.1 s).
+TIME_BACK_NS = S // 2
+TIME_BACK_MESSAGES = 3
+#: Said with a /tf_static transform refused because its frame is dynamic: seen on the
+#: shared two-person recordings (a camera frame with a static and a dynamic parent, the
+#: /tf one first), harmless there, and alarming without a word.
+STATIC_INTO_DYNAMIC = (
+    " (a /tf_static transform of a frame first seen on /tf: tf2 keeps a frame static or "
+    "dynamic as its first transform was, so this one is refused; harmless when the /tf "
+    "parent is the one meant)"
+)
+
+
+def out_of_range(t: TfInput) -> str | None:
+    """Why a transform carries numbers our outputs cannot (checked before tf2's own rules):
+    a stamp outside builtin_interfaces/Time's range, or a translation beyond the JSON
+    contract's bound. With every link bounded, every composed lookup is finite."""
+    if t.stamp_ns == INVALID_STAMP:
+        return "invalid_stamp"
+    if any(math.isfinite(v) and abs(v) > MAX_TRANSLATION_M for v in t.transform.translation):
+        return "out_of_range"  # (non-finite values are tf2's own check: nan)
+    return None
+
+
+@dataclass(frozen=True, slots=True)
+class TfInput:
+    parent: str
+    child: str
+    stamp_ns: int
+    transform: Transform
+
+
+@dataclass
+class Update:
+    """What one input changed: poses for the tracker, subjects lost, inputs refused."""
+
+    poses: list[PoseSample] = field(default_factory=list)
+    lost: list[str] = field(default_factory=list)
+    refused: list[tuple[str, str]] = field(default_factory=list)  # (reason, what)
+    unresolved: int = 0  # lookups not possible yet (frame unknown, no common time...)
+    time_back_ns: int = 0  # time went back this far: the buffer was cleared
+
+
+class People:
+    """The robot's people, as seen in ``base_frame``."""
+
+    def __init__(
+        self,
+        base_frame: str,
+        *,
+        max_ids: int = DEFAULT_MAX_IDS,
+        max_frames: int = DEFAULT_MAX_FRAMES,
+    ) -> None:
+        self.base_frame = base_frame
+        self.max_ids = max_ids
+        self.tf = TfBuffer(max_frames=max_frames)
+        self._tracked: dict[str, set[str]] = {topic: set() for topic in KINDS}
+        self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}  # person -> id
+        self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
+        self._by_frame: dict[str, set[str]] | None = None  # frame -> subjects; None: stale
+        self._back_in_a_row = 0  # /tf messages whose every transform went back in time
+        self._base_chain: tuple[int, frozenset[str]] = (-1, frozenset())  # (tf.shape, chain)
+
+    # -- inputs --------------------------------------------------------------------------
+
+    def on_tf(self, transforms: Sequence[TfInput], *, static: bool) -> Update:
+        update = Update()
+        if not static and (back := self._time_back(transforms)):
+            update.time_back_ns = back
+            update.lost = [s for s in self.subjects() if s in self._last]
+            self.tf.clear()
+            self._last.clear()
+        changed: set[str] = set()
+        for t in transforms:
+            reason = out_of_range(t) or self.tf.set_transform(
+                t.parent, t.child, t.stamp_ns, t.transform, static=static
+            )
+            if reason is None:
+                changed.add(t.child)
+            else:
+                what = f"{keys.cut(t.parent)} -> {keys.cut(t.child)}"
+                if static and self.tf.newest(t.child) is not None:  # a dynamic frame
+                    what += STATIC_INTO_DYNAMIC
+                update.refused.append((f"tf_{reason}", what))
+        if changed:
+            self._resolve(self._concerned(changed), update)
+        return update
+
+    def _time_back(self, transforms: Sequence[TfInput]) -> int:
+        """How far back time went, once it has for TIME_BACK_MESSAGES messages in a row
+        (0: it has not)."""
+        back = []
+        for t in transforms:
+            newest = self.tf.newest(t.child)
+            if newest is None or t.stamp_ns >= newest - TIME_BACK_NS:
+                self._back_in_a_row = 0  # a fresh (or first) transform: time goes on
+                return 0
+            back.append(newest - t.stamp_ns)
+        if not back:
+            return 0
+        self._back_in_a_row += 1
+        if self._back_in_a_row < TIME_BACK_MESSAGES:
+            return 0
+        self._back_in_a_row = 0
+        return max(back)
+
+    def _concerned(self, changed: set[str]) -> list[str]:
+        """The subjects whose lookup a change of these frames can change: all of them when
+        the base frame's chain moved, else those whose frame is at or below a changed one
+        (an index, not a scan: a robot's /tf is mostly one body per message)."""
+        shape, chain = self._base_chain
+        if shape != self.tf.shape:  # walked again only when the tree's shape changed
+            chain = frozenset(self.tf.parent_chain(self.base_frame))
+            self._base_chain = (self.tf.shape, chain)
+        if not chain.isdisjoint(changed):
+            return self.subjects()
+        by_frame = self._subjects_by_frame()
+        frames = set().union(*(self.tf.descendants(frame) for frame in changed))
+        return sorted({s for frame in frames for s in by_frame.get(frame, ())})
+
+    def _subjects_by_frame(self) -> dict[str, set[str]]:
+        if self._by_frame is None:
+            self._by_frame = {}
+            for subject in self.subjects():
+                if (frame := self.frame_of(subject)) is not None:
+                    self._by_frame.setdefault(frame, set()).add(subject)
+        return self._by_frame
+
+    def on_tracked(self, topic: str, ids: Sequence[str]) -> Update:
+        update = Update()
+        prefix = KINDS[topic][0]
+        valid, current = set(), self._tracked[topic]
+        for ros_id in ids:
+            if not keys.is_name(prefix + ros_id):
+                update.refused.append(("invalid_id", f"{topic}: {keys.cut(ros_id)!r}"))
+            else:
+                valid.add(ros_id)
+        if len(valid) > self.max_ids:  # those tracked already first, then in list order
+            kept = [i for i in ids if i in current and i in valid]
+            kept += [i for i in ids if i not in current and i in valid]
+            update.refused.append(
+                ("capacity", f"{topic}: {len(valid)} ids, only the first {self.max_ids} kept")
+            )
+            valid = set(kept[: self.max_ids])
+        gone, new = current - valid, valid - current
+        self._tracked[topic] = valid
+        if gone or new:
+            self._by_frame = None
+        for ros_id in sorted(gone):
+            subject = prefix + ros_id
+            self._last.pop(subject, None)
+            update.lost.append(subject)
+        self._resolve([prefix + ros_id for ros_id in sorted(new)], update)
+        return update
+
+    def on_person_link(self, person_id: str, link: str, target: str) -> Update:
+        """``/humans/persons/<person_id>/<link>`` said ``target`` ("" for none)."""
+        update = Update()
+        links = self._links[PERSON_LINKS[link]]
+        if target and not keys.is_name(PERSON_LINKS[link] + target):
+            update.refused.append(("invalid_id", f"{person_id}/{link}: {keys.cut(target)!r}"))
+            return update
+        if links.get(person_id, "") == target:
+            return update
+        links.pop(person_id, None)  # (re)inserted last: the oldest are forgotten first
+        if target:
+            links[person_id] = target
+            self._forget_links(links, link, update)
+        self._by_frame = None
+        if person_id in self._tracked["/humans/persons/tracked"]:
+            self._resolve(["person_" + person_id], update)
+        return update
+
+    def _forget_links(self, links: dict[str, str], link: str, update: Update) -> None:
+        """Over ``max_ids`` links of a kind: forget the oldest of untracked persons."""
+        tracked = self._tracked["/humans/persons/tracked"]
+        while len(links) > self.max_ids:
+            oldest = next((p for p in links if p not in tracked), None)
+            if oldest is None:
+                return  # (cannot happen: at most max_ids persons are tracked)
+            del links[oldest]
+            update.refused.append(
+                ("capacity", f"{oldest}/{link}: forgotten, over {self.max_ids} person links")
+            )
+
+    # -- state -----------------------------------------------------------------------------
+
+    def subjects(self) -> list[str]:
+        """Every tracked subject, by our name."""
+        return [KINDS[topic][0] + i for topic, ids in self._tracked.items() for i in sorted(ids)]
+
+    def frame_of(self, subject: str) -> str | None:
+        """The TF frame a subject's pose is read from, or None when it has none (yet)."""
+        prefix, _, ros_id = subject.partition("_")
+        if prefix != "person":
+            return subject  # body_<id> and face_<id> are REP 155's frame names
+        for link_prefix in ("face_", "body_"):
+            if target := self._links[link_prefix].get(ros_id):
+                return link_prefix + target
+        return None
+
+    def _resolve(self, subjects: Iterable[str], update: Update) -> None:
+        for subject in subjects:
+            frame = self.frame_of(subject)
+            if frame is None or not self.tf.has_frame(frame):
+                continue
+            try:
+                transform, stamp = self.tf.lookup(self.base_frame, frame, 0)
+            except TfError:
+                update.unresolved += 1
+                continue
+            last = self._last.get(subject)
+            if last is not None and stamp <= last:
+                continue  # nothing newer than what was already said
+            if last is None:  # first known: what its frame already holds, said first
+                self._first_results(subject, frame, stamp, update)
+            self._last[subject] = stamp
+            update.poses.append(self._sample(subject, frame, transform, stamp))
+
+    def _first_results(self, subject: str, frame: str, upto: int, update: Update) -> None:
+        """The subject's poses before ``upto`` that its frame holds (see the module's rules);
+        a stamp that cannot be looked up (another link has no data then) is skipped."""
+        stamps = self.tf.stamps(frame, upto - FIRST_RESULTS_NS, upto - 1)
+        for stamp in stamps[-MAX_FIRST_RESULTS:]:
+            try:
+                transform, _ = self.tf.lookup(self.base_frame, frame, stamp)
+            except TfError:
+                continue
+            update.poses.append(self._sample(subject, frame, transform, stamp))
+
+    def _sample(self, subject: str, frame: str, transform: Transform, stamp: int) -> PoseSample:
+        profile = "head" if frame.startswith("face_") else "body"
+        return PoseSample(
+            keys.BodyRef(frame_id=self.base_frame, body_id=subject),
+            _pose(transform, stamp),
+            profile,
+        )
+
+
+def _pose(transform: Transform, stamp_ns: int) -> Pose:
+    """tf2 composes quaternions without renormalizing; the detector wants unit ones."""
+    x, y, z, w = transform.rotation
+    n = math.sqrt(x * x + y * y + z * z + w * w)
+    return Pose(
+        (stamp_ns // S, stamp_ns % S),
+        transform.translation,
+        (x / n, y / n, z / n, w / n),
+    )

@@ -1,0 +1,7 @@
+"""The zenoh shell: ``FacingService`` and the collaborators it hands each job to (the
+``intake`` and its ``inbox``, the ``outbox`` and its ``publisher``, the ``publications``
+it builds and the ``ledger`` of what was counted). It moves bytes; the core decides."""
+
+from .service import FacingService, run_until
+
+__all__ = ["FacingService", "run_until"]

@@ -1,0 +1,148 @@
+"""What the service says, as keyed payloads: pure functions from the tracker's changes and
+state to zenoh keys and JSON, in the order they must go out. No zenoh, no threads: the
+shell hands the results to the outbox or to a query, and these are tested on their own.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+from ..contract import keys
+from ..contract.schemas import EngagementEvent, EngagementState, FrameFacing, Stamp
+from ..core.engagement import Level
+from ..core.tracker import BodyState, Changes, EngagementUpdate
+from ..ros2.output import RosMessage
+from .outbox import Kind, Publication
+
+#: Selector parameters the queryable understands; zenoh reserves names starting with "_".
+QUERY_PARAMETERS = frozenset({"threshold_deg"})
+#: The output key spaces a query can reach the service through.
+QUERY_SPACES = ("facing", "frame", "engagement")
+
+
+def publications(changes: Changes, namespace: str, instance: str) -> list[Publication]:
+    """Everything one tracker call changed, in publishing order: per-body results; then
+    each engagement update (its state, then its event when the level changed); then the
+    lost bodies' DELETEs; then the frames' aggregates."""
+    result = Kind.RESULT
+    out = [
+        Publication(keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance), result)
+        for s in changes.results
+    ]
+    for update in changes.engagement:
+        if update.level is not Level.UNKNOWN:
+            out.append(
+                Publication(
+                    keys.engagement_key(namespace, update.body_id, update.frame_id),
+                    engagement_state(update, instance).model_dump_json().encode(),
+                    Kind.ENGAGEMENT,
+                )
+            )
+        if update.previous is not None:
+            out.append(
+                Publication(
+                    keys.event_key(namespace, update.frame_id),
+                    engagement_event(update, instance).model_dump_json().encode(),
+                    Kind.EVENT,
+                )
+            )
+    for body in changes.lost:
+        out.append(
+            Publication(keys.facing_key(namespace, body.body_id, body.frame_id), None, Kind.DELETE)
+        )
+        out.append(
+            Publication(
+                keys.engagement_key(namespace, body.body_id, body.frame_id), None, Kind.DELETE
+            )
+        )
+    out.extend(
+        Publication(
+            keys.frame_key(namespace, frame.frame_id), frame_json(frame, instance), Kind.FRAME
+        )
+        for frame in changes.frames
+    )
+    return out
+
+
+def ros_publications(messages: Iterable[RosMessage]) -> list[Publication]:
+    """Messages for the robot's own topics (``--output ros2``), as the outbox carries them."""
+    return [Publication(m.topic, m.payload, Kind.ROS, m.typename) for m in messages]
+
+
+def query_replies(
+    space: str,
+    namespace: str,
+    instance: str,
+    states: Iterable[BodyState],
+    frames: Iterable[FrameFacing],
+    engagements: Iterable[EngagementUpdate],
+) -> list[tuple[str, bytes]]:
+    """Every ``(key, payload)`` a query on ``space`` (one of ``QUERY_SPACES``) could be
+    answered with; the shell keeps those whose key the query's selector matches."""
+    if space == "facing":
+        return [
+            (keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance)) for s in states
+        ]
+    if space == "frame":
+        return [(keys.frame_key(namespace, f.frame_id), frame_json(f, instance)) for f in frames]
+    if space == "engagement":
+        return [
+            (
+                keys.engagement_key(namespace, e.body_id, e.frame_id),
+                engagement_state(e, instance).model_dump_json().encode(),
+            )
+            for e in engagements
+        ]
+    raise ValueError(f"unknown query space {space!r}; known: {', '.join(QUERY_SPACES)}")
+
+
+def threshold_parameter(parameters: Mapping[str, str]) -> float | None:
+    """The query's ``threshold_deg``, None when absent; ValueError when it is bad."""
+    unknown = sorted(
+        name for name in parameters if name not in QUERY_PARAMETERS and not name.startswith("_")
+    )
+    if unknown:
+        raise ValueError(
+            f"unknown parameter(s) {', '.join(unknown)}; known: "
+            f"{', '.join(sorted(QUERY_PARAMETERS))}"
+        )
+    raw = parameters.get("threshold_deg")
+    if raw is None:
+        return None
+    try:
+        value = float(raw)
+    except ValueError:
+        raise ValueError(f"threshold_deg must be a number, got {raw!r}") from None
+    if not (math.isfinite(value) and 0.0 < value < 180.0):
+        raise ValueError(f"threshold_deg must be in (0, 180), got {raw!r}")
+    return value
+
+
+def frame_json(frame: FrameFacing, instance: str) -> bytes:
+    return frame.model_copy(update={"instance": instance}).model_dump_json().encode()
+
+
+def _engagement_fields(update: EngagementUpdate, instance: str) -> dict[str, Any]:
+    """What a level's state and its change event both say."""
+    return {
+        "instance": instance,
+        "body_id": update.body_id,
+        "frame_id": update.frame_id,
+        "stamp": Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+        "level": update.level.name,
+        "level_value": int(update.level),
+        "score": update.score,
+        "zone": update.zone.value,
+    }
+
+
+def engagement_state(update: EngagementUpdate, instance: str) -> EngagementState:
+    since = Stamp(sec=update.since[0], nanosec=update.since[1])
+    return EngagementState(**_engagement_fields(update, instance), since=since)
+
+
+def engagement_event(update: EngagementUpdate, instance: str) -> EngagementEvent:
+    assert update.previous is not None
+    return EngagementEvent(**_engagement_fields(update, instance), previous=update.previous.name)

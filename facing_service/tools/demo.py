@@ -1,0 +1,68 @@
+"""``facing-service demo``: a whole deployment in one process, on loopback. An embedded
+service, a simulated scene published into it as a tracker would, and the live view of the
+results; nothing else needs to run."""
+
+from __future__ import annotations
+
+import threading
+from pathlib import Path
+
+import zenoh
+
+from ..client.client import FacingClient
+from ..client.sim import Scene, TrackerPublisher, simulate
+from ..client.watch import Watcher
+from ..config.settings import Settings
+from ..shell.service import FacingService
+from .loopback import endpoint, free_port, loopback_config
+
+
+def run_demo(
+    settings: Settings,
+    scene: Scene,
+    rate_hz: float,
+    duration_s: float | None,
+    stop: threading.Event,
+    svg: Path | None = None,
+) -> set[str]:
+    """Until ``stop`` (or ``duration_s``): the service in ``settings.base_frame``, the
+    scene at ``rate_hz``, the view. Returns who faced the robot meanwhile."""
+    here = endpoint(free_port())
+    # The embedded session is a router and the simulator and the view are its clients:
+    # a router does not forward between peers (it expects them to mesh), so as peers the
+    # view would get results but never the poses it draws people from.
+    embedded = settings.model_copy(
+        update={
+            "mode": "router",
+            "listen": [here],
+            "no_multicast_scouting": True,
+            "cfg": ["scouting/delay:0"],
+            "log_level": "WARNING",
+        }
+    )
+    frame = embedded.base_frame
+    peer = loopback_config(connect=[here], mode="client")
+    seen_facing: set[str] = set()
+    with (
+        FacingService(embedded),
+        zenoh.open(peer) as tracker,
+        FacingClient(embedded.namespace, frame, session_config=peer) as client,
+    ):
+        client.on_facing(lambda state: seen_facing.add(state.body_id))
+        watcher = Watcher(client, frame)
+        feeder = threading.Thread(
+            target=simulate,
+            args=(TrackerPublisher(tracker), scene, frame, embedded.namespace, rate_hz),
+            kwargs={"duration_s": duration_s, "should_stop": stop.is_set},
+            daemon=True,
+        )
+        feeder.start()
+        try:
+            watcher.live(lambda: feeder.is_alive() and not stop.is_set())
+            if svg is not None:
+                watcher.save_svg(svg)
+        finally:
+            stop.set()
+            feeder.join(timeout=2.0)
+            watcher.close()
+    return seen_facing

@@ -1,0 +1,131 @@
+"""The facing score, zones and the engagement state machine (pure, on a fake clock)."""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+
+from facing_service.config.settings import Settings
+from facing_service.core.engagement import (
+    Engagement,
+    Level,
+    VoteWindow,
+    Zone,
+    advance,
+    facing_score,
+    step,
+    zone,
+)
+
+P = Settings().engagement_params()  # the service's defaults
+
+
+@pytest.mark.parametrize(
+    ("angle", "distance", "score"),
+    [
+        (0.0, 1.0, 1.0),
+        (20.0, 2.5, 1.0),
+        (25.0, 1.0, 0.8),
+        (45.0, 1.0, 0.0),
+        (90.0, 1.0, 0.0),
+        (0.0, 3.5, 0.5),
+        (0.0, 4.5, 0.0),
+        (30.0, 3.0, 0.6 * 0.75),
+        (None, None, 0.0),
+    ],
+)
+def test_facing_score(angle, distance, score):
+    assert facing_score(angle, distance, P) == pytest.approx(score)
+
+
+@pytest.mark.parametrize(
+    ("distance", "expected"),
+    [
+        (0.3, Zone.INTIMATE),
+        (0.45, Zone.PERSONAL),
+        (1.0, Zone.PERSONAL),
+        (1.2, Zone.SOCIAL),
+        (3.59, Zone.SOCIAL),
+        (3.6, Zone.PUBLIC),
+        (None, Zone.INTIMATE),
+    ],
+)
+def test_zones(distance, expected):
+    assert zone(distance, P) is expected
+
+
+def run(scores, dt=1 / 30, start=0.0, state=None):
+    """Feed (score, or None for a dropped frame) every dt; the level changes with times."""
+    state = state or Engagement()
+    trace = []
+    t = start
+    for score in scores:
+        t += dt
+        previous = state.level
+        state = advance(state, t, P) if score is None else step(state, t, score, P)
+        if state.level is not previous:
+            trace.append((round(t, 3), state.level))
+    return state, trace
+
+
+def test_first_sample_makes_a_body_disengaged_then_it_engages_within_a_second():
+    _, trace = run([0.0] * 30 + [1.0] * 60)
+    levels = [level for _, level in trace]
+    assert levels == [Level.DISENGAGED, Level.ENGAGING, Level.ENGAGED]
+    engaged_at = next(t for t, level in trace if level is Level.ENGAGED)
+    assert 1.0 + 0.5 <= engaged_at <= 1.0 + 1.0  # the dwell, but within a second
+
+
+def test_turning_away_disengages_within_one_and_a_half_seconds():
+    state, _ = run([1.0] * 60)
+    assert state.level is Level.ENGAGED
+    state, trace = run([0.0] * 60, start=2.0, state=state)
+    assert [level for _, level in trace] == [Level.DISENGAGING, Level.DISENGAGED]
+    assert trace[-1][0] - 2.0 <= 1.5
+
+
+def test_a_brief_glance_never_becomes_engaged():
+    state, _ = run([0.0] * 30)
+    state, trace = run([1.0] * 18 + [0.0] * 60, start=1.0, state=state)  # 0.6 s glance
+    assert Level.ENGAGED not in [level for _, level in trace]
+    assert state.level is Level.DISENGAGED
+
+
+def test_looking_away_briefly_keeps_an_engaged_body_engaged():
+    state, _ = run([1.0] * 60)
+    state, trace = run([0.0] * 6 + [1.0] * 30, start=2.0, state=state)  # 0.2 s away
+    assert all(level is Level.ENGAGED for _, level in trace)
+
+
+def test_noise_around_facing_does_not_flicker():
+    rng = random.Random(1)
+    # squarely facing with 5 degrees of yaw noise at 1.5 m: the score barely moves
+    scores = [facing_score(abs(rng.gauss(0, 5)), 1.5, P) for _ in range(30 * 60)]
+    _, trace = run(scores)  # appears already facing: ENGAGING at once, then ENGAGED, then calm
+    assert [level for _, level in trace] == [Level.ENGAGING, Level.ENGAGED]
+
+
+def test_dropouts_hold_the_level_and_the_dwell_still_expires_between_samples():
+    state, _ = run([1.0] * 60)
+    state, trace = run([None] * 30, start=2.0, state=state)  # the tracker is silent 1 s
+    assert state.level is Level.ENGAGED and trace == []
+    state = step(state, 3.1, 0.0, P)  # one sample, looking away, after the gap:
+    assert state.score < P.disengage_below  # the gap weighs as its length (dt-aware)
+    assert state.level is Level.DISENGAGING
+    state = advance(state, 3.1 + P.disengage_dwell_s, P)  # no more samples: dwell expires
+    assert state.level is Level.DISENGAGED
+
+
+def test_promotion_needs_a_fresh_observation():
+    state, _ = run([1.0] * 12)  # ENGAGING, not yet ENGAGED
+    assert state.level is Level.ENGAGING
+    assert advance(state, state.last + 1.0, P).level is Level.ENGAGING  # silent: no promotion
+
+
+def test_reference_vote_window_is_slow_by_design():
+    window = VoteWindow()
+    levels = [window.vote(False) for _ in range(50)] + [window.vote(True) for _ in range(100)]
+    assert levels[48] is Level.UNKNOWN and levels[49] is Level.DISENGAGED  # half a window
+    first_engaged = levels.index(Level.ENGAGED)
+    assert first_engaged - 50 >= 40  # at 10 Hz: more than 4 s of facing to become ENGAGED

@@ -1,0 +1,240 @@
+"""End to end over real zenoh sessions on loopback: the service as a robot developer uses it."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+
+from facing_service.core.detector import classify
+
+from loopback import get, send, send_delete, wait_until_answered
+from poses import pose_dict, pose_json
+
+NS = "hri"
+FRAME_KEY = "hri/facing/cam"
+
+
+def body_key(body: str, frame: str = "cam") -> str:
+    return f"{NS}/bodies/{body}/facing/{frame}"
+
+
+def pose_key(body: str, frame: str = "cam") -> str:
+    return f"{NS}/bodies/{body}/pose/{frame}"
+
+
+@pytest.fixture
+def rig(net):
+    """A service on 'cam' plus a connected client recording everything under hri/."""
+
+    def make(**settings):
+        service, ep = net.service(**settings)
+        client = net.client(ep)
+        recorder = net.recorder(client, f"{NS}/**/facing/**")
+        wait_until_answered(client, FRAME_KEY)
+        return service, client, recorder
+
+    return make
+
+
+def nonzero(counts: dict[str, int]) -> dict[str, int]:
+    return {name: n for name, n in counts.items() if n}
+
+
+def is_put(key):
+    return lambda item: item.key == key and item.kind == "put"
+
+
+def test_pose_yields_the_exact_result_and_the_frame_aggregate(rig):
+    service, client, rec = rig()
+    looking = pose_dict("alice", "cam", x=1.5, y=-2.5, off_deg=12.0, sec=10, nanosec=500)
+    send(
+        client,
+        pose_key("alice"),
+        pose_json("alice", "cam", x=1.5, y=-2.5, off_deg=12.0, sec=10, nanosec=500),
+    )
+    send(client, pose_key("bob"), pose_json("bob", "cam", x=2.0, y=0.0, yaw_deg=0.0, sec=10))
+
+    (alice,) = rec.wait_for(is_put(body_key("alice")))
+    t = looking["transform"]
+    expected = classify(
+        np.array([[t["translation"][k] for k in "xyz"]]),
+        np.array([[t["rotation"][k] for k in "xyzw"]]),
+        20.0,
+    )
+    assert alice.value["facing"] is True
+    assert alice.value["angle_deg"] == pytest.approx(12.0)
+    assert alice.value["angle_deg"] == pytest.approx(float(expected.angle_deg[0]), abs=1e-12)
+    assert alice.value["distance_m"] == pytest.approx(math.hypot(1.5, 2.5))
+    r = alice.value["robot_in_body"]
+    np.testing.assert_allclose([r["x"], r["y"], r["z"]], expected.robot_in_body[0], atol=1e-12)
+    assert alice.value["stamp"] == {"sec": 10, "nanosec": 500}
+    assert (alice.value["body_id"], alice.value["frame_id"]) == ("alice", "cam")
+    assert alice.value["threshold_deg"] == 20.0
+
+    (bob,) = rec.wait_for(is_put(body_key("bob")))
+    assert bob.value["facing"] is False and bob.value["angle_deg"] == pytest.approx(180.0)
+
+    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == ["alice", "bob"])
+    last = rec.on(FRAME_KEY)[-1].value
+    assert last["bodies_facing"] == ["alice"] and last["stamp"] == {"sec": 10, "nanosec": 500}
+    wait_until_answered(client, FRAME_KEY)
+    assert service.status().counters["samples_accepted"] == 2
+
+
+def test_degenerate_pose_publishes_nulls(rig):
+    _, client, rec = rig()
+    send(client, pose_key("a"), pose_json("a", "cam", x=0.0, y=0.0, yaw_deg=0.0))
+    (item,) = rec.wait_for(is_put(body_key("a")))
+    assert item.value["angle_deg"] is None and item.value["distance_m"] is None
+    assert item.value["facing"] is False
+
+
+def test_input_delete_loses_the_body(rig):
+    _, client, rec = rig()
+    send(client, pose_key("a"), pose_json("a", "cam"))
+    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_facing"] == ["a"])
+    send_delete(client, pose_key("a"))
+    rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete")
+    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == [])
+    assert [r for r in get(client, f"{NS}/bodies/*/facing/cam")] == []
+
+
+def test_stale_body_is_deleted(rig):
+    service, client, rec = rig(stale_after_s=0.3)
+    send(client, pose_key("a"), pose_json("a", "cam"))
+    rec.wait_for(is_put(body_key("a")))
+    rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete", timeout=3)
+    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == [], timeout=3)
+    wait_until_answered(client, FRAME_KEY)  # the worker finished the batch that published
+    assert service.status().counters["deletes_published"] == 2  # its result and engagement
+
+
+def test_out_of_order_stamps_are_dropped_and_counted(rig):
+    service, client, rec = rig()
+    for sec, off in [(5, 0.0), (3, 90.0), (6, 5.0)]:
+        send(client, pose_key("a"), pose_json("a", "cam", sec=sec, off_deg=off))
+    results = rec.wait_for(is_put(body_key("a")), count=2)
+    assert [r.value["stamp"]["sec"] for r in results] == [5, 6]
+    assert all(r.value["facing"] for r in results)
+    wait_until_answered(client, FRAME_KEY)  # the worker has handled everything before
+    assert len(rec.on(body_key("a"))) == 2
+    assert nonzero(service.status().rejected) == {"out_of_order": 1}
+
+
+def test_hysteresis_keeps_a_facing_body_facing(rig):
+    _, client, rec = rig(threshold_deg=20.0, hysteresis_deg=5.0)
+    angles = [18.0, 23.0, 26.0, 23.0, 19.0]
+    for sec, off in enumerate(angles, start=1):
+        send(client, pose_key("a"), pose_json("a", "cam", sec=sec, off_deg=off))
+    results = rec.wait_for(is_put(body_key("a")), count=len(angles))
+    assert [r.value["facing"] for r in results] == [True, True, False, False, True]
+
+
+def test_queries_answer_current_state_and_what_if_thresholds(rig):
+    service, client, rec = rig()
+    send(client, pose_key("a"), pose_json("a", "cam", off_deg=10.0))
+    send(client, pose_key("b"), pose_json("b", "cam", x=3.0, y=1.0, off_deg=-30.0))
+    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == ["a", "b"])
+
+    replies = dict(get(client, f"{NS}/bodies/*/facing/cam"))
+    assert set(replies) == {body_key("a"), body_key("b")}
+    assert replies[body_key("a")]["facing"] and not replies[body_key("b")]["facing"]
+
+    (single,) = get(client, body_key("b"))
+    assert single[0] == body_key("b") and single[1]["angle_deg"] == pytest.approx(30.0)
+
+    (frame,) = get(client, f"{NS}/facing/**")
+    assert frame == (FRAME_KEY, rec.on(FRAME_KEY)[-1].value)
+
+    everything = dict(get(client, f"{NS}/**"))
+    status = f"{NS}/services/facing/{service.settings.instance}/status"
+    engagement = {f"{NS}/bodies/{b}/engagement/cam" for b in ("a", "b")}
+    assert set(everything) == {body_key("a"), body_key("b"), FRAME_KEY, status, *engagement}
+
+    what_if = dict(get(client, f"{NS}/bodies/*/facing/cam?threshold_deg=35"))
+    assert what_if[body_key("b")]["facing"] and what_if[body_key("b")]["threshold_deg"] == 35.0
+    (frame35,) = get(client, f"{FRAME_KEY}?threshold_deg=35")
+    assert frame35[1]["bodies_facing"] == ["a", "b"]
+    (frame5,) = get(client, f"{FRAME_KEY}?threshold_deg=5")
+    assert frame5[1]["bodies_facing"] == []
+
+    # the what-ifs left the service's state and decisions unchanged
+    assert dict(get(client, f"{NS}/bodies/*/facing/cam")) == replies
+    assert get(client, FRAME_KEY)[0][1]["bodies_facing"] == ["a"]
+    assert get(client, f"{NS}/facing/map") == []  # not served: no reply, not an error
+    assert service.status().counters["queries_refused"] == 0
+
+
+@pytest.mark.parametrize(
+    "parameters",
+    [
+        "threshold_deg=abc",
+        "threshold_deg=0",
+        "threshold_deg=180",
+        "threshold_deg=nan",
+        "threshold_deg=inf",
+        "threshold_deg=",
+        "treshold_deg=30",
+    ],
+)
+def test_bad_query_parameter_gets_an_error_reply(rig, parameters):
+    _, client, _ = rig()
+    replies = get(client, f"{FRAME_KEY}?{parameters}")
+    assert len(replies) == 1 and replies[0][0] == "error"
+    assert replies[0][1]["error"] == "bad_parameter" and replies[0][1]["detail"]
+
+
+def test_every_frame_mode_serves_frames_independently(net):
+    _, ep = net.service(base_frame="*")
+    client = net.client(ep)
+    rec = net.recorder(client, f"{NS}/**/facing/**")
+    # No frame is known yet, so nothing answers queries: re-send the first pose (same
+    # stamp, so each copy is accepted) until the service has seen it.
+    for _ in range(100):
+        send(client, pose_key("a", "map"), pose_json("a", "map", off_deg=50.0))
+        if rec.on(body_key("a", "map")):
+            break
+        time.sleep(0.1)
+    rec.wait_for(is_put(body_key("a", "map")))
+    send(client, pose_key("a", "cam"), pose_json("a", "cam"))
+    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_facing"] == ["a"])
+    frames = dict(get(client, f"{NS}/facing/*"))
+    assert frames["hri/facing/map"]["bodies_facing"] == []
+    assert frames["hri/facing/map"]["bodies_tracked"] == ["a"]
+    assert frames[FRAME_KEY]["bodies_facing"] == ["a"]
+    assert set(dict(get(client, f"{NS}/bodies/a/facing/*"))) == {
+        body_key("a", "map"),
+        body_key("a", "cam"),
+    }
+
+
+def test_bad_samples_are_counted_and_good_ones_all_processed(rig):
+    service, client, rec = rig()
+    bad = [
+        (pose_key("a"), b"{not json"),
+        (pose_key("a"), b'{"header": 1}'),
+        (pose_key("a"), pose_json("a", "cam").replace(b'"x": 2.0', b'"x": NaN')),
+        (pose_key("a"), pose_json("a", "map")),  # header.frame_id != key frame
+        (pose_key("a"), pose_json("b", "cam")),  # child_frame_id body_b on a's key
+        (pose_key("x" * 65), pose_json("x" * 65, "cam")),
+        (pose_key("a"), b" " * 70_000),
+    ]
+    for i in range(5):
+        for key, payload in bad:
+            send(client, key, payload)
+        send(client, pose_key("a"), pose_json("a", "cam", sec=i + 1))
+    results = rec.wait_for(is_put(body_key("a")), count=5)
+    assert [r.value["stamp"]["sec"] for r in results] == [1, 2, 3, 4, 5]
+    wait_until_answered(client, FRAME_KEY)
+    assert nonzero(service.status().rejected) == {
+        "malformed_json": 5,
+        "schema": 5,
+        "non_finite": 5,
+        "frame_mismatch": 5,
+        "child_frame_mismatch": 5,
+        "invalid_key": 5,
+        "payload_too_large": 5,
+    }

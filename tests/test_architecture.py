@@ -1,0 +1,95 @@
+"""The layers of docs/architecture.md, kept true: every import inside the package goes to a
+lower layer or stays in its own subpackage (no climb, no sideways step between peers)."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "facing_service"
+
+#: Bottom to top, as docs/architecture.md draws them; peers share a rank.
+LAYERS = {
+    "contract": 0,
+    "core": 1,
+    "ros2": 2,
+    "config": 3,
+    "shell": 4,
+    "client": 4,
+    "tools": 5,
+}
+TOP = 6  # cli, __main__, testing: the package's entry points, above every subpackage
+
+
+def layer_of(parts: tuple[str, ...]) -> tuple[int, str]:
+    """(rank, subpackage) of a module, given as its parts under facing_service/."""
+    if parts and parts[0] in LAYERS:
+        return LAYERS[parts[0]], parts[0]
+    return TOP, ""
+
+
+def targets(here: tuple[str, ...], source: str) -> list[tuple[tuple[str, ...], str]]:
+    """Every package-internal import of the module ``here``: (target parts, name)."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom):
+            module = (node.module or "").split(".") if node.module else []
+            if node.level:
+                base = list(here[: len(here) - node.level])
+            elif module[:1] == ["facing_service"]:
+                base, module = [], module[1:]
+            else:
+                continue
+            for alias in node.names:
+                found.append((tuple(base + module), alias.name))
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.startswith("facing_service."):
+                    found.append((tuple(alias.name.split(".")[1:]), ""))
+    return found
+
+
+def climbs(here: tuple[str, ...], source: str) -> list[str]:
+    """The imports of module ``here`` that go to its own layer (another package) or up."""
+    rank, package = layer_of(here)
+    wrong = []
+    for target, name in targets(here, source):
+        if not target:  # the package root: only its version, set before it imports anything
+            if name != "__version__":
+                wrong.append(f"facing_service.{name}")
+            continue
+        their_rank, theirs = layer_of(target)
+        if theirs == package:  # within one subpackage (or among the entry points)
+            continue
+        if their_rank >= rank:
+            wrong.append(".".join(target))
+    return wrong
+
+
+MODULES = sorted(p for p in PACKAGE.rglob("*.py") if p.parent != PACKAGE or p.stem != "__init__")
+
+
+def test_every_subpackage_has_a_layer():
+    assert {p.parent.name for p in PACKAGE.glob("*/__init__.py")} == set(LAYERS)
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_imports_only_go_down(path: Path):
+    here = path.relative_to(PACKAGE).with_suffix("").parts
+    assert climbs(here, path.read_text()) == []
+
+
+@pytest.mark.parametrize(
+    ("here", "source", "wrong"),
+    [
+        (("core", "tracker"), "from ..shell.service import FacingService", ["shell.service"]),
+        (("client", "watch"), "from ..shell import outbox", ["shell"]),  # peers: sideways
+        (("contract", "keys"), "from facing_service.core import tracker", ["core"]),
+        (("ros2", "people"), "from .. import cli", ["facing_service.cli"]),
+        (("shell", "service"), "from ..core.tracker import Tracker\nfrom .outbox import O", []),
+    ],
+)
+def test_the_rule_catches_a_climb(here, source, wrong):
+    assert climbs(here, source) == wrong

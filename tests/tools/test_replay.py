@@ -1,0 +1,74 @@
+"""facing-service replay: a real recording, played by the CLI onto zenoh, read by the
+service as it would read the robot."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+from oracles import BAGS
+
+from facing_service.testing import LOOPBACK_FLAGS, running_cli
+
+from loopback import endpoint
+
+RECORDING = BAGS / "1p_AA_eng_1"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["/no/such/bag"], "BAG '/no/such/bag': no such file or folder"),
+        ([str(RECORDING), "--rate", "0"], "argument --rate: must be a number > 0, got 0"),
+        ([str(RECORDING), "--rate", "nan"], "argument --rate: must be a number > 0, got nan"),
+        ([str(RECORDING), "--ros-domain-id", "-1"], "--ros-domain-id=-1: "),
+    ],
+)
+def test_bad_arguments_exit_2_with_one_line(args, message):
+    proc = subprocess.run(
+        [sys.executable, "-m", "facing_service", "replay", *args],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
+    assert proc.returncode == 2 and message in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.slow
+def test_replay_feeds_the_service_like_the_robot_did(net):
+    """Bridge format this time (the evaluation runs rmw_zenoh's): the recording's person
+    becomes ENGAGED, and nothing the robot sent is refused."""
+    router = net.router()
+    ep = endpoint(router.port)
+    service = net.robot_service(ep, ros_format="bridge", base_frame="camera_link")
+    consumer = net.client(ep, mode="client")
+    events = net.recorder(consumer, "hri/events/engagement/camera_link")
+    flags = ("--rate", "8", "--ros-format", "bridge", "-m", "client", "-e", ep, *LOOPBACK_FLAGS)
+    with running_cli("replay", str(RECORDING), *flags) as proc:
+        assert proc.wait(timeout=60) == 0
+        output = proc.stdout.read()
+    assert "replaying" in output and "sent 918 messages on 8 topics" in output
+    events.wait_for(
+        lambda i: i.value["body_id"] == "person_rorql" and i.value["level"] == "ENGAGED"
+    )
+    assert sum(service.status().rejected.values()) == 0
+
+
+@pytest.mark.slow
+def test_recording_nothing_says_why(net, tmp_path):
+    """--record against a service without --output ros2: not 'recorded 0 messages' and
+    exit 0, but why, and a failure."""
+    router = net.router()
+    ep = endpoint(router.port)
+    net.robot_service(ep, base_frame="camera_link")  # JSON output only
+    out = tmp_path / "run.mcap"
+    flags = ("--rate", "8", "--record", str(out), "-m", "client", "-e", ep, *LOOPBACK_FLAGS)
+    with running_cli("replay", str(RECORDING), *flags) as proc:
+        code = proc.wait(timeout=60)
+        output = proc.stdout.read()
+    assert code == 1, output
+    assert "recorded nothing: no service answered on the robot's topics" in output
+    assert "--output ros2" in output
+    assert (tmp_path / "run" / "run.mcap").is_file()  # the bag is the folder run/

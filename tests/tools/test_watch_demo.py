@@ -1,0 +1,179 @@
+"""The watch view, the one-command demo, and the examples, as their users run them."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from rich.console import Console
+
+from facing_service.client.watch import PersonView, arrow, render
+from facing_service.testing import LOOPBACK_FLAGS, running_cli
+
+from loopback import endpoint, free_port, send, wait_until_answered
+from poses import pose_json
+
+pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
+
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def text_of(renderable) -> str:
+    console = Console(width=120, record=True, color_system=None)
+    console.print(renderable)
+    return console.export_text()
+
+
+def test_render_draws_people_where_they_stand_and_tabulates_them():
+    people = [
+        PersonView("alice", 2.0, 0.0, 180.0, True, 4.0, 2.0, 3.5),  # ahead, facing the robot
+        PersonView("bob", 0.0, 2.0, 90.0, False, 180.0, 2.0, 1.0),  # on the left, turned away
+        PersonView("carol", -1.0, -1.0, 0.0, None, None, None, None),  # no result yet
+    ]
+    text = text_of(render(people, "base_link"))
+    lines = text.splitlines()
+    robot_row = next(i for i, line in enumerate(lines) if "R" in line and "│" in line)
+    robot_col = lines[robot_row].index("R")
+    # alice: 2 m ahead (up), on the robot's column, labelled because she faces it
+    alice_row = next(i for i, line in enumerate(lines) if "↓alice" in line)
+    assert alice_row < robot_row and lines[alice_row].index("↓") == robot_col
+    # bob: 2 m to the left, on the robot's row, heading +y (left), not labelled
+    assert "←" in lines[robot_row][:robot_col]
+    assert "1 of 3 facing the robot" in text
+    assert re.search(r"alice\s*│\s*yes\s*│\s*4\.0\s*│\s*2\.00\s*│\s*3\.5", text)
+    assert re.search(r"bob\s*│\s*no\s*│\s*180\.0", text)
+    assert re.search(r"carol\s*│\s*\?\s*│\s*-", text)
+
+
+def test_arrows_follow_the_heading():
+    assert [arrow(a) for a in (0, 45, 90, 135, 180, -135, -90, -45, 359)] == list("↑↖←↙↓↘→↗↑")
+
+
+def test_watch_once_shows_a_known_scene(net):
+    port = free_port()
+    net.service(listen=[endpoint(port)], base_frame="base_link")
+    tracker = net.client(endpoint(port))
+    wait_until_answered(tracker, "hri/facing/base_link")
+    flags = ("--once", "--wait-s", "2", "-e", endpoint(port), *LOOPBACK_FLAGS)
+    with running_cli("watch", *flags) as watcher:
+        time.sleep(0.8)  # the view needs poses, seen only once it has subscribed
+        for sec in (1, 2):
+            ann = pose_json("ann", "base_link", x=2.0, y=1.0, off_deg=5.0, sec=sec)
+            ben = pose_json("ben", "base_link", x=-1.5, y=0.5, yaw_deg=90.0, sec=sec)
+            send(tracker, "hri/bodies/ann/pose/base_link", ann)
+            send(tracker, "hri/bodies/ben/pose/base_link", ben)
+        out, _ = watcher.communicate(timeout=30)
+    assert watcher.returncode == 0, out
+    assert "1 of 2 facing the robot" in out
+    assert re.search(r"ann\s*│\s*yes\s*│\s*5\.0\s*│\s*2\.24", out), out
+    assert re.search(r"ben\s*│\s*no", out), out
+
+
+def test_demo_runs_alone_and_shows_someone_facing_the_robot():
+    proc = subprocess.run(
+        [sys.executable, "-m", "facing_service", "demo", "--duration-s", "3"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    # the view was drawn, with the simulated people in it (poses reach the view too)
+    assert re.search(r"\d+ of [1-9]\d* facing the robot \(R\)", proc.stdout), proc.stdout
+    assert re.search(r"p\d+\s*│\s*(yes|no)\s*│", proc.stdout), proc.stdout
+    match = re.search(r"faced the robot during the demo: (.+)", proc.stdout)
+    assert match and match.group(1) != "nobody", proc.stdout[-2000:]
+
+
+def run_example(name: str, port: int, seconds: float) -> subprocess.Popen:
+    return subprocess.Popen(
+        [
+            sys.executable,
+            str(ROOT / "examples" / name),
+            "-e",
+            endpoint(port),
+            "--duration-s",
+            str(seconds),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
+
+
+def test_examples_against_a_simulated_scene(net):
+    port = free_port()
+    net.service(listen=[endpoint(port)], base_frame="base_link", stale_after_s=1.0)
+    printer = run_example("facing_printer.py", port, 6)
+    greeter = run_example("greeter.py", port, 6)
+    try:
+        time.sleep(1.0)  # let both clients connect before people appear
+        with running_cli(
+            "simulate",
+            "-e",
+            endpoint(port),
+            *LOOPBACK_FLAGS,
+            "--people",
+            "5",
+            "--seed",
+            "0",
+            "--duration-s",
+            "4",
+        ) as sim:
+            sim.wait(timeout=30)
+        printed, _ = printer.communicate(timeout=30)
+        greeted, _ = greeter.communicate(timeout=30)
+    finally:
+        for proc in (printer, greeter):
+            if proc.poll() is None:
+                proc.kill()
+    lines = [line for line in printed.splitlines() if line.startswith("facing the robot:")]
+    assert 5 <= len(lines) <= 7  # once a second
+    assert any(re.fullmatch(r"facing the robot: (p\d+ ?)+", line) for line in lines), printed
+    hellos = re.findall(r"hello (p\d+)! \(at \d+\.\d m\)", greeted)
+    assert hellos, greeted
+    assert len(hellos) == len(set(hellos)), "greeted someone twice without a goodbye"
+    goodbyes = re.findall(r"goodbye (p\d+)", greeted)
+    assert set(goodbyes) <= set(hellos)  # goodbye only to people greeted
+    assert goodbyes, "stale_after_s=1: everyone is lost after the scene ends"
+
+
+def test_watch_lists_what_the_service_says_on_ros2_input(net):
+    """On ROS 2 input there are no JSON poses to draw: the rows are the service's results
+    and levels all the same (the docs' replay recipe showed "0 of 0" before)."""
+    from facing_service.client.client import FacingClient
+    from facing_service.client.watch import Watcher
+    from facing_service.tools.loopback import loopback_config
+
+    import rmw_zenoh
+    from ros_messages import S, ids_list, tf_message, transform, yaw_q
+
+    router = net.router()
+    ep = endpoint(router.port)
+    net.robot_service(ep, base_frame="base_link")
+    robot = rmw_zenoh.Robot(net.client(ep, mode="client"), rmw_zenoh.JAZZY_0_2_10)
+    config = loopback_config(connect=[ep], mode="client")
+    try:
+        with FacingClient("hri", "base_link", session_config=config) as client:
+            watcher = Watcher(client, "base_link")
+            try:
+                for i in range(45):
+                    robot.publish("/humans/bodies/tracked", "hri_msgs/msg/IdsList", ids_list(["a"]))
+                    body = transform(
+                        "base_link", "body_a", S + i * S // 30, (2.0, 0, 0), yaw_q(180)
+                    )
+                    robot.publish("/tf", "tf2_msgs/msg/TFMessage", tf_message(body))
+                    time.sleep(1 / 30)
+                time.sleep(0.3)
+                text = text_of(watcher.view())
+            finally:
+                watcher.close()
+    finally:
+        robot.close()
+    assert "1 of 1 facing the robot" in text and "1 not drawn" in text
+    # held: 44 frames of pose time (1.47 s) at least, since the view did not see it begin
+    assert re.search(r"body_a\s*│\s*yes\s*│\s*0\.0\s*│\s*2\.00\s*│\s*≥1\.5", text), text
