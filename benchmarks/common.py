@@ -12,7 +12,8 @@ from pathlib import Path
 import zenoh
 
 from facing_service.contract import keys
-from facing_service.contract.schemas import ServiceStatus, pose_dict, yaw_rotation
+from facing_service.contract.poses import pose_dict, yaw_rotation
+from facing_service.contract.schemas import ServiceStatus
 from facing_service.ros2 import types as ros2_types
 from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
 

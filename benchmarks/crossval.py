@@ -39,9 +39,9 @@ from typing import Any
 
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
-from facing_service.contract.schemas import Rejected
+from facing_service.contract.poses import Rejected
 from facing_service.core.engagement import Level
-from facing_service.core.tracker import Changes, PoseSample
+from facing_service.core.records import Changes, PoseSample
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import RosSample, route
 from facing_service.ros2.people import People

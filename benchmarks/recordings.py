@@ -38,7 +38,7 @@ import zenoh
 from facing_service.config.settings import Settings
 from facing_service.contract import keys
 from facing_service.core.engagement import Level, VoteWindow, visual_social_engagement
-from facing_service.core.tf_buffer import TfError
+from facing_service.core.tf_errors import TfError
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import tf_inputs
 from facing_service.ros2.people import People

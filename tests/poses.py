@@ -6,12 +6,12 @@ import json
 import math
 from typing import Any
 
-from facing_service.contract import schemas
+from facing_service.contract import poses as contract_poses
 
 from loopback import send
 
 #: The unit quaternion of a turn about z (the library's, named as the tests use it).
-yaw_quaternion = schemas.yaw_rotation
+yaw_quaternion = contract_poses.yaw_rotation
 
 
 def toward_origin_deg(x: float, y: float) -> float:
@@ -33,7 +33,9 @@ def pose_dict(
 ) -> dict[str, Any]:
     """A TransformStamped dict; by default the body looks at the robot, turned by off_deg."""
     yaw = (toward_origin_deg(x, y) if yaw_deg is None else yaw_deg) + off_deg
-    return schemas.pose_dict(body_id, frame_id, (sec, nanosec), (x, y, z), yaw_quaternion(yaw))
+    return contract_poses.pose_dict(
+        body_id, frame_id, (sec, nanosec), (x, y, z), yaw_quaternion(yaw)
+    )
 
 
 def pose_json(body_id: str, frame_id: str, **kwargs: Any) -> bytes:

@@ -165,7 +165,7 @@ def test_simulate_says_what_it_publishes(net):
 
 def test_run_warns_while_its_endpoints_stay_unreachable(monkeypatch, caplog):
     from facing_service.config.settings import Settings
-    from facing_service.shell import service as shell
+    from facing_service.shell import run as shell
     from facing_service.shell.service import FacingService
 
     monkeypatch.setattr(shell, "UNREACHABLE_WARNING_S", 0.2)
@@ -211,7 +211,7 @@ def test_a_bad_flag_is_said_by_its_command_with_its_usage(capsys):
 
 
 def test_every_command_describes_itself():
-    from facing_service.cli import build_parser
+    from facing_service.arguments import build_parser
 
     for name, command in build_parser().commands.items():
         assert command.description, f"{name} has no description for --help"
@@ -272,7 +272,7 @@ def test_help_log_and_status_say_the_same(net, tmp_path, caplog):
     router offers no --mode; --log-level's help lists every level it accepts."""
     import logging
 
-    from facing_service.cli import build_parser
+    from facing_service.arguments import build_parser
 
     port = free_port()
     conf = tmp_path / "service.json5"
@@ -296,7 +296,7 @@ def test_a_client_waiting_for_its_router_says_so(monkeypatch, caplog):
     """compose.yaml's client waits for its router inside zenoh.open (connect/timeout_ms
     -1), where zenoh says nothing: run warns every period all the same."""
     from facing_service.config.settings import Settings
-    from facing_service.shell import service as shell
+    from facing_service.shell import run as shell
 
     monkeypatch.setattr(shell, "UNREACHABLE_WARNING_S", 0.2)
     nobody = endpoint(free_port())

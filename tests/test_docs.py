@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from facing_service.contract.schemas import Rejection
+from facing_service.contract.poses import Rejection
 from facing_service.shell.ledger import COUNTERS
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -58,13 +58,13 @@ def test_the_status_example_shows_every_counter():
 def test_the_configuration_table_is_the_settings():
     """docs/configuration.md's table is generated from the Settings fields' descriptions,
     like the CLI's help: change a setting, and this says what the page must become."""
-    from facing_service.config.settings import settings_table
+    from facing_service.config.sources import settings_table
 
     page = (DOCS / "configuration.md").read_text()
     table = re.search(r"<!-- settings: .*?-->\n(.*?)\n<!-- end of settings -->", page, re.S)
     assert table is not None
     assert table[1] == settings_table(), (
-        "regenerate: python -c 'from facing_service.config.settings import settings_table; "
+        "regenerate: python -c 'from facing_service.config.sources import settings_table; "
         "print(settings_table())'"
     )
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from facing_service.cli import build_parser
+from facing_service.arguments import build_parser
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = [

@@ -25,7 +25,8 @@ from typing import Any
 
 import zenoh
 
-from ..config.settings import Settings, zenoh_config
+from ..config.session import zenoh_config
+from ..config.settings import Settings
 from ..contract import keys
 from ..contract.schemas import EngagementEvent, FacingState, QueryError
 from ..core.engagement import Level

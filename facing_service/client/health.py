@@ -17,7 +17,10 @@ from typing import Any
 import zenoh
 
 from ..config.disclosure import zenoh_failure
-from ..config.settings import Settings, SettingsError, env_name, load_settings, probe_config
+from ..config.errors import SettingsError
+from ..config.session import probe_config
+from ..config.settings import Settings
+from ..config.sources import env_name, load_settings
 from ..contract import keys
 from ..contract.schemas import ServiceStatus
 

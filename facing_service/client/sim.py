@@ -20,7 +20,7 @@ from enum import Enum
 import zenoh
 
 from ..contract import keys
-from ..contract.schemas import pose_dict, yaw_rotation
+from ..contract.poses import pose_dict, yaw_rotation
 
 #: The area people move in around the robot (metres, base frame; the robot at the origin).
 AREA_M = 4.0

@@ -8,31 +8,24 @@ then each ``--cfg KEY:VALUE``.
 
 from __future__ import annotations
 
-import json
 import os
 import re
 import socket
-from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
 from typing import Any, Literal
 
-import zenoh
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from ..contract import keys
-from ..contract.schemas import DEFAULT_MAX_PAYLOAD_BYTES
+from ..contract.poses import DEFAULT_MAX_PAYLOAD_BYTES
 from ..core.engagement import EngagementParams
+from ..core.records import Profile
 from ..core.tf_buffer import DEFAULT_MAX_FRAMES
-from ..core.tracker import Profile
 from ..ros2.input import DEFAULT_MAX_MESSAGE_BYTES
 from ..ros2.wire import Distro, RosFormat, Wire
-from .disclosure import public_cfg_entry, public_endpoint, public_value
-
-ENV_PREFIX = "FACING_"
-#: In environment variables, list settings are comma-separated, except ``FACING_CFG``
-#: whose JSON5 values may hold commas: its entries are separated by ``;``.
-_LIST_SEPARATORS = {"connect": ",", "listen": ",", "cfg": ";", "zones_m": ","}
+from .disclosure import public_endpoint
+from .session import endpoint_problem
 
 LogLevel = Literal["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"]
 
@@ -397,231 +390,3 @@ class Settings(BaseModel):
             if not (sep and key):  # the entry itself is not quoted: it may be a secret
                 raise ValueError(f"entry {position} is not KEY:VALUE")
         return value
-
-
-#: zenoh's link protocols; those of them that take ``host:port``.
-_PROTOCOLS = {"tcp", "udp", "tls", "quic", "ws", "unixsock-stream", "unixpipe", "serial", "vsock"}
-_HOST_PORT = {"tcp", "udp", "tls", "quic", "ws"}
-
-
-def endpoint_problem(endpoint: str, *, listen: bool = False) -> str | None:
-    """Why zenoh could never use ``endpoint`` (zenoh itself only finds out when it tries,
-    and a peer then retries forever in silence), or None."""
-    locator = endpoint.split("#", 1)[0].split("?", 1)[0]
-    protocol, sep, address = locator.partition("/")
-    if not sep or protocol not in _PROTOCOLS:
-        return f"not <protocol>/<address>, protocol one of {', '.join(sorted(_PROTOCOLS))}"
-    if protocol not in _HOST_PORT:
-        return None if address else "no address"
-    host, colon, port = address.rpartition(":")
-    if not colon or not host or not port.isdigit():
-        return "not <protocol>/<host>:<port>"
-    if not (0 if listen else 1) <= int(port) <= 65535:
-        return f"port {port} out of range"
-    if host.startswith("[") != host.endswith("]"):
-        return "an IPv6 address goes in [brackets]"
-    return None
-
-
-class SettingsError(ValueError):
-    """A bad setting, as one line that names the flag or variable it came from and never
-    quotes a secret (see ``disclosure``)."""
-
-
-def env_name(field: str) -> str:
-    return ENV_PREFIX + field.upper()
-
-
-def flag_name(field: str) -> str:
-    return "--" + field.replace("_", "-")
-
-
-def flag_info(field: str) -> dict[str, Any]:
-    """What ``Settings`` says about a field's flag: group, short, metavar, shown."""
-    extra = Settings.model_fields[field].json_schema_extra
-    assert isinstance(extra, dict), f"{field} has no flag metadata"
-    return extra
-
-
-def shown_default(field: str) -> str:
-    """A field's default as the docs and ``--help`` say it."""
-    info = Settings.model_fields[field]
-    if (shown := flag_info(field)["shown"]) is not None:
-        return str(shown)
-    value = info.default
-    if value is None or value == [] or value == "":
-        return "none"
-    if value is False:
-        return "off"
-    if isinstance(value, list):
-        return ",".join(f"{v:g}" if isinstance(v, float) else str(v) for v in value)
-    return f"{value:g}" if isinstance(value, float) else str(value)
-
-
-def env_help(field: str, code: str = "") -> str:
-    """A field's environment variable (in ``code`` quotes), with its list separator when
-    it has one."""
-    separator = _LIST_SEPARATORS.get(field)
-    name = f"{code}{env_name(field)}{code}"
-    if separator is None:
-        return name
-    return f"{name} ({'comma' if separator == ',' else repr(separator)}-separated)"
-
-
-def settings_table() -> str:
-    """docs/configuration.md's table of every setting (a test keeps the page equal)."""
-    rows = [
-        "| flag | environment | default | meaning |",
-        "| --- | --- | --- | --- |",
-    ]
-    for field, info in Settings.model_fields.items():
-        flags = ", ".join(f"`{f}`" for f in (flag_info(field)["short"], flag_name(field)) if f)
-        shown = shown_default(field)
-        if flag_info(field)["shown"] is None and shown not in ("none", "off"):
-            shown = f"`{shown}`"
-        rows.append(
-            f"| {flags} | {env_help(field, '`')} | {'—' if shown == 'none' else shown} "
-            f"| {info.description} |"
-        )
-    return "\n".join(rows)
-
-
-def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Settings:
-    """Merge flags (None or absent = not given) over ``FACING_*`` variables over defaults.
-
-    Raises SettingsError naming the flag or variable each bad value came from.
-    """
-    values: dict[str, Any] = {}
-    sources: dict[str, str] = {}
-    for name in Settings.model_fields:
-        flag = flags.get(name)
-        if flag is not None and flag != [] and flag is not False:
-            values[name], sources[name] = flag, flag_name(name)
-        elif (raw := environ.get(env_name(name))) is not None and raw != "":
-            separator = _LIST_SEPARATORS.get(name)
-            values[name] = (
-                [part.strip() for part in raw.split(separator) if part.strip()]
-                if separator
-                else raw
-            )
-            sources[name] = env_name(name)
-    try:
-        return Settings(**values)
-    except ValidationError as error:
-        raise SettingsError(_describe(error, values, sources)) from None
-
-
-def _describe(error: ValidationError, values: Mapping[str, Any], sources: Mapping[str, str]) -> str:
-    """One line per problem: where the value came from, the value if it may be shown, why."""
-    problems = []
-    for detail in error.errors(include_url=False, include_input=False):
-        field = str(detail["loc"][0]) if detail["loc"] else ""
-        reason = detail["msg"].removeprefix("Value error, ")
-        if field in values:
-            shown = public_value(field, values[field])
-            problems.append(f"{sources[field]}={shown}: {reason}")
-        elif field:
-            problems.append(f"{flag_name(field)}: {reason}")
-        else:
-            problems.append(reason)
-    return "; ".join(problems)
-
-
-def _loopback(endpoint: str) -> str:
-    """The address a process on the same host reaches a wildcard listener at."""
-    return endpoint.replace("/0.0.0.0:", "/127.0.0.1:").replace("/[::]:", "/[::1]:")
-
-
-def probe_config(settings: Settings) -> zenoh.Config:
-    """Zenoh config of a short-lived helper session (``health``) beside a running service,
-    configured from the same flags and ``FACING_*`` variables as the service.
-
-    It must not take the service's ports, so it listens nowhere (even if the config file
-    says otherwise); when the service is only configured to listen, the helper connects to
-    those endpoints on loopback.
-    """
-    connect = settings.connect or [_loopback(e) for e in settings.listen]
-    # A router's mode would make the helper listen; otherwise the configured mode holds
-    # (the config file's, when no flag gives one: a client stays a client).
-    mode = "client" if connect else (None if settings.mode == "router" else settings.mode)
-    helper = settings.model_copy(update={"listen": [], "connect": connect, "mode": mode})
-    conf = zenoh_config(helper)
-    conf.insert_json5("listen/endpoints", "[]")
-    return conf
-
-
-def effective_session(settings: Settings, conf: zenoh.Config) -> dict[str, Any]:
-    """The session settings in force, whether a flag or the config file said them (the
-    status shows these, not the flags' None and False defaults)."""
-    scouting = json.loads(conf.get_json("scouting/multicast/enabled"))
-    return {
-        "mode": mode_and_endpoints(conf, "connect")[0],
-        "no_multicast_scouting": settings.no_multicast_scouting or scouting is False,
-    }
-
-
-def mode_and_endpoints(conf: zenoh.Config, kind: str) -> tuple[str, list[str]]:
-    """The session's mode (zenoh's default: peer) and its ``kind`` ("connect" or "listen")
-    endpoints in force for that mode: zenoh keeps either a list or a map of lists per mode."""
-    mode = json.loads(conf.get_json("mode")) or "peer"
-    value = json.loads(conf.get_json(f"{kind}/endpoints"))
-    if isinstance(value, dict):
-        value = value.get(mode, [])
-    return mode, [str(e) for e in value] if isinstance(value, list) else []
-
-
-def zenoh_config(settings: Settings) -> zenoh.Config:
-    """The zenoh session config; SettingsError on an unreadable file, unknown key or bad
-    value, naming the flag and never echoing a secret value (zenoh's own messages quote
-    the offending text, and the source file of zenoh's that raised them)."""
-    conf = _config_file(settings.config) if settings.config else zenoh.Config()
-    if settings.mode is not None:
-        _insert(conf, "mode", json.dumps(settings.mode), "--mode")
-    if settings.connect:
-        _insert(conf, "connect/endpoints", json.dumps(settings.connect), "--connect")
-    if settings.listen:
-        _insert(conf, "listen/endpoints", json.dumps(settings.listen), "--listen")
-    if settings.no_multicast_scouting:
-        _insert(conf, "scouting/multicast/enabled", "false", "--no-multicast-scouting")
-    for entry in settings.cfg:
-        key, _, value = entry.partition(":")
-        _insert(conf, key, value, f"--cfg {public_cfg_entry(entry)}")
-    return conf
-
-
-def _config_file(path: Path) -> zenoh.Config:
-    if not path.exists():
-        raise SettingsError(f"--config {str(path)!r}: no such file")
-    if not path.is_file():
-        raise SettingsError(f"--config {str(path)!r}: not a file")
-    if not os.access(path, os.R_OK):
-        raise SettingsError(f"--config {str(path)!r}: not readable (permission denied)")
-    try:
-        return zenoh.Config.from_file(str(path))
-    except zenoh.ZError as error:
-        raise SettingsError(f"--config {str(path)!r}: {zenoh_error_reason(error)}") from None
-
-
-def _insert(conf: zenoh.Config, key: str, value: str, what: str) -> None:
-    try:
-        conf.insert_json5(key, value)
-    except zenoh.ZError as error:
-        raise SettingsError(f"{what}: {zenoh_error_reason(error)}") from None
-
-
-def zenoh_error_reason(error: zenoh.ZError) -> str:
-    """Why zenoh refused a config, without the text it quotes (which may be a password)."""
-    text = str(error)
-    loc = re.search(r"(?:-->\s*|line: )(\d+)(?::|, column: )(\d+)", text)
-    where = f" at line {loc[1]}, column {loc[2]}" if loc else ""
-    if field := re.search(r"unknown field `([^`]*)`", text):
-        return f"unknown key {field[1]!r}{where}"
-    if "unknown key" in text:
-        return "unknown zenoh config key"
-    if choices := re.search(r"unknown variant `[^`]*`, (expected one of [^\"]*)", text):
-        return f"invalid value{where}; {choices[1]}"
-    if "-->" in text or "Json5Err" in text:
-        return f"not valid JSON5{where}"
-    if os_error := re.match(r"(.+?) \(os error \d+\)", text):
-        return os_error[1]
-    return f"invalid value{where}"

@@ -2,14 +2,8 @@
 trackers, consumers and the service agree on. Pure; imports nothing of the package."""
 
 from .keys import BodyRef
-from .schemas import (
-    EngagementEvent,
-    EngagementState,
-    FacingState,
-    FrameFacing,
-    Rejection,
-    ServiceStatus,
-)
+from .poses import Rejection
+from .schemas import EngagementEvent, EngagementState, FacingState, FrameFacing, ServiceStatus
 
 __all__ = [
     "BodyRef",

@@ -4,7 +4,9 @@
 
 from .detector import classify
 from .engagement import Level
-from .tf_buffer import TfBuffer, TfError
-from .tracker import Changes, PoseSample, Tracker
+from .records import Changes, PoseSample
+from .tf_buffer import TfBuffer
+from .tf_errors import TfError
+from .tracker import Tracker
 
 __all__ = ["Changes", "Level", "PoseSample", "TfBuffer", "TfError", "Tracker", "classify"]

@@ -24,242 +24,27 @@ Times are integer nanoseconds, as ROS 2's ``TimePoint``.
 from __future__ import annotations
 
 import math
-from bisect import bisect_left
-from dataclasses import dataclass
 
-Vec = tuple[float, float, float]
-Quat = tuple[float, float, float, float]  # x, y, z, w
+from .tf_cache import DEFAULT_CACHE_TIME_NS, S_NS, StaticCache, Stored, TimeCache
+from .tf_errors import (
+    ConnectivityError,
+    ExtrapolationError,
+    InvalidArgumentError,
+    LookupError_,
+)
+from .tf_math import IDENTITY, Quat, Transform, Vec, add, neg, qinv, qmul, rotate
 
-S_NS = 1_000_000_000
-DEFAULT_CACHE_TIME_NS = 10 * S_NS
 QUATERNION_NORMALIZATION_TOLERANCE = 10e-3
 MAX_GRAPH_DEPTH = 1000
-#: Most transforms one dynamic frame keeps (10 s at 1 kHz): see ``_TimeCache``.
-MAX_CACHE_ENTRIES = 10_000
 #: Most frames a buffer names (``--ros-max-frames``): tf2 never forgets a frame, so a
 #: robot naming new frames without end (400 000 took 517 MB) would grow it without bound.
 DEFAULT_MAX_FRAMES = 10_000
 
 
-class TfError(Exception):
-    """A lookup tf2 would refuse; ``kind`` is tf2's exception name."""
-
-    kind = "TransformException"
-
-
-class LookupError_(TfError):
-    kind = "LookupException"
-
-
-class ConnectivityError(TfError):
-    kind = "ConnectivityException"
-
-
-class ExtrapolationError(TfError):
-    kind = "ExtrapolationException"
-
-
-class InvalidArgumentError(TfError):
-    kind = "InvalidArgumentException"
-
-
-@dataclass(frozen=True, slots=True)
-class Transform:
-    translation: Vec
-    rotation: Quat
-
-
-IDENTITY = Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
-
-
 # -- tf2's LinearMath, as it computes (no renormalization anywhere) ---------------------
 
 
-def _qmul(a: Quat, b: Quat) -> Quat:
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return (
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by + ay * bw + az * bx - ax * bz,
-        aw * bz + az * bw + ax * by - ay * bx,
-        aw * bw - ax * bx - ay * by - az * bz,
-    )
-
-
-def _qinv(q: Quat) -> Quat:
-    """tf2's ``inverse()``: the conjugate."""
-    return (-q[0], -q[1], -q[2], q[3])
-
-
-def _rotate(q: Quat, v: Vec) -> Vec:
-    """tf2's ``quatRotate``: ``q * v * q.inverse()``."""
-    x, y, z, w = q
-    vx, vy, vz = v
-    # q * (v, 0)
-    px = w * vx + y * vz - z * vy
-    py = w * vy + z * vx - x * vz
-    pz = w * vz + x * vy - y * vx
-    pw = -x * vx - y * vy - z * vz
-    # (..) * conj(q)
-    return (
-        pw * -x + px * w + py * -z - pz * -y,
-        pw * -y + py * w + pz * -x - px * -z,
-        pw * -z + pz * w + px * -y - py * -x,
-    )
-
-
-def _add(a: Vec, b: Vec) -> Vec:
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-def _slerp(q1: Quat, q2: Quat, t: float) -> Quat:
-    """tf2's ``Quaternion::slerp`` (shortest path, as tf2 computes it)."""
-    magnitude = math.sqrt(sum(c * c for c in q1) * sum(c * c for c in q2))
-    product = sum(a * b for a, b in zip(q1, q2, strict=True)) / magnitude
-    if abs(product) >= 1.0:
-        return q1
-    sign = -1.0 if product < 0 else 1.0
-    theta = math.acos(sign * product)
-    s1 = math.sin(sign * t * theta)
-    d = 1.0 / math.sin(theta)
-    s0 = math.sin((1.0 - t) * theta)
-    x1, y1, z1, w1 = q1
-    x2, y2, z2, w2 = q2  # the sign is in s1 already: sin(sign * t * theta)
-    return (
-        (x1 * s0 + x2 * s1) * d,
-        (y1 * s0 + y2 * s1) * d,
-        (z1 * s0 + z2 * s1) * d,
-        (w1 * s0 + w2 * s1) * d,
-    )
-
-
-def _lerp(v1: Vec, v2: Vec, t: float) -> Vec:
-    s = 1.0 - t
-    return (s * v1[0] + t * v2[0], s * v1[1] + t * v2[1], s * v1[2] + t * v2[2])
-
-
 # -- caches -------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True, slots=True)
-class _Stored:
-    stamp: int
-    parent: str
-    transform: Transform
-
-
-def _seconds(ns: int) -> str:
-    return f"{ns // 1_000_000_000}.{ns % 1_000_000_000:09d}"
-
-
-class _StaticCache:
-    """One transform, valid at every time."""
-
-    is_static = True
-
-    def __init__(self) -> None:
-        self.item: _Stored | None = None
-
-    def insert(self, item: _Stored) -> str | None:
-        self.item = item
-        return None
-
-    def get(self, time: int) -> _Stored:
-        assert self.item is not None
-        return _Stored(time, self.item.parent, self.item.transform)
-
-    def latest(self) -> tuple[int, str | None]:
-        return (0, self.item.parent) if self.item else (0, None)
-
-
-class _TimeCache:
-    """History of one dynamic frame, newest first, with the stamps negated beside it
-    (ascending, for ``bisect``): an insert or a lookup costs O(log n) comparisons however
-    the stamps arrive (a linear scan let 4 MB of out-of-order /tf stall the worker for a
-    minute). At most ``MAX_CACHE_ENTRIES`` are kept: tf2 bounds a frame's history by time
-    only, so transforms 1 ns apart would grow it without bound; past the cap the oldest go
-    first, as pruning by time would take them."""
-
-    is_static = False
-
-    def __init__(self, cache_time: int) -> None:
-        self.cache_time = cache_time
-        self.items: list[_Stored] = []  # newest first
-        self._keys: list[int] = []  # -stamp of each item, ascending
-
-    def insert(self, item: _Stored) -> str | None:
-        items, keys = self.items, self._keys
-        if items and items[0].stamp > item.stamp + self.cache_time:
-            return "old_data"
-        i = bisect_left(keys, -item.stamp)
-        if i < len(keys) and keys[i] == -item.stamp:
-            return "repeated_data"
-        items.insert(i, item)
-        keys.insert(i, -item.stamp)
-        latest = items[0].stamp
-        while items and (
-            items[-1].stamp + self.cache_time < latest or len(items) > MAX_CACHE_ENTRIES
-        ):
-            items.pop()
-            keys.pop()
-        return None
-
-    def _closest(self, time: int) -> tuple[_Stored, _Stored | None]:
-        """tf2's ``findClosest``: one or two items, or ExtrapolationError."""
-        items = self.items
-        if not items:
-            raise ExtrapolationError("no data")  # unreachable: caches exist once filled
-        if time == 0:
-            return items[0], None
-        if len(items) == 1:
-            if items[0].stamp == time:
-                return items[0], None
-            raise ExtrapolationError(
-                f"Lookup would require extrapolation at time {_seconds(time)}, but only time "
-                f"{_seconds(items[0].stamp)} is in the buffer"
-            )
-        latest, earliest = items[0].stamp, items[-1].stamp
-        if time == latest:
-            return items[0], None
-        if time == earliest:
-            return items[-1], None
-        if time > latest:
-            raise ExtrapolationError(
-                f"Lookup would require extrapolation into the future.  Requested time "
-                f"{_seconds(time)} but the latest data is at time {_seconds(latest)}"
-            )
-        if time < earliest:
-            raise ExtrapolationError(
-                f"Lookup would require extrapolation into the past.  Requested time "
-                f"{_seconds(time)} but the earliest data is at time {_seconds(earliest)}"
-            )
-        i = bisect_left(self._keys, -time)  # the first item at or before ``time``
-        return items[i], items[i - 1]  # older, newer
-
-    def get(self, time: int) -> _Stored:
-        one, two = self._closest(time)
-        if two is None or one.parent != two.parent:
-            return one
-        if two.stamp == one.stamp:
-            return two
-        ratio = (time - one.stamp) / (two.stamp - one.stamp)
-        a, b = one.transform, two.transform
-        return _Stored(
-            time,
-            one.parent,
-            Transform(
-                _lerp(a.translation, b.translation, ratio),
-                _slerp(a.rotation, b.rotation, ratio),
-            ),
-        )
-
-    def latest(self) -> tuple[int, str | None]:
-        return (self.items[0].stamp, self.items[0].parent) if self.items else (0, None)
-
-    def stamps(self, after: int, upto: int) -> list[int]:
-        """The stamps held in ``(after, upto]``, oldest first."""
-        keys = self._keys
-        return [-k for k in reversed(keys[bisect_left(keys, -upto) : bisect_left(keys, -after)])]
 
 
 # -- the buffer -----------------------------------------------------------------------------
@@ -296,7 +81,7 @@ class TfBuffer:
     ) -> None:
         self.cache_time_ns = cache_time_ns
         self.max_frames = max_frames
-        self._caches: dict[str, _StaticCache | _TimeCache] = {}
+        self._caches: dict[str, StaticCache | TimeCache] = {}
         self._frames: set[str] = set()  # every frame named so far, as child or parent
         self._children: dict[str, set[str]] = {}  # by each child's latest parent
         self._newest = 0  # the newest stamp stored, of any frame
@@ -319,11 +104,11 @@ class TfBuffer:
             self._newest = max(self._newest, stamp_ns)
         cache = self._caches.get(child)
         if cache is None:
-            cache = _StaticCache() if static else _TimeCache(self.cache_time_ns)
+            cache = StaticCache() if static else TimeCache(self.cache_time_ns)
             self._caches[child] = cache
         self._frames.update((child, parent))
         before = cache.latest()[1]
-        refused = cache.insert(_Stored(stamp_ns, parent, transform))
+        refused = cache.insert(Stored(stamp_ns, parent, transform))
         after = cache.latest()[1]
         if after != before:
             self.shape += 1
@@ -363,7 +148,7 @@ class TfBuffer:
         """The stamps of ``frame``'s own transforms in ``(after, upto]``, oldest first
         (none for a static frame)."""
         cache = self._caches.get(frame)
-        return cache.stamps(after, upto) if isinstance(cache, _TimeCache) else []
+        return cache.stamps(after, upto) if isinstance(cache, TimeCache) else []
 
     def clear(self) -> None:
         """Forget every dynamic transform, keep the static ones: tf2's ``BufferCore::clear``
@@ -452,7 +237,7 @@ class TfBuffer:
             time_ns = self.latest_common_time(target, source)
         return self._walk(target, source, time_ns), time_ns
 
-    def _gather(self, frame: str, time: int) -> _Stored | None:
+    def _gather(self, frame: str, time: int) -> Stored | None:
         cache = self._caches.get(frame)
         return None if cache is None else cache.get(time)
 
@@ -475,8 +260,8 @@ class TfBuffer:
             if frame == target:  # the target is an ancestor of the source
                 return Transform(src_vec, src_quat)
             t = stored.transform
-            src_vec = _add(_rotate(t.rotation, src_vec), t.translation)
-            src_quat = _qmul(t.rotation, src_quat)
+            src_vec = add(rotate(t.rotation, src_vec), t.translation)
+            src_quat = qmul(t.rotation, src_quat)
             top_parent, frame = frame, stored.parent
             depth += 1
             if depth > MAX_GRAPH_DEPTH:
@@ -495,11 +280,11 @@ class TfBuffer:
                 ) from None
             assert stored is not None
             if frame == source:  # the source is an ancestor of the target
-                inv = _qinv(tgt_quat)
-                return Transform(_rotate(inv, _neg(tgt_vec)), inv)
+                inv = qinv(tgt_quat)
+                return Transform(rotate(inv, neg(tgt_vec)), inv)
             t = stored.transform
-            tgt_vec = _add(_rotate(t.rotation, tgt_vec), t.translation)
-            tgt_quat = _qmul(t.rotation, tgt_quat)
+            tgt_vec = add(rotate(t.rotation, tgt_vec), t.translation)
+            tgt_quat = qmul(t.rotation, tgt_quat)
             frame = stored.parent
             depth += 1
             if depth > MAX_GRAPH_DEPTH:
@@ -511,10 +296,8 @@ class TfBuffer:
                     f"frame [{target}]"
                 )
             raise _disconnected(target, source)
-        inv = _qinv(tgt_quat)
-        return Transform(
-            _add(_rotate(inv, src_vec), _rotate(inv, _neg(tgt_vec))), _qmul(inv, src_quat)
-        )
+        inv = qinv(tgt_quat)
+        return Transform(add(rotate(inv, src_vec), rotate(inv, neg(tgt_vec))), qmul(inv, src_quat))
 
     def _latest_link(self, frame: str) -> tuple[int, str] | None:
         """``(latest stamp, parent)`` of ``frame`` (stamp 0 when static); None at a root."""
@@ -570,10 +353,6 @@ class TfBuffer:
             if parent == common_parent:
                 break
         return 0 if common == never else int(common)
-
-
-def _neg(v: Vec) -> Vec:
-    return (-v[0], -v[1], -v[2])
 
 
 def _disconnected(target: str, source: str) -> ConnectivityError:

@@ -9,23 +9,24 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from contextlib import AbstractContextManager
-from dataclasses import dataclass, field, replace
-
-import numpy as np
+from dataclasses import replace
 
 from ..contract.keys import BodyRef
-from ..contract.schemas import FrameFacing, Pose, Stamp, facing_state_json
+from ..contract.schemas import FrameFacing
 from . import detector
-from .engagement import (
-    Engagement,
-    EngagementParams,
-    Level,
-    Zone,
-    advance,
-    facing_score,
-    step,
-    zone,
+from .engagement import EngagementParams, Level, advance, facing_score, step
+from .journal import Journaled
+from .records import (
+    BodyState,
+    Changes,
+    EngagementUpdate,
+    Frame,
+    PoseSample,
+    Profile,
+    Track,
+    decide,
+    frame_facing,
+    stamp_s,
 )
 
 #: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
@@ -33,209 +34,7 @@ from .engagement import (
 TOMBSTONE_S = 30.0
 
 
-class _OfABody:
-    """``frame_id`` and ``body_id`` read through a record's ``body`` (a BodyRef)."""
-
-    __slots__ = ()
-    body: BodyRef
-
-    @property
-    def frame_id(self) -> str:
-        return self.body.frame_id
-
-    @property
-    def body_id(self) -> str:
-        return self.body.body_id
-
-
-@dataclass(frozen=True, slots=True)
-class PoseSample(_OfABody):
-    body: BodyRef
-    pose: Pose
-    profile: str = "body"  # which Profile decides it: "body", or "head" (a face frame)
-
-
-@dataclass(frozen=True, slots=True)
-class Profile:
-    """How one kind of frame is decided: a chest faces in the horizontal plane (REP 155's
-    body frame, the tutorial's rule), a head in 3D (people look down at a camera)."""
-
-    threshold_deg: float
-    hysteresis_deg: float
-    cone3d: bool
-    engagement: EngagementParams
-
-
-@dataclass(frozen=True, slots=True)
-class BodyState(_OfABody):
-    """The decision for one body: the fields of the wire's ``FacingState``, kept as plain
-    values (a pydantic model per sample was a third of the per-sample cost)."""
-
-    body: BodyRef
-    stamp: tuple[int, int]
-    facing: bool
-    angle_deg: float | None
-    distance_m: float | None
-    robot_in_body: tuple[float, float, float]
-    threshold_deg: float
-
-    def to_json(self, instance: str | None = None) -> bytes:
-        return facing_state_json(
-            self.body_id,
-            self.frame_id,
-            self.stamp,
-            self.facing,
-            self.angle_deg,
-            self.distance_m,
-            self.robot_in_body,
-            self.threshold_deg,
-            instance,
-        )
-
-
-@dataclass(frozen=True, slots=True)
-class EngagementUpdate(_OfABody):
-    """A body's engagement to publish: ``previous`` is set when the level just changed
-    (then it is also an event); UNKNOWN with a previous level means the body was lost."""
-
-    body: BodyRef
-    stamp: tuple[int, int]
-    level: Level
-    score: float
-    zone: Zone
-    since: tuple[int, int]
-    previous: Level | None
-
-
-def _stamp_s(stamp: tuple[int, int]) -> float:
-    return stamp[0] + stamp[1] * 1e-9
-
-
-def _to_stamp(seconds: float) -> tuple[int, int]:
-    sec, nanosec = divmod(round(seconds * 1e9), 1_000_000_000)
-    return sec, nanosec
-
-
-@dataclass
-class Changes:
-    """What one tracker call changed, in the order it must be published."""
-
-    results: list[BodyState] = field(default_factory=list)
-    lost: list[BodyRef] = field(default_factory=list)
-    frames: list[FrameFacing] = field(default_factory=list)
-    out_of_order: list[PoseSample] = field(default_factory=list)
-    over_capacity: list[PoseSample] = field(default_factory=list)
-    engagement: list[EngagementUpdate] = field(default_factory=list)
-
-
-@dataclass(slots=True)
-class _Track:
-    pose: Pose
-    last_seen: float
-    state: BodyState
-    profile: Profile
-    engagement: Engagement = field(default_factory=Engagement)
-    engagement_published: float = float("-inf")  # the caller's clock, at the last update
-
-    def __copy__(self) -> _Track:
-        """Shallow, as ``copy.copy`` was, without its generic path (a quarter of a
-        one-pose batch went to the journal's copies)."""
-        return _Track(
-            self.pose,
-            self.last_seen,
-            self.state,
-            self.profile,
-            self.engagement,
-            self.engagement_published,
-        )
-
-
-@dataclass
-class _Frame:
-    tracked: set[str] = field(default_factory=set)
-    facing: set[str] = field(default_factory=set)
-    stamp: tuple[int, int] | None = None
-    dirty: bool = False  # membership changed since the aggregate was last published
-
-    def __copy__(self) -> _Frame:
-        return _Frame(set(self.tracked), set(self.facing), self.stamp, self.dirty)
-
-
-#: The tracker's mutable stores, as a transaction's journal keeps them (attribute names).
-_STORES = ("_tracks", "_frames", "_tombstones", "_due")
-
-
-def _frame_facing(
-    frame_id: str, stamp: tuple[int, int] | None, facing: Iterable[str], tracked: Iterable[str]
-) -> FrameFacing:
-    return FrameFacing(
-        frame_id=frame_id,
-        stamp=None if stamp is None else Stamp(sec=stamp[0], nanosec=stamp[1]),
-        bodies_facing=sorted(facing),
-        bodies_tracked=sorted(tracked),
-    )
-
-
-def _classify(
-    samples: Sequence[PoseSample],
-    thresholds: Sequence[float],
-    profiles: Sequence[Profile],
-    reported: Sequence[float],
-) -> list[BodyState]:
-    """Decide ``samples`` (one threshold and profile each) and wrap each as a BodyState
-    (reporting ``reported`` as its threshold): the vectorized core for a batch, the
-    per-body one below ``detector.SMALL_BATCH``."""
-    if len(samples) < detector.SMALL_BATCH:
-        rows = [
-            detector.classify_one(s.pose.translation, s.pose.rotation, threshold, p.cone3d)
-            for s, threshold, p in zip(samples, thresholds, profiles, strict=True)
-        ]
-    else:
-        result = detector.classify(
-            np.array([s.pose.translation for s in samples], dtype=np.float64),
-            np.array([s.pose.rotation for s in samples], dtype=np.float64),
-            np.array(thresholds, dtype=np.float64),
-            np.array([p.cone3d for p in profiles], dtype=np.bool_),
-        )
-        defined = result.defined.tolist()
-        rows = [
-            (tuple(r), a if d else None, m if d else None, f)
-            for r, a, m, d, f in zip(
-                result.robot_in_body.tolist(),
-                result.angle_deg.tolist(),
-                result.distance_m.tolist(),
-                defined,
-                result.facing.tolist(),
-                strict=True,
-            )
-        ]
-    return [
-        BodyState(s.body, s.pose.stamp, facing, angle, distance, r, threshold)
-        for s, (r, angle, distance, facing), threshold in zip(samples, rows, reported, strict=True)
-    ]
-
-
-class _Transaction:
-    """``Tracker.transaction()``. A class rather than a generator-based context manager:
-    the worker opens one per tracker call, and the generator's machinery was a third of
-    a one-pose transaction's cost."""
-
-    __slots__ = ("_tracker",)
-
-    def __init__(self, tracker: Tracker) -> None:
-        self._tracker = tracker
-
-    def __enter__(self) -> None:
-        assert self._tracker._journal is None, "transactions do not nest"
-        self._tracker._journal = {store: {} for store in _STORES}
-
-    def __exit__(self, kind: type[BaseException] | None, *_: object) -> None:
-        journal, self._tracker._journal = self._tracker._journal, None
-        if kind is not None and journal is not None:
-            self._tracker._roll_back(journal)  # then the exception goes on
-
-
-class Tracker:
+class Tracker(Journaled):
     """Latest pose and decision per (frame, body).
 
     Rules: a sample whose stamp is older than the latest accepted one for its (frame, body)
@@ -246,7 +45,14 @@ class Tracker:
 
     Memory is bounded by ``max_bodies``: frames other than the declared ones are forgotten
     as soon as their last body is lost (after their empty aggregate is published).
+
+    Transactions (``Journaled``): the service wraps each tracker call and the building of
+    its publications in one, so an error while saying a change (a bug, a value no output
+    can carry) never leaves a change unsaid: no ghost, no aggregate that disagrees with
+    the results.
     """
+
+    STORES = ("_tracks", "_frames", "_tombstones", "_due")
 
     def __init__(
         self,
@@ -268,44 +74,17 @@ class Tracker:
         self.stale_after_s = stale_after_s
         self.max_bodies = max_bodies
         # Ordered by last accepted sample, oldest first: expiry pops from the front.
-        self._tracks: OrderedDict[BodyRef, _Track] = OrderedDict()
+        self._tracks: OrderedDict[BodyRef, Track] = OrderedDict()
         self._declared = frozenset(frames)
-        self._frames: dict[str, _Frame] = {frame: _Frame() for frame in self._declared}
+        self._frames: dict[str, Frame] = {frame: Frame() for frame in self._declared}
         # After a DELETE: the last accepted stamp, and when the tombstone expires (the
         # caller's clock). Oldest first; at most max_bodies of them.
         self._tombstones: OrderedDict[BodyRef, tuple[tuple[int, int], float]] = OrderedDict()
         # Bodies whose level will change with time alone (DISENGAGING's dwell): when.
         self._due: dict[BodyRef, float] = {}
-        # In a transaction: per store, each key's value before its first change (None: absent).
-        self._journal: dict[str, dict[object, object]] | None = None
 
-    def transaction(self) -> AbstractContextManager[None]:
-        """Changes made inside apply whole, or not at all: on an exception every store is
-        put back as it was, then the exception goes on. The service wraps each tracker
-        call and the building of its publications in one, so an error while saying a
-        change (a bug, a value no output can carry) never leaves a change unsaid: no
-        ghost, no aggregate that disagrees with the results. A journal, not a copy: only
-        what the calls touch is kept (a copy of 10 000 tracks per batch cost more than
-        the batch)."""
-        return _Transaction(self)
-
-    def _keep(self, store: str, key: object) -> None:
-        """Journal ``key``'s value in ``store`` before its first change in a transaction."""
-        journal = self._journal
-        if journal is not None and key not in (kept := journal[store]):
-            value = getattr(self, store).get(key)
-            # tracks and frames are mutable records (own __copy__); the rest immutable
-            kept[key] = value.__copy__() if isinstance(value, _Track | _Frame) else value
-
-    def _roll_back(self, journal: dict[str, dict[object, object]]) -> None:
-        for store, kept in journal.items():
-            values = getattr(self, store)
-            for key, value in kept.items():
-                if value is None:
-                    values.pop(key, None)
-                else:
-                    values[key] = value
-        # Back in the orders expiry relies on: tracks by last sample, tombstones by expiry.
+    def _rolled_back(self) -> None:
+        """Back in the orders expiry relies on: tracks by last sample, tombstones by expiry."""
         self._tracks = OrderedDict(sorted(self._tracks.items(), key=lambda kv: kv[1].last_seen))
         self._tombstones = OrderedDict(sorted(self._tombstones.items(), key=lambda kv: kv[1][1]))
 
@@ -397,7 +176,7 @@ class Tracker:
             for s, p in zip(samples, profiles, strict=True)
         ]
         reported = [p.threshold_deg for p in profiles]
-        states = _classify(samples, thresholds, profiles, reported)
+        states = decide(samples, thresholds, profiles, reported)
         for sample, state, profile in zip(samples, states, profiles, strict=True):
             track = self._tracks.get(sample.body)
             update = self._store(sample, state, profile, now, track)
@@ -450,7 +229,7 @@ class Tracker:
             track.engagement = advance(track.engagement, t, track.profile.engagement)
             if track.engagement.level is not before:
                 track.engagement_published = now
-                changes.engagement.append(self._engagement_update(track, before))
+                changes.engagement.append(track.engagement_update(before))
         return changes
 
     def next_due(self) -> float | None:
@@ -502,7 +281,7 @@ class Tracker:
     def frames(self) -> list[FrameFacing]:
         """The aggregate of every known frame, as it stands now."""
         return [
-            _frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked)
+            frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked)
             for frame_id, frame in self._frames.items()
         ]
 
@@ -514,13 +293,13 @@ class Tracker:
         samples = [PoseSample(body, track.pose) for body, track in self._tracks.items()]
         same = [threshold_deg] * len(samples)
         profiles = [track.profile for track in self._tracks.values()]
-        states = _classify(samples, same, profiles, same)
+        states = decide(samples, same, profiles, same)
         facing: dict[str, list[str]] = {frame_id: [] for frame_id in self._frames}
         for state in states:
             if state.facing:
                 facing[state.frame_id].append(state.body_id)
         frames = [
-            _frame_facing(frame_id, frame.stamp, facing[frame_id], frame.tracked)
+            frame_facing(frame_id, frame.stamp, facing[frame_id], frame.tracked)
             for frame_id, frame in self._frames.items()
         ]
         return states, frames
@@ -535,21 +314,21 @@ class Tracker:
         state: BodyState,
         profile: Profile,
         now: float,
-        track: _Track | None,
+        track: Track | None,
     ) -> EngagementUpdate | None:
         """Keep the new state (``track``: the body's, None when new); the engagement update
         to publish, if one is due."""
         key = sample.body
         self._keep("_tracks", key)
         if track is None:
-            track = self._tracks[key] = _Track(sample.pose, now, state, profile)
+            track = self._tracks[key] = Track(sample.pose, now, state, profile)
         else:  # in place: the body's engagement carries over
             track.pose, track.last_seen, track.state = sample.pose, now, state
             track.profile = profile
         self._tracks.move_to_end(key)
         update = self._engage(track, state, now)
         self._keep("_frames", sample.frame_id)
-        frame = self._frames.setdefault(sample.frame_id, _Frame())
+        frame = self._frames.setdefault(sample.frame_id, Frame())
         if sample.body_id not in frame.tracked:
             frame.tracked.add(sample.body_id)
             frame.dirty = True
@@ -563,12 +342,12 @@ class Tracker:
             frame.stamp = sample.pose.stamp
         return update
 
-    def _engage(self, track: _Track, state: BodyState, now: float) -> EngagementUpdate | None:
+    def _engage(self, track: Track, state: BodyState, now: float) -> EngagementUpdate | None:
         """Step the body's engagement on the pose's own clock (its stamp): behaviour timing
         is the tracker's. Unchanged levels are republished at most every period of the
         caller's clock (``now``): that limit is about output load, whatever the stamps do."""
         p = track.profile.engagement
-        t = _stamp_s(state.stamp)
+        t = stamp_s(state.stamp)
         before = track.engagement.level
         track.engagement = step(
             track.engagement, t, facing_score(state.angle_deg, state.distance_m, p), p
@@ -584,23 +363,11 @@ class Tracker:
         if not changed and now - track.engagement_published < self.engagement_period_s:
             return None
         track.engagement_published = now
-        return self._engagement_update(track, before if changed else None)
-
-    def _engagement_update(self, track: _Track, previous: Level | None) -> EngagementUpdate:
-        state, engagement = track.state, track.engagement
-        return EngagementUpdate(
-            state.body,
-            state.stamp,
-            engagement.level,
-            engagement.score,
-            zone(state.distance_m, track.profile.engagement),
-            _to_stamp(engagement.since),
-            previous,
-        )
+        return track.engagement_update(before if changed else None)
 
     def engagements(self) -> list[EngagementUpdate]:
         """The current engagement of every tracked body (for queries)."""
-        return [self._engagement_update(track, None) for track in self._tracks.values()]
+        return [track.engagement_update(None) for track in self._tracks.values()]
 
     def _remove(self, key: BodyRef, changes: Changes) -> None:
         for store, k in (("_tracks", key), ("_due", key), ("_frames", key.frame_id)):
@@ -608,7 +375,7 @@ class Tracker:
         track = self._tracks.pop(key)
         self._due.pop(key, None)
         if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
-            update = self._engagement_update(track, track.engagement.level)
+            update = track.engagement_update(track.engagement.level)
             changes.engagement.append(replace(update, level=Level.UNKNOWN, since=update.stamp))
         frame = self._frames[key.frame_id]
         frame.tracked.discard(key.body_id)
@@ -623,7 +390,7 @@ class Tracker:
             frame = self._frames[frame_id]
             if frame.dirty:
                 frame.dirty = False
-                changed.append(_frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked))
+                changed.append(frame_facing(frame_id, frame.stamp, frame.facing, frame.tracked))
             if not frame.tracked and frame_id not in self._declared:
                 del self._frames[frame_id]
         return changed

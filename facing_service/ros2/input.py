@@ -33,8 +33,8 @@ from typing import Any
 import zenoh
 import zenoh.ext
 
-from ..contract.schemas import Rejected, Rejection, stamp_ns
-from ..core.tf_buffer import Transform
+from ..contract.poses import Rejected, Rejection, stamp_ns
+from ..core.tf_math import Transform
 from . import types as ros2_types
 from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
 from .wire import RosFormat, Wire

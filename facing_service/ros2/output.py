@@ -31,7 +31,7 @@ import zenoh
 
 from ..contract.schemas import FrameFacing
 from ..core.engagement import Level
-from ..core.tracker import Changes, EngagementUpdate
+from ..core.records import Changes, EngagementUpdate
 from . import types as ros2_types
 from .wire import (
     QOS_RELIABLE_VOLATILE,

@@ -37,9 +37,11 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 from ..contract import keys
-from ..contract.schemas import MAX_TRANSLATION_M, Pose
-from ..core.tf_buffer import DEFAULT_MAX_FRAMES, TfBuffer, TfError, Transform
-from ..core.tracker import PoseSample
+from ..contract.poses import MAX_TRANSLATION_M, Pose
+from ..core.records import PoseSample
+from ..core.tf_buffer import DEFAULT_MAX_FRAMES, TfBuffer
+from ..core.tf_errors import TfError
+from ..core.tf_math import Transform
 
 #: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
 KINDS = {

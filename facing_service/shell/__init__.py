@@ -2,6 +2,7 @@
 ``intake`` and its ``inbox``, the ``outbox`` and its ``publisher``, the ``publications``
 it builds and the ``ledger`` of what was counted). It moves bytes; the core decides."""
 
-from .service import FacingService, run_until
+from .run import run_until
+from .service import FacingService
 
 __all__ = ["FacingService", "run_until"]

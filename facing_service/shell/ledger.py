@@ -20,7 +20,8 @@ from collections.abc import Callable
 from typing import Any
 
 from ..contract.keys import cut
-from ..contract.schemas import Rejection, ServiceStatus
+from ..contract.poses import Rejection
+from ..contract.schemas import ServiceStatus
 from .outbox import Kind, Outbox
 
 log = logging.getLogger("facing_service")

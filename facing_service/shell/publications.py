@@ -10,9 +10,10 @@ from collections.abc import Iterable, Mapping
 from typing import Any
 
 from ..contract import keys
-from ..contract.schemas import EngagementEvent, EngagementState, FrameFacing, Stamp
+from ..contract.poses import Stamp
+from ..contract.schemas import EngagementEvent, EngagementState, FrameFacing
 from ..core.engagement import Level
-from ..core.tracker import BodyState, Changes, EngagementUpdate
+from ..core.records import BodyState, Changes, EngagementUpdate
 from ..ros2.output import RosMessage
 from .outbox import Kind, Publication
 

@@ -26,7 +26,8 @@ from rosbags.highlevel import AnyReader
 from rosbags.interfaces import Qos, QosDurability
 
 from ..config.disclosure import zenoh_failure
-from ..config.settings import Settings, zenoh_config
+from ..config.session import zenoh_config
+from ..config.settings import Settings
 from ..ros2 import types as ros2_types
 from ..ros2.output import CDR, TopicWriter
 from ..ros2.record import Recording

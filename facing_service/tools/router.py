@@ -15,7 +15,8 @@ import threading
 import zenoh
 
 from ..config.disclosure import public_endpoint
-from ..config.settings import Settings, mode_and_endpoints, zenoh_config
+from ..config.session import mode_and_endpoints, zenoh_config
+from ..config.settings import Settings
 
 log = logging.getLogger("facing_service.router")
 

@@ -19,7 +19,8 @@ import zenoh
 import zenoh.ext
 
 from ..config.disclosure import public_endpoint, zenoh_failure
-from ..config.settings import Settings, zenoh_config
+from ..config.session import zenoh_config
+from ..config.settings import Settings
 from ..ros2 import types as ros2_types
 from ..ros2.input import publication_cache_selector, query_publication_caches
 from ..ros2.wire import (

@@ -14,8 +14,11 @@ import zenoh
 
 from facing_service import __version__
 from facing_service.client.health import statuses
-from facing_service.config.settings import Settings, load_settings, probe_config
-from facing_service.contract.schemas import Rejection, ServiceStatus
+from facing_service.config.session import probe_config
+from facing_service.config.settings import Settings
+from facing_service.config.sources import load_settings
+from facing_service.contract.poses import Rejection
+from facing_service.contract.schemas import ServiceStatus
 from facing_service.shell.service import FacingService
 
 from loopback import endpoint, free_port, get, send, wait_until_answered

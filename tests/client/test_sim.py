@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from facing_service.client.sim import AREA_M, Scene, simulate
-from facing_service.contract.schemas import Pose, decode_pose
+from facing_service.contract.poses import Pose, decode_pose
 from facing_service.core.detector import classify
 
 

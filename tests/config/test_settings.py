@@ -2,7 +2,9 @@ import json
 
 import pytest
 
-from facing_service.config.settings import SettingsError, load_settings, zenoh_config
+from facing_service.config.errors import SettingsError
+from facing_service.config.session import zenoh_config
+from facing_service.config.sources import load_settings
 
 
 def test_defaults():

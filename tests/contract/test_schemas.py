@@ -11,9 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from facing_service.contract.schemas import (
-    FacingState,
-    Point,
+from facing_service.contract.poses import (
     Pose,
     Rejected,
     Rejection,
@@ -21,9 +19,8 @@ from facing_service.contract.schemas import (
     _decode_with_model,
     _plainly_valid,
     decode_pose,
-    facing_state_json,
-    json_schemas,
 )
+from facing_service.contract.schemas import FacingState, Point, facing_state_json, json_schemas
 
 from poses import pose_dict
 

@@ -9,15 +9,15 @@ import random
 import pytest
 from oracles import BAGS, oracle
 
-from facing_service.core.tf_buffer import (
+from facing_service.core.tf_buffer import TfBuffer
+from facing_service.core.tf_errors import (
     ConnectivityError,
     ExtrapolationError,
     InvalidArgumentError,
     LookupError_,
-    TfBuffer,
     TfError,
-    Transform,
 )
+from facing_service.core.tf_math import Transform
 from facing_service.ros2.types import read_bag
 
 S = 1_000_000_000
@@ -254,7 +254,9 @@ def test_a_frames_history_is_capped_whatever_its_stamps():
     """tf2 bounds a frame's history by time only: transforms 1 ns apart (or arriving each
     older than the last) would grow it, and each insert, without bound. The oldest go
     past MAX_CACHE_ENTRIES; the newest and every lookup stay tf2's."""
-    from facing_service.core.tf_buffer import MAX_CACHE_ENTRIES, TfBuffer, Transform
+    from facing_service.core.tf_buffer import TfBuffer
+    from facing_service.core.tf_cache import MAX_CACHE_ENTRIES
+    from facing_service.core.tf_math import Transform
 
     buffer = TfBuffer()
     one = Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))

@@ -11,9 +11,10 @@ from hypothesis import strategies as st
 
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
-from facing_service.contract.schemas import Pose
+from facing_service.contract.poses import Pose
 from facing_service.core.engagement import Level
-from facing_service.core.tracker import PoseSample, Tracker
+from facing_service.core.records import PoseSample
+from facing_service.core.tracker import Tracker
 
 from poses import toward_origin_deg, yaw_quaternion
 

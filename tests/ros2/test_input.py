@@ -11,9 +11,9 @@ import time
 import pytest
 from oracles import oracle
 
-from facing_service.contract.schemas import Rejected, Rejection
+from facing_service.contract.poses import Rejected, Rejection
 from facing_service.core.detector import classify_one
-from facing_service.core.tf_buffer import Transform
+from facing_service.core.tf_math import Transform
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import RosSample, route
 from facing_service.ros2.people import People, TfInput

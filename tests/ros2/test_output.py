@@ -15,9 +15,10 @@ from oracles import BAGS
 from upstream import STANDARD_MSGS, definition
 
 from facing_service.contract.keys import BodyRef
-from facing_service.contract.schemas import FrameFacing, Stamp
+from facing_service.contract.poses import Stamp
+from facing_service.contract.schemas import FrameFacing
 from facing_service.core.engagement import Level, Zone
-from facing_service.core.tracker import Changes, EngagementUpdate
+from facing_service.core.records import Changes, EngagementUpdate
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.output import ENGAGEMENT_LEVEL, INTENT, RosOutput, engage_intent
 from facing_service.ros2.wire import RosFormat, Wire

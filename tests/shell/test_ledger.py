@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import logging
 
-from facing_service.contract.schemas import Rejection
+from facing_service.contract.poses import Rejection
 from facing_service.shell.ledger import COUNTERS, REJECTION_LOG_PERIOD_S, Ledger
 from facing_service.shell.outbox import Kind, Outbox
 

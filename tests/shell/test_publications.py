@@ -7,15 +7,15 @@ import json
 import pytest
 
 from facing_service.contract.keys import BodyRef
+from facing_service.contract.poses import Stamp
 from facing_service.contract.schemas import (
     EngagementEvent,
     EngagementState,
     FacingState,
     FrameFacing,
-    Stamp,
 )
 from facing_service.core.engagement import Level, Zone
-from facing_service.core.tracker import BodyState, Changes, EngagementUpdate
+from facing_service.core.records import BodyState, Changes, EngagementUpdate
 from facing_service.ros2.output import RosMessage
 from facing_service.shell.outbox import Kind, Publication
 from facing_service.shell.publications import (

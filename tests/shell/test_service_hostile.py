@@ -12,7 +12,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from facing_service.contract.schemas import Pose, Rejected, Rejection, decode_pose
+from facing_service.contract.poses import Pose, Rejected, Rejection, decode_pose
 from facing_service.core.detector import classify
 
 from loopback import send, wait_until_answered

@@ -1,0 +1,147 @@
+"""The zenoh session a service's settings make, configured exactly like zenoh's own example
+programs (``-m -e -l -c --no-multicast-scouting --cfg``): the ``--config`` file first, then
+the flags over it, then each ``--cfg KEY:VALUE``; every endpoint checked before zenoh sees
+it, and zenoh's own errors said in one line.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import zenoh
+
+from .errors import SettingsError
+
+if TYPE_CHECKING:
+    from .settings import Settings
+
+from .disclosure import public_cfg_entry
+
+#: zenoh's link protocols; those of them that take ``host:port``.
+_PROTOCOLS = {"tcp", "udp", "tls", "quic", "ws", "unixsock-stream", "unixpipe", "serial", "vsock"}
+
+
+_HOST_PORT = {"tcp", "udp", "tls", "quic", "ws"}
+
+
+def endpoint_problem(endpoint: str, *, listen: bool = False) -> str | None:
+    """Why zenoh could never use ``endpoint`` (zenoh itself only finds out when it tries,
+    and a peer then retries forever in silence), or None."""
+    locator = endpoint.split("#", 1)[0].split("?", 1)[0]
+    protocol, sep, address = locator.partition("/")
+    if not sep or protocol not in _PROTOCOLS:
+        return f"not <protocol>/<address>, protocol one of {', '.join(sorted(_PROTOCOLS))}"
+    if protocol not in _HOST_PORT:
+        return None if address else "no address"
+    host, colon, port = address.rpartition(":")
+    if not colon or not host or not port.isdigit():
+        return "not <protocol>/<host>:<port>"
+    if not (0 if listen else 1) <= int(port) <= 65535:
+        return f"port {port} out of range"
+    if host.startswith("[") != host.endswith("]"):
+        return "an IPv6 address goes in [brackets]"
+    return None
+
+
+def _loopback(endpoint: str) -> str:
+    """The address a process on the same host reaches a wildcard listener at."""
+    return endpoint.replace("/0.0.0.0:", "/127.0.0.1:").replace("/[::]:", "/[::1]:")
+
+
+def probe_config(settings: Settings) -> zenoh.Config:
+    """Zenoh config of a short-lived helper session (``health``) beside a running service,
+    configured from the same flags and ``FACING_*`` variables as the service.
+
+    It must not take the service's ports, so it listens nowhere (even if the config file
+    says otherwise); when the service is only configured to listen, the helper connects to
+    those endpoints on loopback.
+    """
+    connect = settings.connect or [_loopback(e) for e in settings.listen]
+    # A router's mode would make the helper listen; otherwise the configured mode holds
+    # (the config file's, when no flag gives one: a client stays a client).
+    mode = "client" if connect else (None if settings.mode == "router" else settings.mode)
+    helper = settings.model_copy(update={"listen": [], "connect": connect, "mode": mode})
+    conf = zenoh_config(helper)
+    conf.insert_json5("listen/endpoints", "[]")
+    return conf
+
+
+def effective_session(settings: Settings, conf: zenoh.Config) -> dict[str, Any]:
+    """The session settings in force, whether a flag or the config file said them (the
+    status shows these, not the flags' None and False defaults)."""
+    scouting = json.loads(conf.get_json("scouting/multicast/enabled"))
+    return {
+        "mode": mode_and_endpoints(conf, "connect")[0],
+        "no_multicast_scouting": settings.no_multicast_scouting or scouting is False,
+    }
+
+
+def mode_and_endpoints(conf: zenoh.Config, kind: str) -> tuple[str, list[str]]:
+    """The session's mode (zenoh's default: peer) and its ``kind`` ("connect" or "listen")
+    endpoints in force for that mode: zenoh keeps either a list or a map of lists per mode."""
+    mode = json.loads(conf.get_json("mode")) or "peer"
+    value = json.loads(conf.get_json(f"{kind}/endpoints"))
+    if isinstance(value, dict):
+        value = value.get(mode, [])
+    return mode, [str(e) for e in value] if isinstance(value, list) else []
+
+
+def zenoh_config(settings: Settings) -> zenoh.Config:
+    """The zenoh session config; SettingsError on an unreadable file, unknown key or bad
+    value, naming the flag and never echoing a secret value (zenoh's own messages quote
+    the offending text, and the source file of zenoh's that raised them)."""
+    conf = _config_file(settings.config) if settings.config else zenoh.Config()
+    if settings.mode is not None:
+        _insert(conf, "mode", json.dumps(settings.mode), "--mode")
+    if settings.connect:
+        _insert(conf, "connect/endpoints", json.dumps(settings.connect), "--connect")
+    if settings.listen:
+        _insert(conf, "listen/endpoints", json.dumps(settings.listen), "--listen")
+    if settings.no_multicast_scouting:
+        _insert(conf, "scouting/multicast/enabled", "false", "--no-multicast-scouting")
+    for entry in settings.cfg:
+        key, _, value = entry.partition(":")
+        _insert(conf, key, value, f"--cfg {public_cfg_entry(entry)}")
+    return conf
+
+
+def _config_file(path: Path) -> zenoh.Config:
+    if not path.exists():
+        raise SettingsError(f"--config {str(path)!r}: no such file")
+    if not path.is_file():
+        raise SettingsError(f"--config {str(path)!r}: not a file")
+    if not os.access(path, os.R_OK):
+        raise SettingsError(f"--config {str(path)!r}: not readable (permission denied)")
+    try:
+        return zenoh.Config.from_file(str(path))
+    except zenoh.ZError as error:
+        raise SettingsError(f"--config {str(path)!r}: {zenoh_error_reason(error)}") from None
+
+
+def _insert(conf: zenoh.Config, key: str, value: str, what: str) -> None:
+    try:
+        conf.insert_json5(key, value)
+    except zenoh.ZError as error:
+        raise SettingsError(f"{what}: {zenoh_error_reason(error)}") from None
+
+
+def zenoh_error_reason(error: zenoh.ZError) -> str:
+    """Why zenoh refused a config, without the text it quotes (which may be a password)."""
+    text = str(error)
+    loc = re.search(r"(?:-->\s*|line: )(\d+)(?::|, column: )(\d+)", text)
+    where = f" at line {loc[1]}, column {loc[2]}" if loc else ""
+    if field := re.search(r"unknown field `([^`]*)`", text):
+        return f"unknown key {field[1]!r}{where}"
+    if "unknown key" in text:
+        return "unknown zenoh config key"
+    if choices := re.search(r"unknown variant `[^`]*`, (expected one of [^\"]*)", text):
+        return f"invalid value{where}; {choices[1]}"
+    if "-->" in text or "Json5Err" in text:
+        return f"not valid JSON5{where}"
+    if os_error := re.match(r"(.+?) \(os error \d+\)", text):
+        return os_error[1]
+    return f"invalid value{where}"

@@ -1,0 +1,208 @@
+"""What the tracker takes in, keeps and gives out: plain records per pose, per body and per
+frame, and the decision that turns poses into states (``decide``: the per-body formula for
+a few bodies, the vectorized detector for many). Pure; the tracker owns the rules over time.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..contract.keys import BodyRef
+from ..contract.poses import Pose, Stamp
+from ..contract.schemas import FrameFacing, facing_state_json
+from . import detector
+from .engagement import Engagement, EngagementParams, Level, Zone, zone
+
+
+class _OfABody:
+    """``frame_id`` and ``body_id`` read through a record's ``body`` (a BodyRef)."""
+
+    __slots__ = ()
+    body: BodyRef
+
+    @property
+    def frame_id(self) -> str:
+        return self.body.frame_id
+
+    @property
+    def body_id(self) -> str:
+        return self.body.body_id
+
+
+@dataclass(frozen=True, slots=True)
+class PoseSample(_OfABody):
+    body: BodyRef
+    pose: Pose
+    profile: str = "body"  # which Profile decides it: "body", or "head" (a face frame)
+
+
+@dataclass(frozen=True, slots=True)
+class Profile:
+    """How one kind of frame is decided: a chest faces in the horizontal plane (REP 155's
+    body frame, the tutorial's rule), a head in 3D (people look down at a camera)."""
+
+    threshold_deg: float
+    hysteresis_deg: float
+    cone3d: bool
+    engagement: EngagementParams
+
+
+@dataclass(frozen=True, slots=True)
+class BodyState(_OfABody):
+    """The decision for one body: the fields of the wire's ``FacingState``, kept as plain
+    values (a pydantic model per sample was a third of the per-sample cost)."""
+
+    body: BodyRef
+    stamp: tuple[int, int]
+    facing: bool
+    angle_deg: float | None
+    distance_m: float | None
+    robot_in_body: tuple[float, float, float]
+    threshold_deg: float
+
+    def to_json(self, instance: str | None = None) -> bytes:
+        return facing_state_json(
+            self.body_id,
+            self.frame_id,
+            self.stamp,
+            self.facing,
+            self.angle_deg,
+            self.distance_m,
+            self.robot_in_body,
+            self.threshold_deg,
+            instance,
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class EngagementUpdate(_OfABody):
+    """A body's engagement to publish: ``previous`` is set when the level just changed
+    (then it is also an event); UNKNOWN with a previous level means the body was lost."""
+
+    body: BodyRef
+    stamp: tuple[int, int]
+    level: Level
+    score: float
+    zone: Zone
+    since: tuple[int, int]
+    previous: Level | None
+
+
+def stamp_s(stamp: tuple[int, int]) -> float:
+    return stamp[0] + stamp[1] * 1e-9
+
+
+def to_stamp(seconds: float) -> tuple[int, int]:
+    sec, nanosec = divmod(round(seconds * 1e9), 1_000_000_000)
+    return sec, nanosec
+
+
+@dataclass
+class Changes:
+    """What one tracker call changed, in the order it must be published."""
+
+    results: list[BodyState] = field(default_factory=list)
+    lost: list[BodyRef] = field(default_factory=list)
+    frames: list[FrameFacing] = field(default_factory=list)
+    out_of_order: list[PoseSample] = field(default_factory=list)
+    over_capacity: list[PoseSample] = field(default_factory=list)
+    engagement: list[EngagementUpdate] = field(default_factory=list)
+
+
+@dataclass(slots=True)
+class Track:
+    pose: Pose
+    last_seen: float
+    state: BodyState
+    profile: Profile
+    engagement: Engagement = field(default_factory=Engagement)
+    engagement_published: float = float("-inf")  # the caller's clock, at the last update
+
+    def engagement_update(self, previous: Level | None) -> EngagementUpdate:
+        """The body's engagement as published (``previous``: the level it changed from)."""
+        state, engagement = self.state, self.engagement
+        return EngagementUpdate(
+            state.body,
+            state.stamp,
+            engagement.level,
+            engagement.score,
+            zone(state.distance_m, self.profile.engagement),
+            to_stamp(engagement.since),
+            previous,
+        )
+
+    def __copy__(self) -> Track:
+        """Shallow, as ``copy.copy`` was, without its generic path (a quarter of a
+        one-pose batch went to the journal's copies)."""
+        return Track(
+            self.pose,
+            self.last_seen,
+            self.state,
+            self.profile,
+            self.engagement,
+            self.engagement_published,
+        )
+
+
+@dataclass
+class Frame:
+    tracked: set[str] = field(default_factory=set)
+    facing: set[str] = field(default_factory=set)
+    stamp: tuple[int, int] | None = None
+    dirty: bool = False  # membership changed since the aggregate was last published
+
+    def __copy__(self) -> Frame:
+        return Frame(set(self.tracked), set(self.facing), self.stamp, self.dirty)
+
+
+def frame_facing(
+    frame_id: str, stamp: tuple[int, int] | None, facing: Iterable[str], tracked: Iterable[str]
+) -> FrameFacing:
+    return FrameFacing(
+        frame_id=frame_id,
+        stamp=None if stamp is None else Stamp(sec=stamp[0], nanosec=stamp[1]),
+        bodies_facing=sorted(facing),
+        bodies_tracked=sorted(tracked),
+    )
+
+
+def decide(
+    samples: Sequence[PoseSample],
+    thresholds: Sequence[float],
+    profiles: Sequence[Profile],
+    reported: Sequence[float],
+) -> list[BodyState]:
+    """Decide ``samples`` (one threshold and profile each) and wrap each as a BodyState
+    (reporting ``reported`` as its threshold): the vectorized core for a batch, the
+    per-body one below ``detector.SMALL_BATCH``."""
+    if len(samples) < detector.SMALL_BATCH:
+        rows = [
+            detector.classify_one(s.pose.translation, s.pose.rotation, threshold, p.cone3d)
+            for s, threshold, p in zip(samples, thresholds, profiles, strict=True)
+        ]
+    else:
+        result = detector.classify(
+            np.array([s.pose.translation for s in samples], dtype=np.float64),
+            np.array([s.pose.rotation for s in samples], dtype=np.float64),
+            np.array(thresholds, dtype=np.float64),
+            np.array([p.cone3d for p in profiles], dtype=np.bool_),
+        )
+        defined = result.defined.tolist()
+        rows = [
+            (tuple(r), a if d else None, m if d else None, f)
+            for r, a, m, d, f in zip(
+                result.robot_in_body.tolist(),
+                result.angle_deg.tolist(),
+                result.distance_m.tolist(),
+                defined,
+                result.facing.tolist(),
+                strict=True,
+            )
+        ]
+    return [
+        BodyState(s.body, s.pose.stamp, facing, angle, distance, r, threshold)
+        for s, (r, angle, distance, facing), threshold in zip(samples, rows, reported, strict=True)
+    ]

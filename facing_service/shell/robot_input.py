@@ -1,0 +1,153 @@
+"""The service's ROS 2 input (``--input ros2``): what it keeps of the robot, and how each
+of its samples becomes poses and losses for the tracker.
+
+One collaborator of ``FacingService``, owned by its worker: the robot's wire form (learned
+from its keys and attachments), its people (``ros2.people``: tracked lists and the TF
+tree), the subscriptions to its side topics, and the watch that says why people may give
+no results (``ros2.diagnosis``), checked every ``DIAGNOSIS_PERIOD_S``.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections import deque
+from collections.abc import Callable
+
+import zenoh
+
+from ..config.settings import Settings
+from ..contract.poses import Rejected
+from ..contract.schemas import Ros2Status
+from ..ros2.diagnosis import RobotWatch
+from ..ros2.input import Ros2Subscriptions, RosSample, reading, route
+from ..ros2.people import People, Update
+from ..ros2.types import TF_MESSAGE
+from ..ros2.wire import FormLearner
+
+log = logging.getLogger("facing_service")
+
+#: How often the worker checks why people may give no results (ros2.diagnosis).
+DIAGNOSIS_PERIOD_S = 1.0
+#: Until /tf arrives where expected: /tf on any other key (another domain, namespace,
+#: format or type hash), to say where the robot's data went.
+STRAY_TF_KEYS = ("**/tf", "**/tf/tf2_msgs::msg::dds_::TFMessage_/*")
+#: The topic the worker reads from zenoh's channel itself (the others stream far less, and
+#: come through callbacks).
+HOT_ROS_TOPIC = ("/tf", TF_MESSAGE)
+
+
+class RobotInput:
+    """The robot as the worker knows it. ``clock``: the service's monotonic clock."""
+
+    def __init__(self, settings: Settings, clock: Callable[[], float]) -> None:
+        self.settings = settings
+        self._clock = clock
+        self.wire = settings.ros_wire()
+        self.form = FormLearner(settings.forced_distro)
+        self.people = People(
+            settings.ros_base_frame,
+            max_ids=settings.max_bodies,
+            max_frames=settings.ros_max_frames,
+        )
+        self.findings: dict[str, str] = {}  # replaced whole by the worker
+        self.next_diagnosis: float | None = None  # when the worker checks next
+        self._watch = RobotWatch(self.wire, clock())
+        self._strays: deque[str] = deque(maxlen=64)  # filled by the stray /tf callbacks
+        self._sniffers: list[zenoh.Subscriber[None]] = []
+        self._subscriptions: Ros2Subscriptions | None = None
+
+    def hot_key(self) -> str:
+        """The key of the topic the worker reads from zenoh's channel (/tf, any type)."""
+        return self.wire.subscription(*HOT_ROS_TOPIC, any_type=True)
+
+    def subscribe(self, session: zenoh.Session, hand_off: Callable[[RosSample], None]) -> str:
+        """The robot's side topics to ``hand_off`` (the intake), and the stray /tf keys;
+        what is read, as the start line says it."""
+        s = self.settings
+        self._subscriptions = Ros2Subscriptions(
+            session, self.wire, hand_off, HOT_ROS_TOPIC, s.ros_max_message_bytes
+        )
+        self._sniffers = [
+            session.declare_subscriber(
+                k,
+                lambda sample: self._strays.append(str(sample.key_expr)),
+                allowed_origin=zenoh.Locality.REMOTE,  # not the intake's wake-ups
+            )
+            for k in STRAY_TF_KEYS
+        ]
+        self.next_diagnosis = self._clock() + DIAGNOSIS_PERIOD_S
+        return ", ".join([self.hot_key(), *self._subscriptions.keys])
+
+    def close(self) -> None:
+        if self._subscriptions is not None:
+            self._subscriptions.close()
+            self._subscriptions = None
+        self._stop_sniffing()
+
+    def route(self, sample: RosSample) -> Update | Rejected:
+        """One sample of the robot's topics, through ``ros2.input.route`` into its people:
+        the form it shows is learned, its topic counted as seen, and time going back is
+        said at once (the next diagnosis is now)."""
+        if (learned := self.form.learn(sample.key, sample.attachment)) is not None:
+            log.log(learned[0], "%s", learned[1])
+        update = route(self.people, self.wire, sample, self.settings.ros_max_message_bytes)
+        if isinstance(update, Rejected):
+            return update
+        self._watch.on_input(reading(self.wire, sample.key)[0])  # type: ignore[index]
+        if update.time_back_ns:
+            self._watch.time_back = (self._clock(), update.time_back_ns)
+            self.next_diagnosis = self._clock()
+        return update
+
+    def diagnose(self) -> None:
+        """Every DIAGNOSIS_PERIOD_S: why people may give no results. Each finding is
+        logged once when it appears and once when it clears; the status shows the
+        current ones."""
+        now = self._clock()
+        if self.next_diagnosis is None or now < self.next_diagnosis:
+            return
+        self.next_diagnosis = now + DIAGNOSIS_PERIOD_S
+        while self._strays:
+            key = self._strays.popleft()
+            if isinstance(reading(self.wire, key), Rejected):  # not where /tf is read
+                self._watch.on_stray(key)
+        if self._watch.topics.get("/tf"):
+            self._stop_sniffing()  # /tf arrives where expected: strays no longer matter
+        findings = self._watch.findings(self.people, now)
+        for code, line in findings.items():
+            if code not in self.findings:
+                log.warning("ROS 2 input: %s [%s]", line, code)
+        for code in self.findings.keys() - findings.keys():
+            log.info("ROS 2 input: %s no longer holds", code)
+        self.findings = findings
+
+    def _stop_sniffing(self) -> None:
+        for sniffer in self._sniffers:
+            sniffer.undeclare()
+        self._sniffers = []
+
+    def status(self) -> Ros2Status:
+        form = self.form.current
+        return Ros2Status(
+            format=self.wire.format.value,
+            distro=form.distro.value,
+            attachment=form.attachment.value,
+            form_from=self.form.source,
+            findings=self.findings,
+        )
+
+    def said(self) -> str:
+        """The start line's part: what is read, and how faces are judged."""
+        s, wire = self.settings, self.wire
+        where = f"domain {wire.domain_id}, " if wire.format.value == "rmw_zenoh" else ""
+        ns = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
+        return (
+            f"; ROS 2 input in {wire.format.value} format ({where}{ns}), people looked up "
+            f"in {s.ros_base_frame}, faces facing within {s.head_profile().threshold_deg:.1f} "
+            f"deg ({s.head_cone})"
+        )
+
+    def input_of(self, subject: str, base_frame: str) -> str:
+        """Where a pose came from, as the robot names it (its wire has no pose keys)."""
+        frame = self.people.frame_of(subject) or "?"
+        return f"/tf {base_frame} -> {frame} ({subject})"

@@ -1,0 +1,370 @@
+"""The worker: the one thread that owns the tracker. It pulls input samples straight from
+zenoh's channel, and queries (and a robot's other topics) from the side queue the
+callbacks fill, in arrival order (``intake``); handles them in batches, hands each turn's
+publications to the outbox, and answers queries in order with the samples.
+
+Each turn: handle what arrived (poses in batches through the core, each tracker call and
+its publications in one transaction), then what time alone makes due (expiry, engagement
+dwell, the ROS 2 tick and diagnosis), then hand the publications over. A bug met on an
+item is counted and logged and that item alone is lost (``internal_error``); the status
+says "degraded" until a batch succeeds.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import zenoh
+
+from ..config.settings import Settings
+from ..contract import keys
+from ..contract.keys import BodyRef
+from ..contract.poses import Rejected, Rejection, decode_pose
+from ..contract.schemas import QueryError
+from ..core.records import Changes, PoseSample
+from ..core.tracker import Tracker
+from ..ros2.input import RosSample
+from ..ros2.output import RosOutput
+from .intake import Intake
+from .ledger import Ledger
+from .outbox import Outbox, Publication
+from .publications import publications, query_replies, ros_publications, threshold_parameter
+from .publisher import JSON
+from .robot_input import RobotInput
+
+log = logging.getLogger("facing_service")
+
+#: Most inbox items handled per batch: bounds the latency a backlog adds to a query.
+MAX_BATCH = 1024
+#: Wall time a batch may take before the rest of it waits for the next turn of the loop:
+#: between turns, what was decided is handed to the publisher, bodies expire, the ROS
+#: tick and diagnosis run. Input that is dear to handle (a robot's deep TF chains) then
+#: delays the others' results by at most this much, not by the whole batch.
+BATCH_BUDGET_S = 0.05
+
+
+@dataclass(frozen=True)
+class QueryItem:
+    query: zenoh.Query
+    space: str  # which output key space it reached us through: facing, frame, engagement
+
+
+class Worker:
+    """The worker's state and its loop (``run``, on the service's worker thread). Every
+    attribute is the worker's alone but ``failing`` (read by the status) and ``intake``
+    (set by the service once its session is open)."""
+
+    def __init__(
+        self,
+        settings: Settings,
+        clock: Callable[[], float],
+        tracker: Tracker,
+        robot: RobotInput,
+        ros_out: RosOutput | None,
+        ledger: Ledger,
+        outbox: Outbox,
+        closing: threading.Event,
+    ) -> None:
+        self.settings = settings
+        self._clock = clock
+        self._tracker = tracker
+        self._robot = robot
+        self._ros_input = settings.input == "ros2"
+        self._ros_out = ros_out
+        self._ledger = ledger
+        self._outbox = outbox
+        self._closing = closing
+        self.intake: Intake | None = None
+        self._pose_key = keys.PoseKeyParser(settings.namespace, 2 * settings.max_bodies)
+        self._said: list[Publication] = []  # decided this turn of the loop
+        self._accepted = 0  # samples whose results are in _said
+        self._ledger.tracked = self._tracker.tracked_per_frame()
+        self._horizon = clock()  # when the worker took what it handles now
+        self._drained = True  # the last take emptied the intake
+        self.failing = False  # the last batch raised (written by the worker only)
+        self._faults = 0  # errors in the current batch
+        self._carried: list[object] = []  # the rest of a batch over BATCH_BUDGET_S
+
+    def first_aggregates(self) -> None:
+        """Every declared frame's aggregate, before any input (sent once the publisher
+        starts): a consumer learns the frame exists, with nobody in it yet."""
+        self._publish(Changes(frames=self._tracker.frames()))
+        self._hand_over()
+
+    def run(self) -> None:
+        """The worker thread's loop, until the service closes."""
+        while not self._closing.is_set():
+            try:
+                batch = self._next_batch()
+            except zenoh.ZError:  # the channel closed: shutting down
+                break
+            self._faults = 0
+            try:
+                self._handle(batch)
+                self._expire()
+                self._ros_tick()
+                self._robot.diagnose()
+                self._ledger.rejection_log.maybe_log()
+                self._ledger.tracked = self._tracker.tracked_per_frame()
+                self._hand_over()
+            except Exception as error:  # the worker must outlive any single bug, and say so
+                self._fault(error, f"a batch of {len(batch)} items")
+            if batch or self._faults:  # "degraded" until a batch succeeds: a turn woken
+                self.failing = self._faults > 0  # by the alarm alone proves nothing
+        self._ledger.rejection_log.maybe_log(force=True)
+
+    def _fault(self, error: Exception, where: str) -> None:
+        """A bug met in the worker: counted, logged (the first of a batch with its
+        traceback), and the status says "degraded" until a batch has none."""
+        self._ledger.count("worker_errors")
+        self._faults += 1
+        if self._faults == 1:
+            log.error("worker: unexpected error in %s", where, exc_info=error)
+
+    def _next_batch(self) -> list[object]:
+        """What arrived (at most MAX_BATCH), waiting for it until the next deadline
+        (worked out only when the last take emptied the intake: otherwise there is no
+        wait, and it is the loop's dearest step). The rest of a batch over its budget
+        comes first, at the time it was taken (``_horizon``)."""
+        assert self.intake is not None
+        if self._carried:
+            batch, self._carried = self._carried, []
+            return batch
+        if self._drained:
+            self.intake.set_alarm(self._next_deadline())
+        batch, self._drained = self.intake.take(MAX_BATCH)
+        self._horizon = self._clock()
+        return batch
+
+    def _next_deadline(self) -> float | None:
+        """When time alone makes the worker's next change (the clock's time), if ever."""
+        return min(
+            (
+                d
+                for d in (
+                    self._tracker.next_expiry(),
+                    self._tracker.next_due(),
+                    self._ledger.rejection_log.next_due(),
+                    self._ros_out.next_tick if self._ros_out is not None else None,
+                    self._robot.next_diagnosis,
+                )
+                if d is not None
+            ),
+            default=None,
+        )
+
+    def _expire(self) -> None:
+        """Lose bodies with no sample for ``stale_after_s``.
+
+        "Now" is when the worker took what it just handled: a body whose next sample was
+        already queued is not stale, however long the worker took to get to it, and a
+        batch slower than ``stale_after_s`` does not make the bodies it updated stale. Nor
+        does the rest of a batch over its budget: expiry waits until it is handled.
+        """
+        if self._carried:  # taken at the horizon, not handled yet: they may refresh bodies
+            return
+        for call in self._tracker.timed(self._horizon):
+            self._apply(call)
+
+    def _ros_tick(self) -> None:
+        """--output ros2: every tracked person's level at hri_engagement's rate."""
+        if self._ros_out is not None:
+            messages = self._ros_out.tick(self._tracker.engagements, self._clock())
+            self._said += ros_publications(messages)
+
+    def _handle(self, batch: list[object]) -> None:
+        """Handle the items in order; consecutive poses go to the core together. An item
+        that meets a bug is counted and skipped: the others are handled. Past
+        BATCH_BUDGET_S the rest waits for the next turn (see ``_next_batch``)."""
+        poses: list[PoseSample] = []
+        deadline = time.monotonic() + BATCH_BUDGET_S
+        for i, item in enumerate(batch):
+            if self._closing.is_set():  # SIGTERM under a flood: the backlog is abandoned
+                return
+            if i and time.monotonic() > deadline:
+                self._carried = batch[i:]
+                break
+            try:
+                self._handle_one(item, poses)
+            except Exception as error:
+                self._fault(error, f"an input item ({type(item).__name__})")
+        self._flush(poses)
+
+    def _handle_one(self, item: object, poses: list[PoseSample]) -> None:
+        if isinstance(item, zenoh.Sample):
+            if self._ros_input:  # the robot's /tf, from the intake's channel
+                if item.kind == zenoh.SampleKind.PUT:
+                    self._on_ros(RosSample.of(item, self.settings.ros_max_message_bytes), poses)
+            elif item.kind == zenoh.SampleKind.PUT:
+                pose = self._decode(item)
+                if pose is not None:
+                    poses.append(pose)
+            else:
+                self._flush(poses)
+                self._on_delete(str(item.key_expr))
+        elif isinstance(item, RosSample):
+            self._on_ros(item, poses)
+        elif isinstance(item, QueryItem):
+            self._flush(poses)
+            self._answer(item)
+
+    def _on_ros(self, sample: RosSample, poses: list[PoseSample]) -> None:
+        """A sample of the robot's topics: poses join the batch; losses are published
+        after the poses before them, in order."""
+        update = self._robot.route(sample)
+        if isinstance(update, Rejected):
+            self._reject(update.reason, sample.key, update.detail)
+            return
+        for reason, what in update.refused:
+            self._reject(Rejection(reason), sample.key, what)
+        if update.unresolved:
+            self._ledger.count("tf_lookups_unresolved", update.unresolved)
+        poses.extend(update.poses)
+        if update.lost:
+            self._flush(poses)
+            base, back = self._robot.people.base_frame, update.time_back_ns > 0
+            bodies = [BodyRef(frame_id=base, body_id=subject) for subject in update.lost]
+            self._apply(lambda: self._tracker.lose(bodies, self._horizon, time_went_back=back))
+
+    def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
+        key = str(sample.key_expr)
+        parsed = self._pose_key(key)
+        if parsed is None:
+            self._reject(Rejection.INVALID_KEY, key, "not NS/bodies/<id>/pose/<frame>")
+            return None
+        limit = self.settings.max_payload_bytes
+        if len(sample.payload) > limit:  # refuse before copying a huge payload
+            self._reject(Rejection.PAYLOAD_TOO_LARGE, key, f"{len(sample.payload)} bytes > {limit}")
+            return None
+        decoded = decode_pose(sample.payload.to_bytes(), parsed.body_id, parsed.frame_id, limit)
+        if isinstance(decoded, Rejected):
+            self._reject(decoded.reason, key, decoded.detail)
+            return None
+        return PoseSample(parsed, decoded)
+
+    def _flush(self, poses: list[PoseSample]) -> None:
+        """Run the pending poses through the tracker, publish, and empty the list. When
+        that meets a bug, the poses go again one by one: only the one at fault is lost
+        (refused as internal_error), never the batch's others."""
+        if not poses:
+            return
+        batch = list(poses)
+        poses.clear()
+        try:
+            self._ingest(batch)
+            return
+        except Exception as error:
+            self._fault(error, f"a batch of {len(batch)} poses")
+            if len(batch) == 1:
+                self._refuse(batch[0], error)
+                return
+        for sample in batch:
+            try:
+                self._ingest([sample])
+            except Exception as error:
+                self._fault(error, f"the pose of {sample.body_id} in {sample.frame_id}")
+                self._refuse(sample, error)
+
+    def _refuse(self, sample: PoseSample, error: Exception) -> None:
+        """A pose whose handling met a bug: refused alone, as internal_error."""
+        detail = f"{type(error).__name__}: {error}"
+        self._reject(Rejection.INTERNAL_ERROR, self._input_of(sample), detail)
+
+    def _ingest(self, poses: list[PoseSample]) -> None:
+        changes = self._apply(lambda: self._tracker.ingest(poses, self._horizon))
+        for sample in changes.out_of_order:
+            self._reject(
+                Rejection.OUT_OF_ORDER,
+                self._input_of(sample),
+                f"stamp {sample.pose.stamp} older than the latest accepted",
+            )
+        for sample in changes.over_capacity:
+            self._reject(
+                Rejection.CAPACITY,
+                self._input_of(sample),
+                f"already tracking max_bodies={self.settings.max_bodies}",
+            )
+        self._accepted += len(changes.results)
+
+    def _input_of(self, sample: PoseSample) -> str:
+        """Where a pose came from, as its sender names it: the pose key of the JSON input,
+        the TF lookup on the ROS 2 input (whose wire has no pose keys)."""
+        if not self._ros_input:
+            return keys.pose_key(self.settings.namespace, sample.body_id, sample.frame_id)
+        return self._robot.input_of(sample.body_id, sample.frame_id)
+
+    def _apply(self, change: Callable[[], Changes]) -> Changes:
+        """One tracker call and the publications it calls for, whole or not at all: when
+        either raises, the tracker is as before and nothing of it is said."""
+        said = len(self._said)
+        try:
+            with self._tracker.transaction():
+                changes = change()
+                self._publish(changes)
+        except Exception:
+            del self._said[said:]
+            raise
+        return changes
+
+    def _on_delete(self, key: str) -> None:
+        parsed = self._pose_key(key)
+        if parsed is None:
+            self._reject(Rejection.INVALID_KEY, key, "DELETE on an invalid key")
+            return
+        self._apply(lambda: self._tracker.lose(parsed, self._horizon))
+
+    def _reject(self, reason: Rejection, key: str, detail: str) -> None:
+        self._ledger.reject(reason, key, detail)
+
+    def _publish(self, changes: Changes) -> None:
+        """What the changes call for, in the order it must be sent (handed over at the end
+        of the loop's turn, see ``_hand_over``)."""
+        self._said += publications(changes, self.settings.namespace, self.settings.instance)
+        if self._ros_out is not None:
+            self._said += ros_publications(self._ros_out.on_changes(changes))
+
+    def _hand_over(self) -> None:
+        """Give the publisher all this turn decided, in one go, as the worker is about to
+        wait: one lock and one wake-up per turn, and the publisher wakes when the worker
+        lets go of the GIL rather than waiting for it. The worker never waits on the
+        network (a stuck consumer only ever stalls the publisher).
+
+        Accepted samples are counted once their results are handed over: "all accepted and
+        the outbox empty" means all sent."""
+        if self._said:
+            self._outbox.add(self._said)
+            self._said = []
+        if self._accepted:
+            self._ledger.count("samples_accepted", self._accepted)
+            self._accepted = 0
+
+    def _answer(self, item: QueryItem) -> None:
+        """Reply with the current state of every matching key, one reply per key."""
+        query = item.query
+        try:
+            threshold = threshold_parameter(dict(query.parameters))
+        except ValueError as error:
+            query.reply_err(
+                QueryError(error="bad_parameter", detail=str(error)).model_dump_json(),
+                encoding=JSON,
+            )
+            query.drop()
+            self._ledger.count("queries_refused")
+            return
+        # The status then agrees with the answer (a client reading it next sees the same).
+        self._ledger.tracked = self._tracker.tracked_per_frame()
+        if threshold is None:
+            states, frames = self._tracker.states(), self._tracker.frames()
+        else:
+            states, frames = self._tracker.evaluate(threshold)
+        engagements = self._tracker.engagements() if item.space == "engagement" else []
+        ns, me = self.settings.namespace, self.settings.instance
+        for key, payload in query_replies(item.space, ns, me, states, frames, engagements):
+            if query.key_expr.intersects(zenoh.KeyExpr(key)):
+                query.reply(key, payload, encoding=JSON)
+        query.drop()
+        self._ledger.count("queries_answered")
