@@ -23,7 +23,7 @@ What differs between rmw_zenoh's releases (read in ros2-gbp/rmw_zenoh-release, t
 - the default durability behind an empty QoS field: transient-local before Humble 0.1.2
   and Jazzy 0.2.3, volatile since, so a QoS string says every field (``QOS_RELIABLE_VOLATILE``);
 - transient-local caches: a ``PublicationCache`` queried on ``*/<key>`` up to Humble
-  0.1.1 and Jazzy 0.2.1, an advanced publisher's cache since (``ros2_input``).
+  0.1.1 and Jazzy 0.2.1, an advanced publisher's cache since (``ros2.input``).
 
 Pure: builds and parses strings and bytes, decides nothing else.
 """
