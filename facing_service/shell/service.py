@@ -254,12 +254,12 @@ class FacingService:
         }
 
     def status(self) -> ServiceStatus:
-        """A consistent snapshot of health, counters and state sizes; thread-safe."""
-        alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
-        health = "failed" if not alive else "degraded" if self._worker.failing else "ok"
-        return self._ledger.status(
+        """A consistent snapshot of health, counters and state sizes; thread-safe. Health
+        is read after the counters: the worker says "degraded" before it counts an error,
+        so a status that shows the error says degraded (unless a batch succeeded since)."""
+        snapshot = self._ledger.status(
             self._outbox,
-            status=health,
+            status="ok",
             instance=self.settings.instance,
             version=__version__,
             zenoh_id=str(self._session.zid()) if self._session is not None else "",
@@ -269,6 +269,9 @@ class FacingService:
             inbox_depth=len(self._intake) if self._intake is not None else 0,
             ros2=self._ros2_status(),
         )
+        alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
+        health = "failed" if not alive else "degraded" if self._worker.failing else "ok"
+        return snapshot.model_copy(update={"status": health})
 
     def _ros2_status(self) -> Ros2Status | None:
         return self._robot.status() if self._ros_input else None

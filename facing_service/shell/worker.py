@@ -119,7 +119,9 @@ class Worker:
 
     def _fault(self, error: Exception, where: str) -> None:
         """A bug met in the worker: counted, logged (the first of a batch with its
-        traceback), and the status says "degraded" until a batch has none."""
+        traceback), and the status says "degraded" until a batch has none: from before
+        the count, so a status that shows the error also says degraded."""
+        self.failing = True
         self._ledger.count("worker_errors")
         self._faults += 1
         if self._faults == 1:
