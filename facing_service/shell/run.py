@@ -16,6 +16,7 @@ import zenoh
 from ..config.disclosure import public_endpoint, zenoh_failure
 from ..config.settings import Settings
 from .service import FacingService
+from .threads import daemon_thread
 
 log = logging.getLogger("facing_service")
 
@@ -37,7 +38,7 @@ def run_until(settings: Settings, stop: threading.Event) -> int:
     # zenoh.open can wait indefinitely (a client with connect/timeout_ms:-1 waits for its
     # router) inside native code, where Python never runs signal handlers; so it runs on a
     # helper thread and this one stays responsive to SIGTERM and Ctrl-C.
-    threading.Thread(target=start, name="facing-open", daemon=True).start()
+    daemon_thread(start, "facing-open").start()
     if not wait_until_open(opened, settings, stop):  # nothing is open yet, nothing to close
         log.info("stopped before zenoh connected")
         logging.shutdown()
