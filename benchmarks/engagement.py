@@ -26,6 +26,7 @@ import statistics
 from pathlib import Path
 
 from facing_service.client.sim import LabelledSample, Segment, labelled_track
+from facing_service.config.profiles import engagement_params
 from facing_service.config.settings import Settings
 from facing_service.core.detector import classify_one
 from facing_service.core.engagement import (
@@ -186,7 +187,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=RESULTS)
     args = parser.parse_args()
     people = 3 if args.quick else args.people
-    report = evaluate(people, args.seed, Settings().engagement_params())
+    report = evaluate(people, args.seed, engagement_params(Settings()))
     fmt = lambda v: "never" if v is None else f"{v:.2f}"  # noqa: E731
     print(f"{people} people, {report['ours']['person_minutes']} person-minutes each method")
     print(f"{'':34}{'ours':>10}{'reference':>12}{'target':>10}")

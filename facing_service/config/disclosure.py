@@ -37,6 +37,8 @@ PUBLIC_FIELDS = frozenset(
         "head_falloff_deg",
         "head_engagement_tau_s",
         "head_dwell_s",
+        "head_steady_deg",
+        "head_steady_tau_s",
         "input",
         "ros_format",
         "ros_distro",

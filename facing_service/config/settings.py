@@ -11,7 +11,6 @@ from __future__ import annotations
 import os
 import re
 import socket
-from dataclasses import replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -19,8 +18,6 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from ..contract import keys
 from ..contract.poses import DEFAULT_MAX_PAYLOAD_BYTES
-from ..core.engagement import EngagementParams
-from ..core.records import Profile
 from ..core.tf_buffer import DEFAULT_MAX_FRAMES
 from ..ros2.input import DEFAULT_MAX_MESSAGE_BYTES
 from ..ros2.wire import Distro, RosFormat, Wire
@@ -137,8 +134,8 @@ class Settings(BaseModel):
             metavar="INTIMATE,PERSONAL,SOCIAL",
         ),
     )
-    # Heads (face frames, from ROS 2 input): chosen by cross-validation on the shared
-    # recordings (benchmarks/crossval.py, docs/engagement.md).
+    # Heads (face frames, from ROS 2 input): chosen by cross-validation by person on the
+    # shared recordings (benchmarks/crossval.py, docs/engagement.md).
     head_cone: Literal["3d", "planar"] = Field(
         "3d", **_flag("how a face's angle to the robot is measured: `3d` or `planar`", HEADS)
     )
@@ -165,6 +162,22 @@ class Settings(BaseModel):
         ge=0.0,
         allow_inf_nan=False,
         **_flag("a face's ENGAGING and DISENGAGING must hold this long", HEADS),
+    )
+    head_steady_deg: float = Field(
+        0.0,
+        ge=0.0,
+        allow_inf_nan=False,
+        **_flag(
+            "a face's score falls from this wander away from its recent direction, to 0 at "
+            "twice it (0: steadiness off)",
+            HEADS,
+        ),
+    )
+    head_steady_tau_s: float = Field(
+        0.5,
+        gt=0.0,
+        allow_inf_nan=False,
+        **_flag("time constant of a face's recent direction (steadiness)", HEADS),
     )
     input: Literal["json", "ros2"] = Field(
         "json",
@@ -345,42 +358,6 @@ class Settings(BaseModel):
         """The frame ROS 2 input looks people up in: ``--base-frame``, or REP 105's
         ``base_link`` (libhri's default reference frame) when it is ``*``."""
         return "base_link" if self.base_frame == keys.ALL_FRAMES else self.base_frame
-
-    def engagement_params(self) -> EngagementParams:
-        intimate, personal, social = self.zones_m
-        return EngagementParams(
-            threshold_deg=self.threshold_deg,
-            tau_s=self.engagement_tau_s,
-            engage_above=self.engage_above,
-            disengage_below=self.disengage_below,
-            engage_dwell_s=self.engage_dwell_s,
-            disengage_dwell_s=self.disengage_dwell_s,
-            intimate_m=intimate,
-            personal_m=personal,
-            social_m=social,
-        )
-
-    def head_profile(self) -> Profile:
-        """How face frames are decided (ROS 2 input): see docs/ros2.md's evaluation.
-
-        One story for heads: a face is facing inside its cone (``head_threshold_deg``),
-        and its engagement score crosses ``engage_above`` exactly at the cone's edge (the
-        score's full plateau is ``(1 - engage_above) * head_falloff_deg`` inside it), so
-        a face that can engage is a face that faces, and one facing within the hysteresis
-        band is one that has not dropped below ``disengage_below``: a person ENGAGED is
-        never "not facing" for long, nor facing without a score that engages."""
-        plateau = self.head_threshold_deg - (1.0 - self.engage_above) * self.head_falloff_deg
-        engagement = replace(
-            self.engagement_params(),
-            threshold_deg=max(0.0, plateau),
-            falloff_deg=self.head_falloff_deg,
-            tau_s=self.head_engagement_tau_s,
-            engage_dwell_s=self.head_dwell_s,
-            disengage_dwell_s=self.head_dwell_s,
-        )
-        return Profile(
-            self.head_threshold_deg, self.hysteresis_deg, self.head_cone == "3d", engagement
-        )
 
     @field_validator("cfg")
     @classmethod

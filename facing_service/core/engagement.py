@@ -22,6 +22,13 @@ latest sample above it too, to become ENGAGED; ENGAGED turns DISENGAGING below
 thresholds plus dwell times keep tracker noise (several degrees of yaw jitter) from
 flickering the level, while the short time constant keeps reactions under a second (see
 benchmarks/engagement.py).
+
+**Steadiness** (heads, chosen on real recordings: docs/engagement.md): a person who
+attends to the robot holds their head still toward it; one looking around sweeps through
+the cone. The machine keeps the recent mean direction of the robot in the frame (an
+exponentially weighted average with time constant ``steady_tau_s``); the score is scaled
+by 1 while the direction stays within ``steady_deg`` of it, falling to 0 at twice that.
+Off (``steady_deg`` None) unless asked for.
 """
 
 from __future__ import annotations
@@ -49,7 +56,7 @@ class Zone(str, Enum):
 @dataclass(frozen=True, kw_only=True)
 class EngagementParams:
     """The engagement machine's parameters. Those a user tunes have no default here:
-    they come from ``config.Settings`` (``Settings.engagement_params()``), their one
+    they come from ``config.Settings`` (``config.profiles.engagement_params``), their one
     source; the rest are fixed by the design."""
 
     threshold_deg: float  # the facing cone (the service's threshold)
@@ -65,6 +72,8 @@ class EngagementParams:
     near_m: float = 2.5  # full score up to this distance (well inside the social zone)
     far_m: float = 4.5  # no score from this distance
     fresh_s: float = 0.2  # promotion to ENGAGED needs an observation at most this old
+    steady_deg: float | None = None  # the score falls from this wander to 0 at twice it
+    steady_tau_s: float = 0.5  # time constant of the recent mean direction
 
 
 def facing_score(angle_deg: float | None, distance_m: float | None, p: EngagementParams) -> float:
@@ -73,6 +82,31 @@ def facing_score(angle_deg: float | None, distance_m: float | None, p: Engagemen
     by_angle = min(1.0, max(0.0, 1.0 - (angle_deg - p.threshold_deg) / p.falloff_deg))
     by_distance = min(1.0, max(0.0, (p.far_m - distance_m) / (p.far_m - p.near_m)))
     return by_angle * by_distance
+
+
+Vector = tuple[float, float, float]
+
+
+def steadiness(wander_deg: float, p: EngagementParams) -> float:
+    """1 while the head wanders at most ``steady_deg`` from its recent direction, 0 at
+    twice that (always 1 when steadiness is off)."""
+    if p.steady_deg is None:
+        return 1.0
+    return min(1.0, max(0.0, 2.0 - wander_deg / p.steady_deg))
+
+
+def _unit(v: Vector) -> Vector | None:
+    n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    return None if n < 1e-9 else (v[0] / n, v[1] / n, v[2] / n)
+
+
+def _wander(heading: Vector, direction: Vector, alpha: float) -> tuple[float, Vector]:
+    """The angle (degrees) between ``direction`` and the recent mean ``heading``, and the
+    mean moved toward ``direction`` by ``alpha``."""
+    cos = heading[0] * direction[0] + heading[1] * direction[1] + heading[2] * direction[2]
+    wander = math.degrees(math.acos(max(-1.0, min(1.0, cos))))
+    moved = _unit(tuple(h + alpha * (d - h) for h, d in zip(heading, direction, strict=True)))
+    return wander, moved or direction
 
 
 def zone(distance_m: float | None, p: EngagementParams) -> Zone:
@@ -96,18 +130,34 @@ class Engagement:
     raw: float = 0.0  # the latest sample's score
     since: float = 0.0
     last: float | None = None  # time of the last sample
+    heading: Vector | None = None  # recent mean direction of the robot (with steadiness)
 
 
-def step(state: Engagement, t: float, raw_score: float, p: EngagementParams) -> Engagement:
-    """Fold one scored sample at time ``t`` into the state."""
+def step(
+    state: Engagement,
+    t: float,
+    raw_score: float,
+    p: EngagementParams,
+    direction: Vector | None = None,
+) -> Engagement:
+    """Fold one scored sample at time ``t`` into the state; ``direction`` (the robot in
+    the frame) scales the score by the head's steadiness when that is on."""
+    dt = 0.0 if state.last is None else max(0.0, t - state.last)
+    heading = state.heading
+    if direction is not None and p.steady_deg is not None and (unit := _unit(direction)):
+        if heading is None:
+            heading = unit  # the first direction: nothing to have wandered from
+        else:
+            wander, heading = _wander(heading, unit, 1.0 - math.exp(-dt / p.steady_tau_s))
+            raw_score *= steadiness(wander, p)
     if state.last is None:
         score, level, since = raw_score, Level.DISENGAGED, t
     else:
-        alpha = 1.0 - math.exp(-max(0.0, t - state.last) / p.tau_s)
+        alpha = 1.0 - math.exp(-dt / p.tau_s)
         score = state.score + alpha * (raw_score - state.score)
         level, since = state.level, state.since
     # the constructor, not dataclasses.replace: this runs for every sample
-    return advance(Engagement(level, score, raw_score, since, t), t, p)
+    return advance(Engagement(level, score, raw_score, since, t, heading), t, p)
 
 
 def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
@@ -139,7 +189,7 @@ def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
             nxt = Level.DISENGAGED
     if nxt is level:
         return state
-    return Engagement(nxt, state.score, state.raw, t, state.last)
+    return Engagement(nxt, state.score, state.raw, t, state.last, state.heading)
 
 
 class VoteWindow:

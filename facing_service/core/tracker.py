@@ -350,7 +350,11 @@ class Tracker(Journaled):
         t = stamp_s(state.stamp)
         before = track.engagement.level
         track.engagement = step(
-            track.engagement, t, facing_score(state.angle_deg, state.distance_m, p), p
+            track.engagement,
+            t,
+            facing_score(state.angle_deg, state.distance_m, p),
+            p,
+            state.robot_in_body,
         )
         changed = track.engagement.level is not before
         key = state.body

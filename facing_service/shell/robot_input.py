@@ -15,6 +15,7 @@ from collections.abc import Callable
 
 import zenoh
 
+from ..config.profiles import head_profile
 from ..config.settings import Settings
 from ..contract.poses import Rejected
 from ..contract.schemas import Ros2Status
@@ -143,7 +144,7 @@ class RobotInput:
         ns = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
         return (
             f"; ROS 2 input in {wire.format.value} format ({where}{ns}), people looked up "
-            f"in {s.ros_base_frame}, faces facing within {s.head_profile().threshold_deg:.1f} "
+            f"in {s.ros_base_frame}, faces facing within {head_profile(s).threshold_deg:.1f} "
             f"deg ({s.head_cone})"
         )
 

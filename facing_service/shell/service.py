@@ -41,6 +41,7 @@ import zenoh
 
 from .. import __version__
 from ..config.disclosure import public_endpoint, public_settings
+from ..config.profiles import engagement_params, head_profile
 from ..config.session import effective_session, mode_and_endpoints, zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
@@ -74,9 +75,9 @@ def tracker_for(settings: Settings) -> Tracker:
         settings.stale_after_s,
         frames=fixed,
         max_bodies=settings.max_bodies,
-        engagement=settings.engagement_params(),
+        engagement=engagement_params(settings),
         engagement_period_s=settings.engagement_period_s,
-        head=settings.head_profile(),
+        head=head_profile(settings),
     )
 
 

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import math
 import random
+from dataclasses import replace
 
 import pytest
 
+from facing_service.config.profiles import engagement_params, head_profile
 from facing_service.config.settings import Settings
 from facing_service.core.engagement import (
     Engagement,
@@ -18,7 +21,7 @@ from facing_service.core.engagement import (
     zone,
 )
 
-P = Settings().engagement_params()  # the service's defaults
+P = engagement_params(Settings())  # the service's defaults
 
 
 @pytest.mark.parametrize(
@@ -129,3 +132,43 @@ def test_reference_vote_window_is_slow_by_design():
     assert levels[48] is Level.UNKNOWN and levels[49] is Level.DISENGAGED  # half a window
     first_engaged = levels.index(Level.ENGAGED)
     assert first_engaged - 50 >= 40  # at 10 Hz: more than 4 s of facing to become ENGAGED
+
+
+HEAD = head_profile(Settings(head_steady_deg=5.0)).engagement  # steadiness on
+
+
+def looking(yaw_degs, params, dt=1 / 30):
+    """A head whose robot direction turns through ``yaw_degs`` (one per frame, 1 m away),
+    scored as the tracker scores a face: the levels it passes through."""
+    state, seen = Engagement(), []
+    for i, yaw in enumerate(yaw_degs):
+        a = math.radians(yaw)
+        direction = (math.cos(a), math.sin(a), 0.0)
+        state = step(state, (i + 1) * dt, facing_score(abs(yaw), 1.0, params), params, direction)
+        seen.append(state.level)
+    return state, seen
+
+
+def test_steadiness_is_off_unless_asked_for():
+    assert head_profile(Settings()).engagement.steady_deg is None
+    assert HEAD.steady_deg == 5.0
+
+
+def test_a_head_held_still_in_the_cone_engages_with_steadiness_as_without():
+    rng = random.Random(3)
+    still = [10.0 + rng.gauss(0, 1.0) for _ in range(90)]  # 3 s, a degree of tracker jitter
+    _, with_it = looking(still, HEAD)
+    _, without = looking(still, replace(HEAD, steady_deg=None))
+    assert with_it[-1] is Level.ENGAGED
+    assert with_it.index(Level.ENGAGED) == without.index(Level.ENGAGED)
+
+
+def test_a_head_sweeping_through_the_cone_never_engages_with_steadiness():
+    """Looking around: the head turns at 30 deg/s between -40 and +40 deg, so it spends
+    over a second at a time inside the cone. Without steadiness that engages; with it,
+    the head is always far from where it just was, and it never does."""
+    sweep = [40.0 - abs((i * 1.0) % 160 - 80) for i in range(30 * 12)]
+    _, without = looking(sweep, replace(HEAD, steady_deg=None))
+    _, with_it = looking(sweep, HEAD)
+    assert Level.ENGAGED in without
+    assert Level.ENGAGED not in with_it and Level.ENGAGING not in with_it

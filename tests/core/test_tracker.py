@@ -9,6 +9,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from facing_service.config.profiles import engagement_params
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.poses import Pose
@@ -40,7 +41,7 @@ def tracker(**kw) -> Tracker:
         "engagement_period_s": defaults.engagement_period_s,
     } | kw
     params.setdefault(
-        "engagement", replace(defaults.engagement_params(), threshold_deg=params["threshold_deg"])
+        "engagement", replace(engagement_params(defaults), threshold_deg=params["threshold_deg"])
     )
     return Tracker(**params)
 

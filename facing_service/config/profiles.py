@@ -1,0 +1,50 @@
+"""What the settings make of the core's parameters: the engagement machine's, and how
+chests and heads are decided. Kept apart from ``Settings`` (which only declares and
+checks the values) because this is where the settings' *meaning* for the core lives."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..core.engagement import EngagementParams
+from ..core.records import Profile
+from .settings import Settings
+
+
+def engagement_params(settings: Settings) -> EngagementParams:
+    intimate, personal, social = settings.zones_m
+    return EngagementParams(
+        threshold_deg=settings.threshold_deg,
+        tau_s=settings.engagement_tau_s,
+        engage_above=settings.engage_above,
+        disengage_below=settings.disengage_below,
+        engage_dwell_s=settings.engage_dwell_s,
+        disengage_dwell_s=settings.disengage_dwell_s,
+        intimate_m=intimate,
+        personal_m=personal,
+        social_m=social,
+    )
+
+
+def head_profile(settings: Settings) -> Profile:
+    """How face frames are decided (ROS 2 input): see docs/ros2.md's evaluation.
+
+    One story for heads: a face is facing inside its cone (``head_threshold_deg``), and
+    its engagement score crosses ``engage_above`` exactly at the cone's edge (the score's
+    full plateau is ``(1 - engage_above) * head_falloff_deg`` inside it), so a face that
+    can engage is a face that faces, and one facing within the hysteresis band is one
+    that has not dropped below ``disengage_below``: a person ENGAGED is never "not
+    facing" for long, nor facing without a score that engages."""
+    s = settings
+    plateau = s.head_threshold_deg - (1.0 - s.engage_above) * s.head_falloff_deg
+    engagement = replace(
+        engagement_params(s),
+        threshold_deg=max(0.0, plateau),
+        falloff_deg=s.head_falloff_deg,
+        tau_s=s.head_engagement_tau_s,
+        engage_dwell_s=s.head_dwell_s,
+        disengage_dwell_s=s.head_dwell_s,
+        steady_deg=s.head_steady_deg or None,
+        steady_tau_s=s.head_steady_tau_s,
+    )
+    return Profile(s.head_threshold_deg, s.hysteresis_deg, s.head_cone == "3d", engagement)
