@@ -2,8 +2,9 @@
 
     python -m benchmarks.recordings [--quick] [--rate R] [--format rmw_zenoh|bridge]
 
-For each recording of ../shared/data/hri_engagement_bags (hri_engagement's own test
-recordings, labelled ENGAGED or DISENGAGED per person):
+For each recording of the shared set (../shared/data/hri_engagement_bags and
+hri_engagement_bags_2: hri_engagement's own test recordings, labelled ENGAGED or
+DISENGAGED per person; ``scoring.labelled``):
 - ours: the bag is replayed onto zenoh (``replay``, rmw_zenoh format by default) through a
   zenoh router to the real service (``--input ros2``, base frame camera_link, as
   hri_engagement's tests used); a consumer records the service's engagement events for
@@ -13,13 +14,12 @@ recordings, labelled ENGAGED or DISENGAGED per person):
   60 deg, max distance 4 m, threshold 0.5, 10 s window at 10 Hz, its vote thresholds), fed
   the same TF data (tf2's lookups through our TF buffer, tested against tf2 itself).
 
-Both levels are sampled every 0.1 s of recording time. Per person-recording: the share of
-samples after a 2 s warm-up where the level equals the label, and where "ENGAGED or not"
-matches, the final level, the time to the first ENGAGED, the number of level changes.
-Summaries are means over person-recordings (how the rule's reference figures were made).
+Both are scored alike (``scoring``: level, ENGAGED-or-not, the two errors apart, final
+level, first ENGAGED, changes a minute; means over person-recordings with 95 % bootstrap
+intervals, with and without the ceiling row).
 ``--quick`` replays at 4x (CI); the full run replays at recorded speed. Then the same
 recordings offline (``benchmarks.crossval``): the figures in-sample and cross-validated,
-leaving one recording out in turn, per family of candidate settings.
+leaving one person out (and one recording out), per idea.
 """
 
 from __future__ import annotations
@@ -27,11 +27,12 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import statistics
 import threading
 import time
-from dataclasses import asdict, dataclass
+from collections.abc import Sequence
+from dataclasses import asdict
 from pathlib import Path
+from typing import Any
 
 import zenoh
 
@@ -47,31 +48,27 @@ from facing_service.shell.service import FacingService
 from facing_service.testing import endpoint, free_port, loopback_config, wait_until
 from facing_service.tools.replay import Replay
 
-BAGS = Path(__file__).resolve().parents[2] / "shared" / "data" / "hri_engagement_bags"
+from . import scoring
+from .scoring import (
+    BASE_FRAME,
+    FOLDERS,
+    ROW_HEAD,
+    Row,
+    Timeline,
+    figures_line,
+    row_cells,
+    row_name,
+    score,
+    summaries,
+    summary,
+    ticks,
+    timeline_of,
+)
+
 RESULTS = Path(__file__).resolve().parent / "results" / "recordings.json"
-BASE_FRAME = "camera_link"  # hri_engagement's tests' reference frame
-TICK_NS = 100_000_000  # hri_engagement's rate: 10 Hz
-WARM_UP_S = 2.0
-#: The rule's figures as measured outside the project (the issue), which ours must beat.
+#: The rule's figures on the first shared folder as measured outside the project (issue
+#: 22), which its re-implementation must reproduce there.
 REFERENCE_FIGURES = {"level": 0.32, "engaged_or_not": 0.71, "final": 4, "first_engaged_s": 5.2}
-
-Timeline = list[tuple[float, Level]]  # (seconds since the recording's start, level)
-
-
-@dataclass
-class Row:
-    recording: str
-    person: str
-    label: str
-    level: float  # share of samples after the warm-up with level == label
-    engaged_or_not: float
-    final_ok: bool
-    first_engaged_s: float | None
-    changes: int
-
-
-def ticks(start_ns: int, end_ns: int) -> list[int]:
-    return list(range(start_ns + TICK_NS, end_ns + 1, TICK_NS))
 
 
 def rule_timelines(bag: Path, persons: list[str]) -> dict[str, Timeline]:
@@ -160,20 +157,6 @@ def service_timelines(
     return {person: timeline_of(events, f"person_{person}", start, end) for person in persons}
 
 
-def timeline_of(
-    events: list[tuple[int, str, Level]], body: str, start_ns: int, end_ns: int
-) -> Timeline:
-    """A body's level at every tick, from its engagement events (stamp ns, body, level)."""
-    mine = sorted((s, level) for s, who, level in events if who == body)
-    timeline, j, level = [], 0, Level.UNKNOWN
-    for tick in ticks(start_ns, end_ns):
-        while j < len(mine) and mine[j][0] <= tick:
-            level = mine[j][1]
-            j += 1
-        timeline.append(((tick - start_ns) / 1e9, level))
-    return timeline
-
-
 def _wait_for_service(session: zenoh.Session, timeout: float = 10.0) -> None:
     token = keys.service_token("hri", "*")
     wait_until(
@@ -183,79 +166,43 @@ def _wait_for_service(session: zenoh.Session, timeout: float = 10.0) -> None:
     )
 
 
-def score(recording: str, person: str, label: Level, timeline: Timeline) -> Row:
-    after = [level for t, level in timeline if t >= WARM_UP_S]
-    engaged = label is Level.ENGAGED
-    first = next((t for t, level in timeline if level is Level.ENGAGED), None)
-    previous, changes = Level.UNKNOWN, 0
-    for _, level in timeline:
-        changes += level is not previous
-        previous = level
-    return Row(
-        recording,
-        person,
-        label.name,
-        sum(level is label for level in after) / len(after),
-        sum((level is Level.ENGAGED) == engaged for level in after) / len(after),
-        timeline[-1][1] is label,
-        None if first is None else round(first, 1),
-        changes,
-    )
-
-
-def summary(rows: list[Row]) -> dict[str, float | int | None]:
-    engaged = [r for r in rows if r.label == "ENGAGED"]
-    firsts = [math.inf if r.first_engaged_s is None else r.first_engaged_s for r in engaged]
-    median = statistics.median(firsts) if firsts else None
-    return {
-        "level": round(statistics.mean(r.level for r in rows), 3),
-        "engaged_or_not": round(statistics.mean(r.engaged_or_not for r in rows), 3),
-        "final": sum(r.final_ok for r in rows),
-        "of": len(rows),
-        "first_engaged_s": None if median is None or math.isinf(median) else round(median, 2),
-        "changes": sum(r.changes for r in rows),
-    }
-
-
 def evaluate(
-    bags: Path = BAGS, rate: float = 1.0, ros_format: RosFormat = RosFormat.RMW_ZENOH
+    folders: Sequence[Path] = FOLDERS,
+    rate: float = 1.0,
+    ros_format: RosFormat = RosFormat.RMW_ZENOH,
 ) -> dict[str, dict]:
-    labels = json.loads((bags / "labels.json").read_text())["recordings"]
     rows: dict[str, list[Row]] = {"service": [], "rule": []}
-    for recording in sorted(labels):
-        persons = labels[recording]["persons"]
-        label = Level(labels[recording]["expected_level"])
-        ours = service_timelines(bags / recording, persons, rate, ros_format)
-        rule = rule_timelines(bags / recording, persons)
+    for recording in scoring.labelled(folders):
+        persons = list(recording.persons)
+        ours = service_timelines(recording.path, persons, rate, ros_format)
+        rule = rule_timelines(recording.path, persons)
         for person in persons:
-            rows["service"].append(score(recording, person, label, ours[person]))
-            rows["rule"].append(score(recording, person, label, rule[person]))
+            rows["service"].append(score(recording.name, person, recording.label, ours[person]))
+            rows["rule"].append(score(recording.name, person, recording.label, rule[person]))
     return {
-        method: {"summary": summary(method_rows), "rows": [asdict(r) for r in method_rows]}
+        method: {"summary": summaries(method_rows), "rows": [asdict(r) for r in method_rows]}
         for method, method_rows in rows.items()
     }
 
 
+def first_folder_summary(results: dict[str, dict], method: str) -> dict[str, Any]:
+    """A method's figures on the first shared folder alone (where the rule's reference
+    figures were measured), ceiling included as they were."""
+    first = {r.name for r in scoring.labelled(FOLDERS[:1])}
+    rows = [Row(**r) for r in results[method]["rows"] if r["recording"] in first]
+    return summary(rows, intervals=False)
+
+
 def print_table(results: dict[str, dict]) -> None:
-    print(f"{'recording':16} {'person':6} {'label':10} | {'service':^32} | {'rule':^32}")
-    head = f"{'level':>6} {'eng?':>5} {'final':>5} {'1st ENG':>7} {'chg':>4}"
-    print(f"{'':35}| {head} | {head}")
+    print(f"{'':31} | {'service':^41} | {'rule':^41}")
+    print(f"{'recording       person label':31} | {ROW_HEAD} | {ROW_HEAD}")
     for ours, rule in zip(results["service"]["rows"], results["rule"]["rows"], strict=True):
-        cells = [
-            f"{r['level']:6.0%} {r['engaged_or_not']:5.0%} {'ok' if r['final_ok'] else 'x':>5} "
-            f"{'never' if r['first_engaged_s'] is None else r['first_engaged_s']:>7} "
-            f"{r['changes']:4}"
-            for r in (ours, rule)
-        ]
-        who = f"{ours['recording']:16} {ours['person']:6} {ours['label']:10}"
-        print(f"{who} | {cells[0]} | {cells[1]}")
+        print(f"{row_name(ours):31} | {row_cells(ours)} | {row_cells(rule)}")
+    print("(* the ceiling row: left out of the targets)")
     for method in ("service", "rule"):
-        s = results[method]["summary"]
-        print(
-            f"{method:8} level {s['level']:.0%}, ENGAGED or not {s['engaged_or_not']:.0%}, "
-            f"final {s['final']}/{s['of']}, first ENGAGED (median) {s['first_engaged_s']} s, "
-            f"{s['changes']} level changes"
-        )
+        for which, label in (("without_ceiling", "without *"), ("all", "all")):
+            s = results[method]["summary"][which]
+            print(f"{method:7} {label:9}  {figures_line(s)}")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -263,7 +210,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--quick", action="store_true", help="replay at 4x (CI)")
     parser.add_argument("--rate", type=float, help="replay rate (default 1, or 4 with --quick)")
     parser.add_argument("--format", choices=[f.value for f in RosFormat], default="rmw_zenoh")
-    parser.add_argument("--bags", type=Path, default=BAGS)
+    parser.add_argument(
+        "--bags", type=Path, nargs="+", default=list(FOLDERS), help="folders of labelled bags"
+    )
     parser.add_argument(
         "--out",
         type=Path,
@@ -275,7 +224,10 @@ def main(argv: list[str] | None = None) -> None:
     rate = args.rate or (4.0 if args.quick else 1.0)
     if not (math.isfinite(rate) and rate > 0):
         parser.error(f"--rate must be a positive number, got {rate}")
-    out = args.out or (RESULTS if rate == 1.0 and args.bags == BAGS else None)
+    for folder in args.bags:
+        if not (folder / "labels.json").is_file():
+            parser.error(f"--bags: {folder} has no labels.json (a folder of labelled bags)")
+    out = args.out or (RESULTS if rate == 1.0 and tuple(args.bags) == FOLDERS else None)
     results = evaluate(args.bags, rate, RosFormat(args.format))
     print_table(results)
     from . import crossval  # (it builds on this module)

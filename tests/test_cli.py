@@ -285,7 +285,7 @@ def test_help_log_and_status_say_the_same(net, tmp_path, caplog):
     config = service.status().config
     assert (config["mode"], config["no_multicast_scouting"]) == ("peer", True)
     (started,) = [r.getMessage() for r in caplog.records if "started" in r.getMessage()]
-    assert "faces facing within 28.0 deg (3d)" in started
+    assert "faces facing within 26.0 deg (3d)" in started
     assert "ROS 2 output on the robot's topics (engagement_status, facing lists)" in started
     commands = build_parser().commands
     assert "--mode {" not in commands["router"].format_help()  # its description names it only

@@ -76,3 +76,14 @@ def test_no_recipe_backgrounds_the_live_view():
         for line in doc.read_text().splitlines():
             if "facing-service watch" in line:
                 assert not line.rstrip().endswith("&"), f"{doc.name}: {line}"
+
+
+def test_the_engagement_tables_are_the_committed_results():
+    """docs/engagement.md's cross-validation and docs/ros2.md's real-path tables are
+    generated from benchmarks/results/recordings.json: a figure copied by hand, or a
+    results file rewritten without its pages, fails here."""
+    from benchmarks import engagement_report
+
+    assert engagement_report.main(["--check"]) == 0, (
+        "regenerate: python -m benchmarks.engagement_report"
+    )

@@ -140,7 +140,7 @@ class Settings(BaseModel):
         "3d", **_flag("how a face's angle to the robot is measured: `3d` or `planar`", HEADS)
     )
     head_threshold_deg: float = Field(
-        28.0,
+        26.0,
         gt=0.0,
         lt=180.0,
         **_flag(
