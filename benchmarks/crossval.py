@@ -126,7 +126,7 @@ def read_recording(recording: Labelled) -> Recording:
     times = []
     for topic, typename, t, raw in ros2_types.read_bag_raw(recording.path):
         times.append(t)
-        update = route(people, wire, RosSample(wire.key(topic, typename), raw))
+        update = route(people, wire, RosSample(wire.key(topic, typename), raw), received_s=t / S)
         if isinstance(update, Rejected):
             continue
         base = people.base_frame

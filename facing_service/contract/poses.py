@@ -138,6 +138,8 @@ class Rejection(str, Enum):
     TF_INVALID_STAMP = "tf_invalid_stamp"  # outside builtin_interfaces/Time's range
     TF_OUT_OF_RANGE = "tf_out_of_range"  # a translation beyond MAX_TRANSLATION_M
     TF_TOO_MANY_FRAMES = "tf_too_many_frames"  # over --ros-max-frames, none gone to forget
+    TF_FRAME_NAME_TOO_LONG = "tf_frame_name_too_long"  # over MAX_FRAME_NAME characters
+    LINK_TAKEN = "link_taken"  # a face or body another tracked person is already linked to
 
 
 @dataclass(frozen=True, slots=True)

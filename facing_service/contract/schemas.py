@@ -137,14 +137,36 @@ class Ros2Status(BaseModel):
         description='rmw_zenoh attachment layout answered in: "current" (33 bytes) or '
         '"keyed" (before Humble 0.1.2 / Jazzy 0.2.4).'
     )
+    forms: list[str] = Field(
+        description='Every form answered in, "<distro>/<attachment>", the first as above: '
+        "more than one when robots of different distros share the router (each is answered "
+        "in its own)."
+    )
+    form_changes: int = Field(
+        description="Times the forms answered in changed after the first was learned (a "
+        "new form needs sustained evidence from samples that decode; one silent for 10 s "
+        "is dropped)."
+    )
     form_from: str = Field(
         description="Why that form: the key it was learned from, --ros-distro, or that "
         "nothing was learned yet (the default)."
     )
+    publishers: dict[str, str] = Field(
+        description="Per read topic: the nodes publishing it (rmw_zenoh liveliness tokens) "
+        "and how many publishers (attachment GIDs) its samples came from; bounded."
+    )
+    tf_clears: int = Field(description="TF buffer clears: /tf time went back.")
+    tf_clears_refused: int = Field(
+        description="Clears not made: time went back again within 2 s of the last clear."
+    )
+    tracked_flaps: int = Field(
+        description="Times a person left a tracked list and came back within 1 s."
+    )
     findings: dict[str, str] = Field(
         description="Why people give no results, now: code -> one line to act on "
         "(no_ros_input, ros_input_elsewhere, base_frame_not_in_tree, "
-        "tracked_frames_missing, people_not_connected, time_went_back). Empty when none."
+        "tracked_frames_missing, people_not_connected, time_went_back, ros_forms_mixed, "
+        "tf_clears_refused, tracked_flapping). Empty when none."
     )
 
 

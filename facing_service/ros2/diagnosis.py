@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 from ..contract.keys import cut
 from ..core.tf_errors import TfError
-from .people import People
+from .people import KINDS, People
 from .wire import HASH_NOT_SUPPORTED, RosFormat, Wire, where
 
 #: Seconds of nothing (or of a tree without the base frame) before a finding is said: a
@@ -24,9 +24,40 @@ TIME_BACK_SHOWN_S = 10.0
 NAMED = 6
 #: Keys of ROS data seen elsewhere, remembered (the first ones: enough to say where).
 STRAYS_KEPT = 8
+#: Publishers remembered per read topic (GIDs seen, and nodes from liveliness tokens); the
+#: rest are counted, not named: every name a sender chooses costs memory.
+PUBLISHERS_KEPT = 16
 
 
-def _names(items: list[str]) -> str:
+def topic_pattern(topic: str) -> str:
+    """The read topic a topic is one of: a person's own topics are one pattern
+    (``/humans/persons/*/face_id``), so a sender inventing person ids grows nothing."""
+    if not topic.startswith("/humans/persons/"):
+        return topic
+    parts = topic.split("/")
+    return f"/humans/persons/*/{parts[4]}" if len(parts) == 5 else topic
+
+
+def node_of_token(key: str, wire: Wire) -> tuple[str, str] | None:
+    """(read topic pattern, node) of an rmw_zenoh publisher's liveliness token, or None:
+    ``@ros2_lv/<domain>/<zid>/<nid>/<eid>/MP/<enclave>/<ns>/<node>/<topic>/<type>/...``
+    with '/' mangled to '%' inside names (liveliness_utils.cpp)."""
+    parts = key.split("/")
+    if len(parts) < 11 or parts[0] != "@ros2_lv" or parts[5] != "MP":
+        return None
+    if parts[1] != str(wire.domain_id):
+        return None
+    topic = parts[9].replace("%", "/")
+    if wire.namespace:
+        prefix = "/" + wire.namespace
+        if not topic.startswith(prefix + "/"):
+            return None
+        topic = topic[len(prefix) :]
+    ns = parts[7].replace("%", "/").rstrip("/")
+    return topic_pattern(topic), cut(f"{ns}/{parts[8]}", 120)
+
+
+def names(items: list[str]) -> str:
     more = f" and {len(items) - NAMED} more" if len(items) > NAMED else ""
     return ", ".join(cut(i) for i in items[:NAMED]) + more
 
@@ -53,18 +84,67 @@ def where_else(wire: Wire, key: str) -> str:
     return "another type hash (another message version)"
 
 
+#: The topics (patterns) the service reads.
+READ_TOPICS = frozenset(
+    {"/tf", "/tf_static", *KINDS, "/humans/persons/*/face_id", "/humans/persons/*/body_id"}
+)
+
+
 @dataclass
 class RobotWatch:
     """What the service has seen of the robot so far (the worker's alone)."""
 
     wire: Wire
     started: float
-    topics: dict[str, int] = field(default_factory=dict)  # expected topic -> samples
+    topics: dict[str, int] = field(default_factory=dict)  # read topic pattern -> samples
     strays: list[str] = field(default_factory=list)  # keys of ROS data read nowhere
     time_back: tuple[float, int] | None = None  # (when, how far in ns)
+    #: read topic pattern -> publisher GID (hex) -> samples, at most PUBLISHERS_KEPT each
+    gids: dict[str, dict[str, int]] = field(default_factory=dict)
+    #: read topic pattern -> node names with a publisher on it (liveliness tokens)
+    nodes: dict[str, set[str]] = field(default_factory=dict)
+    unnamed: dict[str, int] = field(default_factory=dict)  # topic -> GIDs not kept
+    unnamed_nodes: dict[str, int] = field(default_factory=dict)  # topic -> nodes not kept
 
-    def on_input(self, topic: str) -> None:
+    def on_input(self, topic: str, publisher: bytes | None = None) -> None:
+        topic = topic_pattern(topic)
         self.topics[topic] = self.topics.get(topic, 0) + 1
+        if publisher is None:
+            return
+        gids, gid = self.gids.setdefault(topic, {}), publisher.hex()
+        if gid in gids or len(gids) < PUBLISHERS_KEPT:
+            gids[gid] = gids.get(gid, 0) + 1
+        else:
+            self.unnamed[topic] = self.unnamed.get(topic, 0) + 1
+
+    def on_token(self, key: str, alive: bool) -> None:
+        """An rmw_zenoh publisher's liveliness token appeared (or went)."""
+        if (read := node_of_token(key, self.wire)) is None or read[0] not in READ_TOPICS:
+            return
+        topic, node = read
+        nodes = self.nodes.setdefault(topic, set())
+        if not alive:
+            nodes.discard(node)
+        elif node in nodes or len(nodes) < PUBLISHERS_KEPT:
+            nodes.add(node)
+        else:
+            self.unnamed_nodes[topic] = self.unnamed_nodes.get(topic, 0) + 1
+
+    def publishers(self) -> dict[str, str]:
+        """Per read topic, who publishes it: nodes by their liveliness tokens, and how
+        many publishers (GIDs) samples came from."""
+        said = {}
+        for topic in sorted(self.topics.keys() | self.nodes.keys()):
+            nodes = sorted(self.nodes.get(topic, ()))
+            gids = len(self.gids.get(topic, {})) + self.unnamed.get(topic, 0)
+            more = self.unnamed_nodes.get(topic, 0)
+            named = (
+                names(nodes) + (f" (+{more} more)" if more else "")
+                if nodes
+                else ("no node token seen")
+            )
+            said[topic] = f"{named}; samples from {gids} publisher(s)"
+        return said
 
     def on_stray(self, key: str) -> None:
         if key not in self.strays and len(self.strays) < STRAYS_KEPT:
@@ -79,11 +159,11 @@ class RobotWatch:
             if self.strays:
                 hint = where_else(self.wire, self.strays[0])
                 found["ros_input_elsewhere"] = (
-                    f"no /tf on {expected}, but ROS 2 data arrives on {_names(self.strays)}: "
+                    f"no /tf on {expected}, but ROS 2 data arrives on {names(self.strays)}: "
                     f"to read it, {hint}"
                 )
             else:
-                what = "nothing" if not self.topics else f"only {_names(sorted(self.topics))}"
+                what = "nothing" if not self.topics else f"only {names(sorted(self.topics))}"
                 found["no_ros_input"] = (
                     f"{what} received from the robot in {now - self.started:.0f} s, no /tf on "
                     f"{expected} nor on any other /tf key: is the robot's router reachable, "
@@ -112,7 +192,7 @@ class RobotWatch:
                 "base_frame_not_in_tree": (
                     f"base frame '{base}' is not in the robot's TF tree, whose roots are "
                     f"{trees}: set --base-frame to one of its frames, e.g. "
-                    f"{_names(sorted(frames))}"
+                    f"{names(sorted(frames))}"
                 )
             }
         found = {}
@@ -129,12 +209,12 @@ class RobotWatch:
                     apart.append(frame)
         if missing:
             found["tracked_frames_missing"] = (
-                f"tracked people have no TF frame yet: {_names(missing)} (REP 155: a body's "
+                f"tracked people have no TF frame yet: {names(missing)} (REP 155: a body's "
                 "frame is body_<id> and a face's face_<id>, published on /tf)"
             )
         if apart:
             found["people_not_connected"] = (
-                f"the frames of tracked people, {_names(apart)}, are in the tree of "
+                f"the frames of tracked people, {names(apart)}, are in the tree of "
                 f"'{cut(tf.root_of(apart[0]))}', and base frame '{base}' in that of "
                 f"'{tf.root_of(base)}': nothing links the two trees"
             )

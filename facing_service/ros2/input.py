@@ -37,7 +37,7 @@ from ..contract.poses import Rejected, Rejection, stamp_ns
 from ..core.tf_math import Transform
 from . import types as ros2_types
 from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
-from .wire import RosFormat, Wire
+from .wire import RosFormat, Wire, publisher_gid
 
 #: (topic pattern, type, transient-local?)
 TOPICS = (
@@ -74,9 +74,14 @@ class RosSample:
 
 
 def route(
-    people: People, wire: Wire, sample: RosSample, max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES
+    people: People,
+    wire: Wire,
+    sample: RosSample,
+    max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES,
+    received_s: float | None = None,
 ) -> Update | Rejected:
-    """Decode one sample and apply it to ``people``; never raises on any input."""
+    """Decode one sample, received at ``received_s`` (the caller's clock), and apply it
+    to ``people``; never raises on any input."""
     read = reading(wire, sample.key)
     if isinstance(read, Rejected):
         return read
@@ -88,7 +93,12 @@ def route(
     except Exception as error:  # rosbags raises several kinds on truncated or bad CDR
         return Rejected(Rejection.MALFORMED_CDR, f"{type(error).__name__}: {error}"[:200])
     if typename == ros2_types.TF_MESSAGE:
-        return people.on_tf(tf_inputs(message), static=topic == "/tf_static")
+        return people.on_tf(
+            tf_inputs(message),
+            static=topic == "/tf_static",
+            publisher=publisher_gid(sample.attachment),
+            received_s=received_s,
+        )
     if typename == ros2_types.IDS_LIST:
         return people.on_tracked(topic, list(message.ids))
     _, _, _, person_id, link = topic.split("/")

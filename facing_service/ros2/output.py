@@ -172,9 +172,9 @@ class RosOutput:
 
 
 class RosPublishers:
-    """The publisher thread's ROS 2 publishers, in the robot's format and form (``form``:
-    the worker learns it from the robot's samples; a publisher declared in another form is
-    declared again in the new one).
+    """The publisher thread's ROS 2 publishers, in the robot's format and in each form it
+    is answered in (``form``: the worker learns them from the robot's samples; two robots
+    of different distros on one router are each answered in their own).
 
     Congestion control is rmw_zenoh's for the QoS we advertise (reliable, keep last 10):
     DROP, as its ``rmw_publisher_data.cpp`` chooses for every keep-last publisher, so a
@@ -187,7 +187,7 @@ class RosPublishers:
         self.wire = wire
         self.node_name = node_name
         self.form = form
-        self._publishers: dict[str, TopicWriter] = {}
+        self._publishers: dict[tuple[str, Form], TopicWriter] = {}  # (topic, form)
         self._next_entity_id = 1  # 0 is the node's
         self._node_token = None
         if wire.format is RosFormat.RMW_ZENOH:
@@ -215,18 +215,19 @@ class RosPublishers:
         )
 
     def send(self, message: RosMessage) -> None:
-        form = self.form.current
-        publisher = self._publishers.get(message.topic)
-        if publisher is not None and (message.payload is None or publisher.form != form):
-            publisher.undeclare()  # the subject is gone, or the robot's form changed
-            del self._publishers[message.topic]
-            publisher = None
+        """Put the message on its topic in every form the robot is answered in; the
+        publishers of a form no longer answered in, or of a subject gone, are undeclared."""
+        forms = self.form.forms
+        for key in [k for k in self._publishers if k[0] == message.topic]:
+            if message.payload is None or key[1] not in forms:
+                self._publishers.pop(key).undeclare()
         if message.payload is None:
             return
-        if publisher is None:
-            publisher = self._declare(message, form)
-            self._publishers[message.topic] = publisher
-        publisher.put(message.payload)
+        for form in forms:
+            publisher = self._publishers.get((message.topic, form))
+            if publisher is None:
+                publisher = self._publishers[(message.topic, form)] = self._declare(message, form)
+            publisher.put(message.payload)
 
     def _declare(self, message: RosMessage, form: Form) -> TopicWriter:
         wire = replace(self.wire, distro=form.distro)

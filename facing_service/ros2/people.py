@@ -24,10 +24,18 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
   first), and the TF buffer's ``max_frames``.
 - Time going back (a recording replayed again, a robot's clock reset): ROS's TF listener
   clears its buffer when its clock jumps back. Here the clock is the stamps: after
-  ``TIME_BACK_MESSAGES`` /tf messages in a row whose every transform is more than
-  ``TIME_BACK_NS`` older than its frame's newest, the dynamic transforms are cleared and
-  every subject is lost, then comes back with the new times. In a row: a stale or spoofed
-  message between fresh ones clears nothing.
+  ``TIME_BACK_MESSAGES`` /tf messages in a row *from one publisher* (rmw_zenoh's GID, when
+  the caller knows it), spanning at least ``TIME_BACK_SPAN_S`` of receive time, whose every
+  transform is more than ``TIME_BACK_NS`` older than its frame's newest, the dynamic
+  transforms are cleared and every subject is lost, then comes back with the new times.
+  In a row: a stale or forged message between fresh ones clears nothing, and a burst of
+  forged ones cannot span the time while the robot streams. Clears are counted, and at
+  most one in ``CLEAR_MIN_INTERVAL_S`` (the others are counted as refused).
+- Links cannot amplify: a face or body frame is the pose of at most one person at a time,
+  the first tracked person to resolve it, until that person is lost or relinked; another
+  person linked to it gets no pose (``link_taken``, counted once per link), so 200 cloned
+  person ids pointing at a real face make no results. Frame names are bounded
+  (``MAX_FRAME_NAME``, ``tf_frame_name_too_long``).
 """
 
 from __future__ import annotations
@@ -62,10 +70,17 @@ MAX_FIRST_RESULTS = 64
 #: Ids per list and person links per kind, unless the caller says (``--max-bodies``).
 DEFAULT_MAX_IDS = 10_000
 
-#: How far back a transform's stamp must be, and for how many /tf messages in a row, for
-#: time to have gone back (a stream at 30 Hz says so within 0.1 s).
+#: How far back a transform's stamp must be, for how many /tf messages in a row from one
+#: publisher, over how much receive time, for time to have gone back (a stream at 30 Hz
+#: says so within a third of a second).
 TIME_BACK_NS = S // 2
 TIME_BACK_MESSAGES = 3
+TIME_BACK_SPAN_S = 0.25
+#: At most one TF buffer clear in this long (a replay looping every few seconds is still
+#: followed; a flood of forged rewinds is not).
+CLEAR_MIN_INTERVAL_S = 2.0
+#: Longest frame name kept (ROS names have no limit; tf2 keeps every one it sees).
+MAX_FRAME_NAME = 256
 #: Said with a /tf_static transform refused because its frame is dynamic: seen on the
 #: shared two-person recordings (a camera frame with a static and a dynamic parent, the
 #: /tf one first), harmless there, and alarming without a word.
@@ -74,6 +89,13 @@ STATIC_INTO_DYNAMIC = (
     "dynamic as its first transform was, so this one is refused; harmless when the /tf "
     "parent is the one meant)"
 )
+
+
+def _name_too_long(t: TfInput) -> str | None:
+    """Frame names are sender-chosen and tf2 keeps every one: bounded here."""
+    if len(t.parent) > MAX_FRAME_NAME or len(t.child) > MAX_FRAME_NAME:
+        return "frame_name_too_long"
+    return None
 
 
 def out_of_range(t: TfInput) -> str | None:
@@ -122,23 +144,40 @@ class People:
         self._tracked: dict[str, set[str]] = {topic: set() for topic in KINDS}
         self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}  # person -> id
         self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
+        self._owner: dict[str, str] = {}  # frame -> the person subject whose pose it is
+        self._taken: set[str] = set()  # person subjects refused as link_taken (said once)
         self._by_frame: dict[str, set[str]] | None = None  # frame -> subjects; None: stale
-        self._back_in_a_row = 0  # /tf messages whose every transform went back in time
+        # /tf messages whose every transform went back in time: (publisher, count, since)
+        self._back_run: tuple[bytes | None, int, float | None] = (None, 0, None)
+        self._last_clear: float | None = None  # receive time of the last buffer clear
+        self.clears = 0  # TF buffer clears (time went back)
+        self.clears_refused = 0  # clears not made: within CLEAR_MIN_INTERVAL_S of the last
         self._base_chain: tuple[int, frozenset[str]] = (-1, frozenset())  # (tf.shape, chain)
 
     # -- inputs --------------------------------------------------------------------------
 
-    def on_tf(self, transforms: Sequence[TfInput], *, static: bool) -> Update:
+    def on_tf(
+        self,
+        transforms: Sequence[TfInput],
+        *,
+        static: bool,
+        publisher: bytes | None = None,
+        received_s: float | None = None,
+    ) -> Update:
+        """A /tf or /tf_static message from ``publisher`` (its GID, None when unknown),
+        received at ``received_s`` (the caller's clock; None: judge by messages alone)."""
         update = Update()
-        if not static and (back := self._time_back(transforms)):
+        if not static and (back := self._time_back(transforms, publisher, received_s)):
             update.time_back_ns = back
             update.lost = [s for s in self.subjects() if s in self._last]
             self.tf.clear()
             self._last.clear()
         changed: set[str] = set()
         for t in transforms:
-            reason = out_of_range(t) or self.tf.set_transform(
-                t.parent, t.child, t.stamp_ns, t.transform, static=static
+            reason = (
+                out_of_range(t)
+                or _name_too_long(t)
+                or self.tf.set_transform(t.parent, t.child, t.stamp_ns, t.transform, static=static)
             )
             if reason is None:
                 changed.add(t.child)
@@ -151,22 +190,38 @@ class People:
             self._resolve(self._concerned(changed), update)
         return update
 
-    def _time_back(self, transforms: Sequence[TfInput]) -> int:
-        """How far back time went, once it has for TIME_BACK_MESSAGES messages in a row
-        (0: it has not)."""
+    def _time_back(
+        self, transforms: Sequence[TfInput], publisher: bytes | None, received_s: float | None
+    ) -> int:
+        """How far back time went, once it has (see the module's rules; 0: it has not)."""
         back = []
         for t in transforms:
             newest = self.tf.newest(t.child)
             if newest is None or t.stamp_ns >= newest - TIME_BACK_NS:
-                self._back_in_a_row = 0  # a fresh (or first) transform: time goes on
+                self._back_run = (None, 0, None)  # a fresh (or first) transform: time goes on
                 return 0
             back.append(newest - t.stamp_ns)
         if not back:
             return 0
-        self._back_in_a_row += 1
-        if self._back_in_a_row < TIME_BACK_MESSAGES:
+        who, count, since = self._back_run
+        if count == 0 or who != publisher:
+            who, count, since = publisher, 0, received_s
+        self._back_run = (who, count + 1, since)
+        if count + 1 < TIME_BACK_MESSAGES:
             return 0
-        self._back_in_a_row = 0
+        if received_s is not None and since is not None:
+            if received_s - since < TIME_BACK_SPAN_S:
+                return 0  # a burst: not yet a clock that went back
+            if (
+                self._last_clear is not None
+                and received_s - self._last_clear < CLEAR_MIN_INTERVAL_S
+            ):
+                self.clears_refused += 1
+                self._back_run = (None, 0, None)
+                return 0
+            self._last_clear = received_s
+        self._back_run = (None, 0, None)
+        self.clears += 1
         return max(back)
 
     def _concerned(self, changed: set[str]) -> list[str]:
@@ -214,6 +269,7 @@ class People:
         for ros_id in sorted(gone):
             subject = prefix + ros_id
             self._last.pop(subject, None)
+            self._release(subject)
             update.lost.append(subject)
         self._resolve([prefix + ros_id for ros_id in sorted(new)], update)
         return update
@@ -227,6 +283,7 @@ class People:
             return update
         if links.get(person_id, "") == target:
             return update
+        self._release("person_" + person_id)
         links.pop(person_id, None)  # (re)inserted last: the oldest are forgotten first
         if target:
             links[person_id] = target
@@ -264,10 +321,35 @@ class People:
                 return link_prefix + target
         return None
 
+    def _release(self, subject: str) -> None:
+        """``subject`` no longer holds a frame (lost, or relinked)."""
+        self._taken.discard(subject)
+        if (frame := self.frame_of(subject)) is not None and self._owner.get(frame) == subject:
+            del self._owner[frame]
+
+    def _holds(self, subject: str, frame: str, update: Update) -> bool:
+        """Whether ``subject``'s pose may be read from ``frame``: a person's only while no
+        other tracked person holds it."""
+        if not subject.startswith("person_"):
+            return True
+        owner = self._owner.setdefault(frame, subject)
+        if owner == subject:
+            return True
+        if subject not in self._taken:
+            self._taken.add(subject)
+            update.refused.append(
+                ("link_taken", f"{keys.cut(subject)}: {keys.cut(frame)} is {owner}'s")
+            )
+        return False
+
     def _resolve(self, subjects: Iterable[str], update: Update) -> None:
         for subject in subjects:
             frame = self.frame_of(subject)
-            if frame is None or not self.tf.has_frame(frame):
+            if (
+                frame is None
+                or not self.tf.has_frame(frame)
+                or not self._holds(subject, frame, update)
+            ):
                 continue
             try:
                 transform, stamp = self.tf.lookup(self.base_frame, frame, 0)

@@ -216,17 +216,32 @@ def attachment(
     return z_serialize(fields).to_bytes()
 
 
-def attachment_layout(data: bytes | None) -> Attachment | None:
-    """Which layout a robot's attachment is in (None: none, or neither)."""
+def _read_attachment(data: bytes | None) -> tuple[Attachment, bytes] | None:
+    """A robot's attachment's layout and publisher GID (None: none, or neither layout)."""
     if data is None:
         return None
     if len(data) == _CURRENT_SIZE and data[16] == GID_SIZE:
-        return Attachment.CURRENT
+        return Attachment.CURRENT, data[17:]
     try:
         fields = z_deserialize(tuple[str, Int64, str, Int64, str, bytes], ZBytes(data))
     except ZDeserializeError:
         return None
-    return Attachment.KEYED if fields[0::2] == _KEYED_NAMES else None
+    if fields[0::2] != _KEYED_NAMES or len(fields[5]) != GID_SIZE:
+        return None
+    return Attachment.KEYED, fields[5]
+
+
+def attachment_layout(data: bytes | None) -> Attachment | None:
+    """Which layout a robot's attachment is in (None: none, or neither)."""
+    read = _read_attachment(data)
+    return None if read is None else read[0]
+
+
+def publisher_gid(data: bytes | None) -> bytes | None:
+    """Who published a sample: the GID in its rmw_zenoh attachment (None: unknown, as on
+    the bridge). Sender-chosen like everything else, so it sorts, never authorizes."""
+    read = _read_attachment(data)
+    return None if read is None else read[1]
 
 
 #: rmw_zenoh's QoS string for our publishers, every field written out (an empty field
@@ -246,40 +261,77 @@ class Form:
         return f"{self.distro.describe()}, attachments {self.attachment.describe()}"
 
 
-class FormLearner:
-    """The robot's form, learned from the keys and attachments of what it publishes
-    (``--ros-distro auto``) or forced; answering in any other form reaches no subscriber.
+#: A form other than those already answered in is answered in too once this many samples
+#: that decode as their topic's type have shown it (the first form is taken at once).
+FORM_EVIDENCE = 10
+#: A form not heard for this long, while another is, is no longer answered in.
+FORM_FORGET_S = 10.0
 
-    One writer (the worker, ``learn``); the publisher thread reads ``current``, replaced
+
+class FormLearner:
+    """The forms of rmw_zenoh's the robot's publishers use, learned from the keys and
+    attachments of what they publish (``--ros-distro auto``) or forced; answering in any
+    other form reaches no subscriber.
+
+    Learned from the robot, not from anyone: only samples that decoded as their topic's
+    type count (the caller's word), the first form is taken at once, and another needs
+    ``FORM_EVIDENCE`` of them; a form silent for ``FORM_FORGET_S`` while another is heard
+    is dropped. Two robots of different distros on one router are two forms present at
+    once: the service answers in each (``forms``), never flapping between them. At most
+    four forms exist (two distros, two attachment layouts), so this state is bounded.
+
+    One writer (the worker, ``learn``); the publisher thread reads ``forms``, replaced
     whole, so it never sees half an update."""
 
     def __init__(self, forced: Distro | None = None) -> None:
         self.forced = forced
-        self.current = Form(forced or Distro.JAZZY)
-        self.observed: Form | None = None  # the robot's, once a sample has said it
+        self.forms: tuple[Form, ...] = (Form(forced or Distro.JAZZY),)
+        self.heard: dict[Form, tuple[int, float]] = {}  # form -> (samples, last heard)
+        self.present: tuple[Form, ...] = ()  # the robot's, as learned
+        self.changes = 0  # times the forms answered in changed after the first
         self.source = "--ros-distro" if forced else "the default: no robot sample learned yet"
 
-    def learn(self, key: str, data: bytes | None) -> tuple[int, str] | None:
-        """One sample of the robot's (its key and attachment); a log level and line when
-        that changed what we know of its form."""
+    @property
+    def current(self) -> Form:
+        """The first form answered in (the one the status names first)."""
+        return self.forms[0]
+
+    def learn(self, key: str, data: bytes | None, now: float) -> tuple[int, str] | None:
+        """One decoded sample of the robot's (its key and attachment) at ``now`` (the
+        caller's clock); a log level and line when the forms answered in changed."""
         distro = distro_of(key)
         layout = attachment_layout(data)
         if distro is None or layout is None:
             return None  # not rmw_zenoh's, or a malformed attachment: nothing learned
         observed = Form(distro, layout)
-        if observed == self.observed:
+        samples, _ = self.heard.get(observed, (0, now))
+        self.heard[observed] = (samples + 1, now)
+
+        def answered(form: Form) -> bool:
+            n, last = self.heard[form]
+            taken = form in self.present or n >= FORM_EVIDENCE or not self.present
+            return now - last <= FORM_FORGET_S and taken
+
+        present = tuple(dict.fromkeys(f for f in (*self.present, *self.heard) if answered(f)))
+        for form, (_, last) in list(self.heard.items()):
+            if now - last > FORM_FORGET_S:
+                del self.heard[form]  # silent: its evidence starts again from nothing
+        if present == self.present:
             return None
-        self.observed = observed
-        self.current = Form(self.forced or distro, layout)
+        first = not self.present
+        self.present = present
+        forms = tuple(dict.fromkeys(Form(self.forced or f.distro, f.attachment) for f in present))
+        self.changes += not first and forms != self.forms
+        self.forms = forms
+        said = " and ".join(f.describe() for f in present)
         self.source = "--ros-distro" if self.forced else f"learned from {key}"
-        if self.forced is not None and self.forced is not distro:
+        wrong = [f for f in present if self.forced is not None and f.distro is not self.forced]
+        if wrong:
             return logging.WARNING, (
-                f"the robot publishes in rmw_zenoh's form for {distro.describe()} ({key}), "
-                f"but --ros-distro {self.forced.value} forces the other: none of its "
-                "subscribers will hear our answers"
+                f"the robot publishes in rmw_zenoh's form for {wrong[0].distro.describe()} "
+                f"({key}), but --ros-distro {self.forced.value} forces the other: none of "
+                "its subscribers will hear our answers"
             )
         how = "as --ros-distro says" if self.forced is not None else f"learned from {key}"
-        return (
-            logging.INFO,
-            f"answering the robot in rmw_zenoh's form for {observed.describe()} ({how})",
-        )
+        both = "each of " if len(present) > 1 else ""
+        return logging.INFO, f"answering the robot in {both}rmw_zenoh's form for {said} ({how})"

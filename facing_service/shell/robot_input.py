@@ -10,7 +10,7 @@ no results (``ros2.diagnosis``), checked every ``DIAGNOSIS_PERIOD_S``.
 from __future__ import annotations
 
 import logging
-from collections import deque
+from collections import OrderedDict, deque
 from collections.abc import Callable
 
 import zenoh
@@ -19,11 +19,11 @@ from ..config.profiles import head_profile
 from ..config.settings import Settings
 from ..contract.poses import Rejected
 from ..contract.schemas import Ros2Status
-from ..ros2.diagnosis import RobotWatch
+from ..ros2.diagnosis import RobotWatch, names
 from ..ros2.input import Ros2Subscriptions, RosSample, reading, route
 from ..ros2.people import People, Update
 from ..ros2.types import TF_MESSAGE
-from ..ros2.wire import FormLearner
+from ..ros2.wire import FormLearner, publisher_gid
 
 log = logging.getLogger("facing_service")
 
@@ -35,6 +35,15 @@ STRAY_TF_KEYS = ("**/tf", "**/tf/tf2_msgs::msg::dds_::TFMessage_/*")
 #: The topic the worker reads from zenoh's channel itself (the others stream far less, and
 #: come through callbacks).
 HOT_ROS_TOPIC = ("/tf", TF_MESSAGE)
+#: A person who leaves a tracked list and comes back within this long flapped; this many
+#: flaps within FLAPS_SHOWN_S make a finding (the list is the robot's authority, but a
+#: flickering tracker, or a stranger publishing lists, should be seen).
+FLAP_S = 1.0
+FLAPS_SAID = 5
+FLAPS_SHOWN_S = 10.0
+#: Liveliness events and recently lost subjects kept between diagnoses (bounded: senders
+#: choose them).
+EVENTS_KEPT = 1024
 
 
 class RobotInput:
@@ -54,7 +63,12 @@ class RobotInput:
         self.next_diagnosis: float | None = None  # when the worker checks next
         self._watch = RobotWatch(self.wire, clock())
         self._strays: deque[str] = deque(maxlen=64)  # filled by the stray /tf callbacks
+        self._tokens: deque[tuple[str, bool]] = deque(maxlen=EVENTS_KEPT)  # (key, alive)
+        self._gone: OrderedDict[str, float] = OrderedDict()  # subject -> when it was lost
+        self._flaps: deque[tuple[float, str]] = deque(maxlen=EVENTS_KEPT)  # (when, subject)
+        self.flaps = 0  # people who left a tracked list and came back within FLAP_S
         self._sniffers: list[zenoh.Subscriber[None]] = []
+        self._token_watch: zenoh.Subscriber[None] | None = None
         self._subscriptions: Ros2Subscriptions | None = None
 
     def hot_key(self) -> str:
@@ -76,6 +90,14 @@ class RobotInput:
             )
             for k in STRAY_TF_KEYS
         ]
+        if self.wire.format.value == "rmw_zenoh":  # who publishes what: node tokens
+            self._token_watch = session.liveliness().declare_subscriber(
+                f"@ros2_lv/{self.wire.domain_id}/**",
+                lambda sample: self._tokens.append(
+                    (str(sample.key_expr), sample.kind == zenoh.SampleKind.PUT)
+                ),
+                history=True,
+            )
         self.next_diagnosis = self._clock() + DIAGNOSIS_PERIOD_S
         return ", ".join([self.hot_key(), *self._subscriptions.keys])
 
@@ -83,22 +105,44 @@ class RobotInput:
         if self._subscriptions is not None:
             self._subscriptions.close()
             self._subscriptions = None
+        if self._token_watch is not None:
+            self._token_watch.undeclare()
+            self._token_watch = None
         self._stop_sniffing()
 
     def route(self, sample: RosSample) -> Update | Rejected:
         """One sample of the robot's topics, through ``ros2.input.route`` into its people:
-        the form it shows is learned, its topic counted as seen, and time going back is
-        said at once (the next diagnosis is now)."""
-        if (learned := self.form.learn(sample.key, sample.attachment)) is not None:
-            log.log(learned[0], "%s", learned[1])
-        update = route(self.people, self.wire, sample, self.settings.ros_max_message_bytes)
+        the form it shows is learned once it decoded, its topic counted as seen, and time
+        going back is said at once (the next diagnosis is now)."""
+        now = self._clock()
+        update = route(self.people, self.wire, sample, self.settings.ros_max_message_bytes, now)
         if isinstance(update, Rejected):
-            return update
-        self._watch.on_input(reading(self.wire, sample.key)[0])  # type: ignore[index]
+            return update  # nothing learned from what does not decode as its topic's type
+        if (learned := self.form.learn(sample.key, sample.attachment, now)) is not None:
+            log.log(learned[0], "%s", learned[1])
+        topic = reading(self.wire, sample.key)[0]  # type: ignore[index]
+        self._watch.on_input(topic, publisher_gid(sample.attachment))
+        self._flapped(update, now)
         if update.time_back_ns:
             self._watch.time_back = (self._clock(), update.time_back_ns)
             self.next_diagnosis = self._clock()
         return update
+
+    def _flapped(self, update: Update, now: float) -> None:
+        """Count the people back within FLAP_S of leaving a tracked list."""
+        if update.time_back_ns:
+            return  # everyone lost at once: time went back, said on its own
+        for subject in update.lost:
+            self._gone[subject] = now
+            self._gone.move_to_end(subject)
+        while self._gone and (
+            len(self._gone) > EVENTS_KEPT or now - next(iter(self._gone.values())) > FLAP_S
+        ):
+            self._gone.popitem(last=False)
+        for pose in update.poses:
+            if self._gone.pop(pose.body_id, None) is not None:
+                self.flaps += 1
+                self._flaps.append((now, pose.body_id))
 
     def diagnose(self) -> None:
         """Every DIAGNOSIS_PERIOD_S: why people may give no results. Each finding is
@@ -114,13 +158,39 @@ class RobotInput:
                 self._watch.on_stray(key)
         if self._watch.topics.get("/tf"):
             self._stop_sniffing()  # /tf arrives where expected: strays no longer matter
-        findings = self._watch.findings(self.people, now)
+        while self._tokens:
+            self._watch.on_token(*self._tokens.popleft())
+        findings = self._watch.findings(self.people, now) | self._bus_findings(now)
         for code, line in findings.items():
             if code not in self.findings:
                 log.warning("ROS 2 input: %s [%s]", line, code)
         for code in self.findings.keys() - findings.keys():
             log.info("ROS 2 input: %s no longer holds", code)
         self.findings = findings
+
+    def _bus_findings(self, now: float) -> dict[str, str]:
+        """What the bus itself shows: more than one form, clears refused, people flapping."""
+        found = {}
+        if len(self.form.present) > 1:
+            forms = " and ".join(f.describe() for f in self.form.present)
+            found["ros_forms_mixed"] = (
+                f"publishers in more than one rmw_zenoh form ({forms}): robots or nodes of "
+                "different distros on one router; answering in each (see ros2.publishers)"
+            )
+        if self.people.clears_refused:
+            found["tf_clears_refused"] = (
+                f"{self.people.clears_refused} TF buffer clears refused (time went back again "
+                "within 2 s of the last clear): a publisher keeps re-sending old stamps"
+            )
+        recent = [who for when, who in self._flaps if now - when <= FLAPS_SHOWN_S]
+        if len(recent) >= FLAPS_SAID:
+            found["tracked_flapping"] = (
+                f"{len(recent)} times in {FLAPS_SHOWN_S:.0f} s a person left a tracked list and "
+                f"came back within {FLAP_S:.0f} s ({names(sorted(set(recent)))}): the robot's "
+                "tracker flickers, or another node publishes /humans/*/tracked "
+                "(see ros2.publishers)"
+            )
+        return found
 
     def _stop_sniffing(self) -> None:
         for sniffer in self._sniffers:
@@ -133,6 +203,12 @@ class RobotInput:
             format=self.wire.format.value,
             distro=form.distro.value,
             attachment=form.attachment.value,
+            forms=[f"{f.distro.value}/{f.attachment.value}" for f in self.form.forms],
+            form_changes=self.form.changes,
+            publishers=self._watch.publishers(),
+            tf_clears=self.people.clears,
+            tf_clears_refused=self.people.clears_refused,
+            tracked_flaps=self.flaps,
             form_from=self.form.source,
             findings=self.findings,
         )

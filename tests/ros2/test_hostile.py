@@ -182,10 +182,10 @@ def test_a_slow_batch_makes_nobody_stale(net, robot_and_service, monkeypatch):
     results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
     on_tf = service._robot.people.on_tf
 
-    def slow_on_a_frame_named_slow(transforms, *, static):
+    def slow_on_a_frame_named_slow(transforms, **kwargs):
         if any(t.child == "slow" for t in transforms):
             time.sleep(2.5)
-        return on_tf(transforms, static=static)
+        return on_tf(transforms, **kwargs)
 
     monkeypatch.setattr(service._robot.people, "on_tf", slow_on_a_frame_named_slow)
     person_then(robot, tf_message(transform("base_link", "slow", 10 * S, (1.0, 0, 0))), 1.0)
@@ -201,11 +201,11 @@ def test_a_dear_batch_hands_over_what_came_before_it(net, robot_and_service, mon
     results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
     on_tf, dear_done = service._robot.people.on_tf, []
 
-    def dear(transforms, *, static):
+    def dear(transforms, **kwargs):
         if any(t.child == "dear" for t in transforms):
             time.sleep(0.3 if not dear_done else 0.02)
             dear_done.append(True)
-        return on_tf(transforms, static=static)
+        return on_tf(transforms, **kwargs)
 
     monkeypatch.setattr(service._robot.people, "on_tf", dear)
     robot.publish("/humans/bodies/tracked", IDS, ids_list(["a"]))

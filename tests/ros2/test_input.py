@@ -16,8 +16,9 @@ from facing_service.core.detector import classify_one
 from facing_service.core.tf_math import Transform
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import RosSample, route
-from facing_service.ros2.people import People, TfInput
+from facing_service.ros2.people import MAX_FRAME_NAME, People, TfInput
 from facing_service.ros2.wire import (
+    FORM_EVIDENCE,
     HASH_NOT_SUPPORTED,
     Attachment,
     Distro,
@@ -92,19 +93,42 @@ def test_the_robots_form_is_learned_from_its_keys_and_attachments():
     keyed = rmw_zenoh.make_attachment(rmw_zenoh.HUMBLE_0_1_1, 1, bytes(16))
     learner = FormLearner()
     assert learner.current.distro is Distro.JAZZY  # until the robot says otherwise
-    level, line = learner.learn(humble_key, keyed)
+    level, line = learner.learn(humble_key, keyed, 0.0)
     assert level == logging.INFO
     assert "Humble" in line and "keyed" in line and humble_key in line
     assert (learner.current.distro, learner.current.attachment) == (
         Distro.HUMBLE,
         Attachment.KEYED,
     )
-    assert learner.learn(humble_key, keyed) is None  # said once
-    assert learner.learn("tf", None) is None  # the bridge's: nothing to learn
+    assert learner.learn(humble_key, keyed, 0.1) is None  # said once
+    assert learner.learn("tf", None, 0.2) is None  # the bridge's: nothing to learn
     forced = FormLearner(Distro.JAZZY)
-    level, line = forced.learn(humble_key, keyed)
+    level, line = forced.learn(humble_key, keyed, 0.0)
     assert level == logging.WARNING
     assert "--ros-distro jazzy" in line and forced.current.distro is Distro.JAZZY
+
+
+def test_another_form_needs_sustained_evidence_and_two_robots_are_each_answered():
+    """A form flip used to follow any one sample. Now the first form is taken at once,
+    another needs FORM_EVIDENCE samples (a few strays change nothing), and once two are
+    heard the service answers in both; one silent for FORM_FORGET_S is dropped."""
+    jazzy = Wire().key("/tf", ros2_types.TF_MESSAGE)
+    humble = Wire(distro=Distro.HUMBLE).key("/tf", ros2_types.TF_MESSAGE)
+    current = rmw_zenoh.make_attachment(rmw_zenoh.JAZZY_0_2_10, 1, bytes(16))
+    learner = FormLearner()
+    assert learner.learn(jazzy, current, 0.0) is not None
+    for i in range(FORM_EVIDENCE - 1):  # strays: not enough to answer in their form
+        assert learner.learn(humble, current, 0.01 * i) is None
+    assert [f.distro for f in learner.forms] == [Distro.JAZZY] and learner.changes == 0
+    level, line = learner.learn(humble, current, 0.5)  # sustained: a second robot
+    assert level == logging.INFO and "each of" in line
+    assert [f.distro for f in learner.forms] == [Distro.JAZZY, Distro.HUMBLE]
+    assert learner.changes == 1
+    for t in (1.0, 5.0, 10.4):  # the Humble robot goes on, the Jazzy one is silent
+        learner.learn(humble, current, t)
+    assert [f.distro for f in learner.forms] == [Distro.HUMBLE] and learner.changes == 2
+    assert learner.learn(jazzy, current, 10.5) is None  # back, but must show it again
+    assert [f.distro for f in learner.forms] == [Distro.HUMBLE]
 
 
 # -- people, without a network -------------------------------------------------------------
@@ -479,11 +503,17 @@ def test_links_of_untracked_persons_are_kept_then_the_oldest_forgotten():
     assert [people.frame_of(s) for s in people.subjects()] == ["body_b2", "body_b3"]
 
 
-def test_a_huge_name_is_quoted_cut():
+def test_a_huge_name_is_refused_and_quoted_cut():
+    """Frame names are sender-chosen and tf2 keeps every one: a name over MAX_FRAME_NAME
+    is refused with its own reason (it is not kept), and quoted cut."""
     people = People("base_link")
-    update = people.on_tf([tf_in("base_link", "x" * 1_000_000, 1, (math.nan, 0, 0))], static=False)
+    update = people.on_tf([tf_in("base_link", "x" * 1_000_000, 1, (1.0, 0, 0))], static=False)
     ((reason, what),) = update.refused
-    assert reason == "tf_nan" and len(what) < 200 and what.endswith("(1000000 chars)")
+    assert reason == "tf_frame_name_too_long"
+    assert len(what) < 200 and what.endswith("(1000000 chars)")
+    assert not people.tf.has_frame("x" * 1_000_000)
+    longest = "y" * MAX_FRAME_NAME
+    assert people.on_tf([tf_in("base_link", longest, 1, (1.0, 0, 0))], static=False).refused == []
 
 
 def test_first_results_are_said_from_what_the_buffer_holds():
@@ -495,3 +525,53 @@ def test_first_results_are_said_from_what_the_buffer_holds():
     stamps = [p.pose.stamp[0] * S + p.pose.stamp[1] for p in poses]
     assert stamps == sorted(stamps) and len(stamps) == 60  # 2 s at 30 Hz, the latest last
     assert stamps[-1] == int((1 + 89 / 30) * S)
+
+
+def test_cloned_person_ids_pointing_at_a_real_face_make_no_results():
+    """200 fresh person ids whose face_id names a real person's face used to multiply that
+    face's results 200-fold (each with its first results). A frame is the pose of one
+    person at a time: the clones are refused as link_taken, once each."""
+    people = People("base_link")
+    people.on_tracked("/humans/faces/tracked", ["f1"])
+    people.on_tf([tf_in("base_link", "face_f1", 1, (1.0, 0, 0))], static=False)
+    people.on_person_link("real", "face_id", "f1")
+    people.on_tracked("/humans/persons/tracked", ["real"])
+    clones = [f"c{i}" for i in range(200)]
+    refused = []
+    for clone in clones:
+        refused += people.on_person_link(clone, "face_id", "f1").refused
+    update = people.on_tracked("/humans/persons/tracked", ["real", *clones])
+    refused += update.refused
+    assert update.poses == []
+    assert [r for r, _ in refused] == ["link_taken"] * 200
+    poses = people.on_tf([tf_in("base_link", "face_f1", 2, (1.0, 0, 0))], static=False).poses
+    assert sorted(p.body_id for p in poses) == ["face_f1", "person_real"]
+    # the real person leaves: the face is free for the next person who resolves it
+    people.on_tracked("/humans/persons/tracked", clones)
+    poses = people.on_tf([tf_in("base_link", "face_f1", 3, (1.0, 0, 0))], static=False).poses
+    assert {p.body_id for p in poses if p.body_id.startswith("person_")} == {"person_c0"}
+
+
+@pytest.mark.slow
+def test_300_000_invented_person_ids_cost_under_15_mb():
+    """Every /humans/persons/<id>/body_id topic used to be counted by name, forever:
+    300 000 invented ids held 60 MB. Topics are counted by pattern, links are bounded."""
+    import time
+
+    from facing_service.config.settings import Settings
+    from facing_service.ros2.input import RosSample
+    from facing_service.shell.robot_input import RobotInput
+
+    def rss_mb() -> float:
+        with open("/proc/self/statm") as statm:
+            return int(statm.read().split()[1]) * 4096 / 1e6
+
+    robot = RobotInput(Settings(input="ros2", base_frame="base_link"), time.monotonic)
+    wire, payload = Wire(), string("f1")
+    keys = [wire.key(f"/humans/persons/p{i}/body_id", ros2_types.STRING) for i in range(300_000)]
+    before = rss_mb()
+    for key in keys:
+        robot.route(RosSample(key, payload))
+    grown = rss_mb() - before
+    print(f"\n300 000 invented person ids: +{grown:.1f} MB")
+    assert grown <= 15, grown
