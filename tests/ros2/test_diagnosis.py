@@ -93,6 +93,74 @@ def test_one_stale_message_between_fresh_ones_clears_nothing():
         people.on_tf([tf_in("base_link", "body_a", stamp)], static=False)
 
 
+ROBOT, STRANGER = bytes(16), bytes(range(16))
+
+
+def streaming(people, seconds, start=10.0, publisher=ROBOT, rate=30, attack=None):
+    """The robot streams body_a at ``rate`` Hz, received at its stamps' time (the
+    caller's clock equals the stamps here); ``attack(t)`` runs between messages."""
+    updates = []
+    for i in range(int(seconds * rate)):
+        t = start + i / rate
+        tf = [tf_in("base_link", "body_a", t)]
+        updates.append(people.on_tf(tf, static=False, publisher=publisher, received_s=t))
+        if attack is not None:
+            updates += attack(t)
+    return updates
+
+
+def test_forged_stale_bursts_never_clear_the_buffer_while_the_robot_streams():
+    """Three messages re-sending the body 5 s in the past, three bursts a second, from a
+    stranger (and as well with the robot's own GID): each burst used to clear the TF
+    buffer and lose everyone. A burst cannot span TIME_BACK_SPAN_S while the robot
+    streams, so nothing is cleared and nobody is lost."""
+    for forged_as in (STRANGER, ROBOT):
+        people = People("base_link")
+        people.on_tracked("/humans/bodies/tracked", ["a"])
+
+        def burst(t, forged_as=forged_as, people=people):
+            if round(t * 30) % 10:
+                return []
+            stale = [tf_in("base_link", "body_a", t - 5.0)]
+            return [
+                people.on_tf(stale, static=False, publisher=forged_as, received_s=t + k * 1e-4)
+                for k in range(3)
+            ]
+
+        updates = streaming(people, 4.0, attack=burst)
+        assert not any(u.time_back_ns or u.lost for u in updates)
+        assert people.clears == 0
+        assert sum(bool(u.poses) for u in updates) == 120  # every pose of the robot's
+
+
+def test_a_replay_started_again_clears_once_and_a_flood_of_rewinds_is_refused():
+    """One publisher going back for TIME_BACK_SPAN_S is a clock that went back: cleared,
+    counted. Going back again within CLEAR_MIN_INTERVAL_S is refused and counted."""
+    people = People("base_link")
+    people.on_tracked("/humans/bodies/tracked", ["a"])
+    streaming(people, 2.0, start=10.0)
+    cleared = [u for u in streaming(people, 0.5, start=10.0) if u.time_back_ns]  # again
+    assert len(cleared) == 1 and cleared[0].lost == ["body_a"]
+    assert (people.clears, people.clears_refused) == (1, 0)
+    # received later than the stamps say: the same rewind again, 1 s after the clear
+    for i in range(15):
+        people.on_tf([tf_in("base_link", "body_a", 9.0 + i / 30)], static=False,
+                     publisher=ROBOT, received_s=11.0 + i / 30)  # fmt: skip
+    assert (people.clears, people.clears_refused) == (1, 1)
+
+
+def test_stale_messages_from_two_publishers_in_turn_are_two_runs():
+    people = People("base_link")
+    people.on_tracked("/humans/bodies/tracked", ["a"])
+    streaming(people, 1.0)
+    for i in range(30):  # a second apart each, but never three in a row from one
+        who = (ROBOT, STRANGER)[i % 2]
+        back = people.on_tf([tf_in("base_link", "body_a", 5.0)], static=False, publisher=who,
+                            received_s=12.0 + i)  # fmt: skip
+        assert back.time_back_ns == 0
+    assert people.clears == 0
+
+
 # -- end to end: the service tells, in its log and status ------------------------------------
 
 
@@ -228,6 +296,69 @@ def test_inspect_shows_what_the_robot_publishes_and_the_flags_that_read_it(net, 
     assert "/humans/bodies/tracked: a, b" in out
     assert "base frame 'base_link' is not in the TF tree" in out
     assert (
-        "facing-service run --input ros2 --ros-format rmw_zenoh --ros-domain-id 3 "
-        "--ros-namespace bot1 --base-frame map"
-    ) in out
+        f"facing-service run --input ros2 -m client -e {ep} --no-multicast-scouting "
+        "--ros-format rmw_zenoh --ros-domain-id 3 --ros-namespace bot1 --base-frame map"
+    ) in out  # the session flags inspect was given carry into the command it suggests
+
+
+def chain_message(links: int, name=lambda i: f"link{i}") -> bytes:
+    chain = [transform(name(i), name(i + 1), 10 * S) for i in range(links)]
+    return tf_message(*chain)
+
+
+def surveyed(samples) -> list[str]:
+    from facing_service.tools.survey import Survey
+
+    survey = Survey()
+    for key, payload in samples:
+        survey.on_sample(key, payload, None, 1.0)
+    return survey.report("base_link", 2.0)
+
+
+def test_inspect_walks_a_1500_link_chain_without_recursion_into_a_bounded_report():
+    from facing_service.tools.survey import TREE_LINES
+
+    lines = surveyed([("tf", chain_message(1500))])
+    assert len(lines) < TREE_LINES + 40
+    assert any("more frame(s)" in line for line in lines)
+    assert max(map(len, lines)) < 300
+
+
+def test_inspect_names_every_place_of_tf_instead_of_picking_the_first():
+    """20 000 namespaces carrying /tf printed 40 000 lines and recommended the attacker's
+    --ros-namespace ns0: now at most KEYS_KEPT keys are kept, the rest counted, and the
+    flags are given for each place, the choice left to the user."""
+    one = tf_message(transform("base_link", "body_a", 10 * S))
+    lines = surveyed([(f"ns{i}/tf", one) for i in range(20_000)])
+    assert len(lines) < 200
+    text = "\n".join(lines)
+    assert "/tf is published in 20000 places" in text
+    assert "more key(s), not listed" in text
+    assert text.count("facing-service run") == 5
+
+
+def test_inspect_cuts_names_a_sender_chose():
+    huge = "x" * 200_000
+    one = tf_message(transform("base_link", "body_a", 10 * S), transform("body_a", huge, 10 * S))
+    lines = surveyed([("tf", one), ("humans/bodies/tracked", ids_list(["a" * 100_000]))])
+    assert max(map(len, lines)) < 300
+    assert any("names over 256 characters" in line for line in lines)
+
+
+def test_inspect_exits_0_on_a_robot_publishing_a_1500_link_chain(net, site, capsys):
+    from facing_service.config.settings import Settings
+    from facing_service.tools.survey import inspect_robot
+
+    ep, make_robot = site
+    robot = make_robot(rmw_zenoh.JAZZY_0_2_10)
+    settings = Settings(mode="client", connect=[ep], no_multicast_scouting=True)
+    done: list[int] = []
+    listener = threading.Thread(target=lambda: done.append(inspect_robot(settings, 1.0, "link0")))
+    listener.start()
+    for _ in range(5):
+        robot.publish("/tf", TF, chain_message(1500))
+        time.sleep(0.1)
+    listener.join(timeout=20)
+    assert done == [0]
+    out = capsys.readouterr().out.splitlines()
+    assert len(out) < 300 and any("more frame(s)" in line for line in out)
