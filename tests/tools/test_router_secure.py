@@ -48,19 +48,28 @@ def _write_cert(cert: trustme.LeafCert, folder: Path, name: str) -> None:
 
 
 class Deployment:
-    """examples/secure copied to a folder, with fresh certificates and a free port."""
+    """An example deployment (examples/secure unless told) copied to a folder, with fresh
+    certificates for its ``roles`` and a free port; a "stranger" connects with the
+    config of ``stranger_as``."""
 
-    def __init__(self, folder: Path) -> None:
+    def __init__(
+        self,
+        folder: Path,
+        example: Path = EXAMPLE,
+        roles: tuple[str, ...] = ROLES,
+        stranger_as: str = "consumer",
+    ) -> None:
         self.folder = folder
         self.port = free_port()
         self.endpoint = f"tls/localhost:{self.port}"
-        shutil.copytree(EXAMPLE, folder, dirs_exist_ok=True, ignore=shutil.ignore_patterns("certs"))
+        self.stranger_as = stranger_as
+        shutil.copytree(example, folder, dirs_exist_ok=True, ignore=shutil.ignore_patterns("certs"))
         certs = folder / "certs"
         certs.mkdir()
         ca = trustme.CA()
         ca.cert_pem.write_to_path(certs / "ca.pem")
         _write_cert(ca.issue_cert("localhost", "127.0.0.1", common_name="router"), certs, "router")
-        for role in (*ROLES, "stranger"):
+        for role in (*roles, "stranger"):
             _write_cert(ca.issue_cert(f"{role}.example", common_name=role), certs, role)
         # Certificates of another CA, for the same names: an attacker's own PKI.
         rogue = trustme.CA()
@@ -78,7 +87,7 @@ class Deployment:
     def session(self, role: str, endpoint: str | None = None, **overrides: str) -> zenoh.Session:
         """A client session from the example config of ``role``, pointed at the router.
         Relative paths in the example resolve from the deployment folder."""
-        conf_role = "consumer" if role == "stranger" else role
+        conf_role = self.stranger_as if role == "stranger" else role
         text = (self.folder / f"{conf_role}.json5").read_text()
         conf = zenoh.Config.from_json5(text.replace('"certs/', f'"{self.folder}/certs/'))
         conf.insert_json5("connect/endpoints", json.dumps([endpoint or self.endpoint]))
