@@ -212,6 +212,7 @@ class _Writer:
 class Received:
     payload: bytes
     sequence_number: int | None
+    at: float = field(default_factory=time.monotonic)  # when it arrived
 
 
 @dataclass
