@@ -1,0 +1,68 @@
+"""F-formations from positions and headings (pure): who stands in one conversation."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+
+from facing_service.core.groups import GroupParams, detect, groups
+
+P = GroupParams(near_m=0.3, far_m=0.3, mdl_m2=1.0)
+
+
+def scene(*people: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """People as (x, y, heading in degrees)."""
+    array = np.array(people, dtype=np.float64)
+    return array[:, :2], np.radians(array[:, 2])
+
+
+def test_two_people_facing_each_other_are_a_group_and_back_to_back_are_not():
+    assert groups(detect(*scene((0, 0, 0), (1.0, 0, 180)), P)) == [[0, 1]]
+    assert groups(detect(*scene((0, 0, 180), (1.0, 0, 0)), P)) == []
+
+
+def test_a_ring_of_five_is_one_group_and_a_passer_by_is_not_in_it():
+    ring = [
+        (math.cos(a), math.sin(a), math.degrees(a) + 180)
+        for a in np.linspace(0, 2 * math.pi, 5, endpoint=False)
+    ]
+    labels = detect(*scene(*[(0.6 * x, 0.6 * y, h) for x, y, h in ring], (3.0, 3.0, 90)), P)
+    assert groups(labels) == [[0, 1, 2, 3, 4]]
+
+
+def test_two_conversations_side_by_side_are_two_groups():
+    pairs = scene((0, 0, 0), (1.0, 0, 180), (0, 2.0, 0), (1.0, 2.0, 180))
+    assert sorted(groups(detect(*pairs, P))) == [[0, 1], [2, 3]]
+
+
+def test_the_robot_is_a_participant_like_any_other():
+    """The robot at the origin facing +x, a person 1 m ahead facing it: a group of two;
+    turned away, no group."""
+    assert groups(detect(*scene((0, 0, 0), (1.0, 0, 180)), P)) == [[0, 1]]
+    assert groups(detect(*scene((0, 0, 0), (1.0, 0, 0)), P)) == []
+
+
+def test_empty_and_one_person():
+    assert detect(np.zeros((0, 2)), np.zeros(0), P).tolist() == []
+    assert groups(detect(*scene((0, 0, 0)), P)) == []
+
+
+@pytest.mark.parametrize("spread", [0.0, 30.0])
+def test_people_in_one_spot_are_bounded_and_finite(spread):
+    positions = np.zeros((30, 2))
+    headings = np.linspace(0, 2 * math.pi, 30, endpoint=False)
+    labels = detect(positions, headings, GroupParams(0.3, 0.6, 1.0, spread))
+    assert len(labels) == 30 and labels.min() >= 0
+
+
+def test_twenty_people_take_milliseconds_not_more():
+    rng = np.random.default_rng(0)
+    positions, headings = rng.uniform(0, 6, (20, 2)), rng.uniform(0, 2 * math.pi, 20)
+    start = time.perf_counter()
+    for _ in range(20):
+        detect(positions, headings, P)
+    per_frame = (time.perf_counter() - start) / 20
+    print(f"\n20 people: {per_frame * 1e3:.2f} ms a frame")
