@@ -37,13 +37,15 @@ from .tools.router import router_config, serve
 
 log = logging.getLogger("facing_service")
 
-#: Our log levels as zenoh's: one level quieter (its log is verbose), and never its debug
-#: or trace, which print the session's whole config, passwords and keys included
-#: (zenoh::api::session, measured). RUST_LOG, set by an operator who knows, still wins.
+#: Our log levels as zenoh's: its warnings (coloured, with the Rust source paths of its
+#: build) only from --log-level DEBUG, where they help; below it our own one line says
+#: what went wrong, and zenoh's errors still show. Never its debug or trace, which print
+#: the session's whole config, passwords and keys included (zenoh::api::session,
+#: measured). RUST_LOG, set by an operator who knows, still wins.
 _ZENOH_LEVELS = {
     "DEBUG": "info",
-    "INFO": "warn",
-    "WARNING": "warn",
+    "INFO": "error",
+    "WARNING": "error",
     "ERROR": "error",
     "CRITICAL": "error",
 }

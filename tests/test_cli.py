@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import signal
+import socket
 import subprocess
 import sys
 import threading
@@ -195,6 +196,30 @@ def test_log_level_reaches_zenohs_own_log_but_never_its_debug(monkeypatch):
     assert zenohs, "zenoh's own log is not shown"
     assert not any("DEBUG" in line or "TRACE" in line for line in zenohs)
     assert "facing-service 0" in output
+
+
+def test_below_debug_zenohs_warnings_stay_out_of_our_one_line(monkeypatch):
+    """A newcomer's connection problem came after zenoh's coloured WARN lines carrying
+    the Rust source paths of zenoh's build; our own line is the one to read."""
+    monkeypatch.delenv("RUST_LOG", raising=False)
+    flags = ("-m", "client", "-e", endpoint(free_port()), "--no-multicast-scouting")
+    with running_cli("run", *flags) as proc:
+        output, _ = proc.communicate(timeout=30)
+    assert proc.returncode == 1, output
+    assert " WARN" not in output and ".rs:" not in output, output
+    assert "facing-service run: cannot open the zenoh session: Unable to connect" in output
+
+
+def test_a_port_in_use_is_one_clean_line_naming_listen():
+    port = free_port()
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", port))
+        taken.listen()
+        with running_cli("run", "-l", f"tcp/127.0.0.1:{port}", "--no-multicast-scouting") as proc:
+            output, _ = proc.communicate(timeout=30)
+    assert proc.returncode == 1, output
+    (line,) = [x for x in output.splitlines() if x.startswith("facing-service run:")]
+    assert "Address already in use" in line and "--listen" in line and ".rs" not in line
 
 
 def test_a_bad_flag_is_said_by_its_command_with_its_usage(capsys):

@@ -88,3 +88,41 @@ def test_the_engagement_tables_are_the_committed_results():
     assert engagement_report.main(["--check"]) == 0, (
         "regenerate: python -m benchmarks.engagement_report"
     )
+
+
+@pytest.mark.slow
+def test_the_readmes_isolated_run_and_its_snippet_work_as_written():
+    """The README shows the isolated way first: the service on loopback without
+    multicast scouting, and a snippet that connects to it alone. Both run as written
+    (only the port changes), and the snippet prints the service's result."""
+    import subprocess
+    import sys
+
+    from facing_service.testing import free_port, running_cli
+
+    readme = (ROOT / "README.md").read_text()
+    run = re.search(r"`\.venv/bin/facing-service (run -l tcp/127\.0\.0\.1:7447[^`]*)`", readme)
+    snippet = re.search(r"python - <<'EOF'\n(.*?)\nEOF", readme, re.S)
+    assert run and snippet
+    port = str(free_port())
+    with running_cli(*run[1].replace("7447", port).split()):
+        done = subprocess.run(
+            [sys.executable, "-c", snippet[1].replace("7447", port)],
+            capture_output=True, text=True, timeout=60,
+        )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    (result,) = [json.loads(line) for line in done.stdout.splitlines()]
+    assert result["body_id"] == "alice" and result["facing"] is True
+
+
+def test_performance_figures_are_stated_once_on_the_performance_page():
+    """Figures drifted between pages (1.65x on one, 1.89x on another, against two different
+    targets): the measured ratios and rates live on docs/performance.md, generated from
+    benchmarks/results/latest.json (test_benchmarks.py checks the two agree); every other
+    page links there instead of copying them."""
+    figure = re.compile(r"\d+\.\d+ ?×|poses/s|of one core")
+    for doc in [ROOT / "README.md", *PAGES]:
+        if doc.name == "performance.md":
+            continue
+        found = figure.findall(doc.read_text())
+        assert not found, f"{doc.name} states performance figures {found}: link performance.md"

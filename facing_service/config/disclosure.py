@@ -136,9 +136,9 @@ def public_value(field: str, value: Any) -> str:
 
 def public_zenoh_error(error: Exception) -> str:
     """A zenoh error (e.g. "Unable to connect to any of [...]") as it may be shown:
-    without the path of the Rust source that raised it, endpoints without their ``#``
-    config part."""
-    text = re.sub(r"\s+at /\S+\.rs:\d+\.?\s*$", "", str(error).strip())
+    without the paths of the Rust sources that raised it (wherever they stand: a port in
+    use carries one inside its brackets), endpoints without their ``#`` config part."""
+    text = re.sub(r"\s+at /\S+?\.rs:\d+\.?", "", str(error).strip()).strip()
     return re.sub(r"#[^\s\])(,]*", "#" + REDACTED, text)
 
 
@@ -148,4 +148,6 @@ def zenoh_failure(command: str, error: Exception) -> str:
     text = public_zenoh_error(error)
     if text.startswith("Unable to connect"):
         text += " (--connect: is a router listening there, and reachable from here?)"
+    elif "Address already in use" in text:
+        text += " (--listen: another process listens there: pick another port, or stop it)"
     return f"facing-service {command}: cannot open the zenoh session: {text}"

@@ -34,11 +34,27 @@ def bag_folder(out: Path) -> Path:
     return out.with_suffix("") if out.suffix == ".mcap" else out
 
 
+#: A rosbag2's storage files, which replay also takes in place of the bag's folder.
+BAG_FILES = (".db3", ".mcap")
+
+
 def replay_refusal(bag: Path, record: Path | None) -> str | None:
     """Why ``replay BAG [--record OUT]`` cannot start (one line naming the argument), or
     None. Checked before anything opens: a recording never overwrites."""
     if not bag.exists():
         return f"BAG {str(bag)!r}: no such file or folder"
+    if bag.is_dir() and not (bag / "metadata.yaml").is_file():
+        inside = sorted(d.name for d in bag.iterdir() if (d / "metadata.yaml").is_file())
+        if inside:
+            named = ", ".join(inside[:8]) + (
+                f" and {len(inside) - 8} more" if len(inside) > 8 else ""
+            )
+            return f"BAG {str(bag)!r} is a folder of recordings, not one: replay one of {named}"
+        return f"BAG {str(bag)!r}: not a rosbag2 folder (it has no metadata.yaml)"
+    if bag.is_file() and bag.suffix not in BAG_FILES:
+        return (
+            f"BAG {str(bag)!r}: not a rosbag2 (a folder with metadata.yaml, or its .db3 or .mcap)"
+        )
     if record is not None:
         folder = bag_folder(record)
         if folder.exists():

@@ -283,8 +283,11 @@ class FormLearner:
     One writer (the worker, ``learn``); the publisher thread reads ``forms``, replaced
     whole, so it never sees half an update."""
 
-    def __init__(self, forced: Distro | None = None) -> None:
+    def __init__(self, forced: Distro | None = None, *, answering: bool = True) -> None:
+        """``answering``: the service answers on the robot's topics (``--output ros2``);
+        without, what is learned is said as what the robot does, not as an answer."""
         self.forced = forced
+        self.answering = answering
         self.forms: tuple[Form, ...] = (Form(forced or Distro.JAZZY),)
         self.heard: dict[Form, tuple[int, float]] = {}  # form -> (samples, last heard)
         self.present: tuple[Form, ...] = ()  # the robot's, as learned
@@ -334,4 +337,6 @@ class FormLearner:
             )
         how = "as --ros-distro says" if self.forced is not None else f"learned from {key}"
         both = "each of " if len(present) > 1 else ""
+        if not self.answering:
+            return logging.INFO, f"the robot publishes in rmw_zenoh's form for {said} ({how})"
         return logging.INFO, f"answering the robot in {both}rmw_zenoh's form for {said} ({how})"

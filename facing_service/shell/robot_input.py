@@ -53,7 +53,7 @@ class RobotInput:
         self.settings = settings
         self._clock = clock
         self.wire = settings.ros_wire()
-        self.form = FormLearner(settings.forced_distro)
+        self.form = FormLearner(settings.forced_distro, answering=settings.output == "ros2")
         self.people = People(
             settings.ros_base_frame,
             max_ids=settings.max_bodies,
@@ -127,6 +127,11 @@ class RobotInput:
             self._watch.time_back = (self._clock(), update.time_back_ns)
             self.next_diagnosis = self._clock()
         return update
+
+    def topic(self, key: str) -> str:
+        """The robot's topic a key of a decoded sample is on (its key, if it is none)."""
+        read = reading(self.wire, key)
+        return key if isinstance(read, Rejected) else read[0]
 
     def _flapped(self, update: Update, now: float) -> None:
         """Count the people back within FLAP_S of leaving a tracked list."""

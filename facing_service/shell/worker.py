@@ -221,8 +221,9 @@ class Worker:
         if isinstance(update, Rejected):
             self._reject(update.reason, sample.key, update.detail)
             return
+        topic = self._robot.topic(sample.key)  # decoded: named as the robot names it
         for reason, what in update.refused:
-            self._reject(Rejection(reason), sample.key, what)
+            self._reject(Rejection(reason), topic, what)
         if update.unresolved:
             self._ledger.count("tf_lookups_unresolved", update.unresolved)
         poses.extend(update.poses)

@@ -131,6 +131,15 @@ def test_another_form_needs_sustained_evidence_and_two_robots_are_each_answered(
     assert [f.distro for f in learner.forms] == [Distro.HUMBLE]
 
 
+def test_a_service_that_does_not_answer_says_what_the_robot_does_not_that_it_answers():
+    """--output json: the form is still learned (and shown), but nothing is answered."""
+    key = Wire(distro=Distro.HUMBLE).key("/tf", ros2_types.TF_MESSAGE)
+    extra = rmw_zenoh.make_attachment(rmw_zenoh.HUMBLE_0_1_9, 1, bytes(16))
+    _, line = FormLearner(answering=False).learn(key, extra, 0.0)
+    assert line.startswith("the robot publishes in rmw_zenoh's form for Humble")
+    assert "answering" not in line
+
+
 # -- people, without a network -------------------------------------------------------------
 
 
