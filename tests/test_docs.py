@@ -120,7 +120,7 @@ def test_performance_figures_are_stated_once_on_the_performance_page():
     targets): the measured ratios and rates live on docs/performance.md, generated from
     benchmarks/results/latest.json (test_benchmarks.py checks the two agree); every other
     page links there instead of copying them."""
-    figure = re.compile(r"\d+\.\d+ ?×|poses/s|of one core")
+    figure = re.compile(r"\d+\.\d+ ?\u00d7|poses/s|of one core")
     for doc in [ROOT / "README.md", *PAGES]:
         if doc.name == "performance.md":
             continue
