@@ -31,7 +31,10 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
+import multiprocessing
+import os
 from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
@@ -203,12 +206,11 @@ def candidates(grid: Mapping[str, Sequence[Any]]) -> list[dict[str, Any]]:
     return [dict(zip(names, combination, strict=True)) for combination in values]
 
 
-def folds(recordings: Sequence[Recording], by: str) -> dict[str, set[tuple[str, str]]]:
-    """The held-out person-recordings of each fold: one per person, or per recording."""
+def folds(keys: Sequence[tuple[str, str]], by: str) -> dict[str, set[tuple[str, str]]]:
+    """The held-out (recording, person) pairs of each fold: one per person, or recording."""
     out: dict[str, set[tuple[str, str]]] = {}
-    for r in recordings:
-        for person in r.persons:
-            out.setdefault(person if by == "person" else r.name, set()).add((r.name, person))
+    for recording, person in keys:
+        out.setdefault(person if by == "person" else recording, set()).add((recording, person))
     return dict(sorted(out.items()))
 
 
@@ -226,15 +228,43 @@ class Judged:
     rows: list[dict[str, Any]]  # the by-person held-out rows, in the recordings' order
 
 
+Candidate = tuple[tuple[str, Any], ...]  # a candidate's settings, sorted: a dict key
+_RECORDINGS: list[Recording] = []  # a worker's copy, set once by _worker_start
+
+
+def _worker_start(recordings: list[Recording]) -> None:
+    _RECORDINGS[:] = recordings
+
+
+def _score(candidate: Candidate) -> list[Row]:
+    """Every person-recording, in order, under one candidate's settings."""
+    settings = Settings(**BASE, **dict(candidate))
+    return [row for r in _RECORDINGS for row in rows(r, settings)]
+
+
+def score_all(
+    options: Sequence[Candidate], recordings: list[Recording]
+) -> dict[Candidate, list[Row]]:
+    """Every candidate on every recording, on every core: thousands of runs of the
+    tracker, each independent of the others. Spawned workers (a fork after a zenoh
+    session opened in the same process would hang), each given the recordings once."""
+    unique = list(dict.fromkeys(options))
+    workers = min(os.cpu_count() or 1, 8)
+    if workers < 2:
+        _worker_start(recordings)
+        return {c: _score(c) for c in unique}
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(workers, context, _worker_start, (recordings,)) as pool:
+        return dict(zip(unique, pool.map(_score, unique, chunksize=8), strict=True))
+
+
 def judge(
-    family: str, grid: Mapping[str, Sequence[Any]], recordings: Sequence[Recording]
+    family: str, grid: Mapping[str, Sequence[Any]], scored: Mapping[Candidate, list[Row]]
 ) -> list[Judged]:
-    """In-sample and cross-validated figures of one family, per criterion."""
+    """In-sample and cross-validated figures of one family, per criterion, from every
+    candidate's rows (``score_all``)."""
     options = candidates(grid)
-    table: list[list[Row]] = []  # per candidate: every person-recording, in order
-    for candidate in options:
-        settings = Settings(**BASE, **candidate)
-        table.append([row for r in recordings for row in rows(r, settings)])
+    table = [scored[tuple(sorted(candidate.items()))] for candidate in options]
     keys = [(row.recording, row.person) for row in table[0]]
 
     def best(train: set[tuple[str, str]], rank: Callable[[Sequence[Row]], tuple]) -> int:
@@ -250,7 +280,7 @@ def judge(
         fold_notes = []
         for by in ("person", "recording"):
             out: dict[tuple[str, str], Row] = {}
-            for name, test in folds(recordings, by).items():
+            for name, test in folds(keys, by).items():
                 i = best(scorable - test, rank)
                 mine = [row for row in table[i] if (row.recording, row.person) in test]
                 out.update({(row.recording, row.person): row for row in mine})
@@ -316,7 +346,9 @@ def load(folders: Sequence[Path] = FOLDERS) -> list[Recording]:
 
 def evaluate(folders: Sequence[Path] = FOLDERS) -> dict[str, Any]:
     recordings = load(folders)
-    judged = [j for name, grid in FAMILIES.items() for j in judge(name, grid, recordings)]
+    every = [tuple(sorted(c.items())) for grid in FAMILIES.values() for c in candidates(grid)]
+    scored = score_all(every, recordings)
+    judged = [j for name, grid in FAMILIES.items() for j in judge(name, grid, scored)]
     best, steps = preferred(judged)
     return {
         "shipped_defaults": shipped(recordings),
