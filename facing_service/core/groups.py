@@ -172,3 +172,86 @@ def groups(labels: IntArray) -> list[list[int]]:
     for i, label in enumerate(labels.tolist()):
         out.setdefault(label, []).append(i)
     return [members for members in out.values() if len(members) > 1]
+
+
+@dataclass(frozen=True, slots=True)
+class Group:
+    """A group as said: a stable id, its members, whether the robot is one, its centre."""
+
+    id: int
+    members: frozenset[str]
+    robot: bool
+    centre: tuple[float, float]
+
+
+class GroupTracker:
+    """Stable group ids over time, without flicker. Pure: the caller's clock.
+
+    A grouping (the partition ``detect`` finds) is said only once it has held
+    ``hold_s``: a person's heading flickering across the threshold between two readings
+    does not make groups flicker (as hysteresis keeps facing calm). A group that keeps at
+    least half of its members keeps its id; a new one gets the next id; a group gone is
+    said dissolved. Singletons are not groups; the robot (``ROBOT``) is a member like any
+    other, and a group with it says ``robot``."""
+
+    ROBOT = ""  # REP 155: the robot's id in hri_msgs/Gaze and Group is the empty string
+
+    def __init__(self, hold_s: float) -> None:
+        self.hold_s = hold_s
+        self.groups: dict[int, Group] = {}
+        self._next_id = 1
+        self._candidate: frozenset[frozenset[str]] | None = None
+        self._since = 0.0
+
+    def update(
+        self, found: list[tuple[frozenset[str], tuple[float, float]]], now: float
+    ) -> tuple[list[Group], list[int]]:
+        """The groups ``detect`` found now (members, centre); what changed: the groups
+        formed or changed, and the ids dissolved (both empty while nothing changed)."""
+        partition = frozenset(members for members, _ in found if len(members) > 1)
+        if partition != self._candidate:
+            self._candidate, self._since = partition, now
+        said = frozenset(g.members for g in self.groups.values())
+        if partition == said or now - self._since < self.hold_s:
+            self._recentre(found)
+            return [], []
+        return self._adopt(found)
+
+    def _recentre(self, found: list[tuple[frozenset[str], tuple[float, float]]]) -> None:
+        by_members = dict(found)
+        for gid, group in self.groups.items():
+            if (centre := by_members.get(group.members)) is not None:
+                self.groups[gid] = Group(gid, group.members, group.robot, centre)
+
+    def _adopt(
+        self, found: list[tuple[frozenset[str], tuple[float, float]]]
+    ) -> tuple[list[Group], list[int]]:
+        old = dict(self.groups)
+        new: dict[int, Group] = {}
+        # Most overlap first: the group that keeps most of an old group's members keeps its id.
+        pairs = sorted(
+            (
+                (len(members & g.members), gid, i)
+                for i, (members, _) in enumerate(found)
+                for gid, g in old.items()
+                if len(members) > 1 and 2 * len(members & g.members) >= len(g.members)
+            ),
+            reverse=True,
+        )
+        taken: dict[int, int] = {}  # found index -> id
+        for _, gid, i in pairs:
+            if i not in taken and gid not in taken.values():
+                taken[i] = gid
+        changed = []
+        for i, (members, centre) in enumerate(found):
+            if len(members) < 2:
+                continue
+            gid = taken.get(i)
+            if gid is None:
+                gid, self._next_id = self._next_id, self._next_id + 1
+            group = Group(gid, members, self.ROBOT in members, centre)
+            new[gid] = group
+            if gid not in old or old[gid].members != members:
+                changed.append(group)
+        self.groups = new
+        return changed, sorted(old.keys() - new.keys())

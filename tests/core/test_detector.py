@@ -258,3 +258,24 @@ def test_the_per_body_path_agrees_with_the_vectorized_core(scene, threshold):
                 assert facing is bool(result.facing[i])
         else:
             assert facing is False
+
+
+def test_who_faces_whom_is_the_tutorials_rule_between_people():
+    """A at the origin facing +x, B 2 m ahead facing A, C 2 m to A's left facing +x, and
+    the robot (the origin, identity rotation) as a participant."""
+    from facing_service.core.detector import facing_matrix
+
+    def yaw(deg: float) -> tuple[float, float, float, float]:
+        return (0.0, 0.0, math.sin(math.radians(deg) / 2), math.cos(math.radians(deg) / 2))
+
+    t = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 0.0]])
+    q = np.array([yaw(0), yaw(180), yaw(0), (0.0, 0.0, 0.0, 1.0)])
+    assert facing_matrix(t, q, 20.0).tolist() == [
+        [False, True, False, False],  # A faces B; the robot stands on A's spot: undefined
+        [True, False, False, True],  # B faces A and the robot; C is 45 deg off
+        [False, False, False, False],  # C faces +x: nobody ahead of it
+        [False, True, False, False],  # the robot faces B
+    ]
+    # B faces "the robot" exactly when the robot rule says so
+    assert bool(classify(t[[1]], q[[1]], 20.0).facing[0])
+    assert facing_matrix(np.zeros((0, 3)), np.zeros((0, 4)), 20.0).shape == (0, 0)

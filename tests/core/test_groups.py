@@ -66,3 +66,40 @@ def test_twenty_people_take_milliseconds_not_more():
         detect(positions, headings, P)
     per_frame = (time.perf_counter() - start) / 20
     print(f"\n20 people: {per_frame * 1e3:.2f} ms a frame")
+
+
+def test_group_ids_stay_while_most_members_stay_and_a_flicker_is_not_said():
+    from facing_service.core.groups import GroupTracker
+
+    tracker = GroupTracker(hold_s=0.3)
+    abc = [(frozenset("abc"), (1.0, 0.0)), (frozenset("d"), (5.0, 5.0))]
+    assert tracker.update(abc, 0.0) == ([], [])  # not held yet
+    changed, gone = tracker.update(abc, 0.4)
+    assert [(g.id, sorted(g.members)) for g in changed] == [(1, ["a", "b", "c"])] and gone == []
+    # one frame of a different reading (a heading flickering): nothing said
+    assert tracker.update([(frozenset("ab"), (1.0, 0.0))], 0.5) == ([], [])
+    assert tracker.update(abc, 0.55) == ([], [])
+    # d joins for good: the group keeps its id (it keeps most of its members)
+    abcd = [(frozenset("abcd"), (1.5, 0.5))]
+    tracker.update(abcd, 1.0)
+    changed, gone = tracker.update(abcd, 1.4)
+    assert [(g.id, sorted(g.members)) for g in changed] == [(1, ["a", "b", "c", "d"])]
+    # it splits in two: the larger half keeps the id, the other is new
+    split = [(frozenset("abc"), (1.0, 0.0)), (frozenset("d"), (5, 5)), (frozenset("ef"), (9, 9))]
+    tracker.update(split, 2.0)
+    changed, gone = tracker.update(split, 2.4)
+    assert sorted((g.id, sorted(g.members)) for g in changed) == [
+        (1, ["a", "b", "c"]),
+        (2, ["e", "f"]),
+    ]
+    # everyone walks apart: both dissolve
+    tracker.update([], 3.0)
+    assert tracker.update([], 3.4) == ([], [1, 2])
+
+
+def test_a_group_with_the_robot_says_so():
+    from facing_service.core.groups import GroupTracker
+
+    tracker = GroupTracker(hold_s=0.0)
+    changed, _ = tracker.update([(frozenset({"", "alice"}), (0.5, 0.0))], 0.0)
+    assert changed[0].robot and changed[0].members == {"", "alice"}
