@@ -179,6 +179,7 @@ def _watch(args: argparse.Namespace) -> int:
         print(zenoh_failure("watch", error), file=sys.stderr)
         return 1
     watcher = Watcher(client, args.base_frame)
+    watcher.ask_frames()
     try:
         if args.once:
             stop.wait(args.wait_s)

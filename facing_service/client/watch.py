@@ -65,14 +65,25 @@ def arrow(yaw_deg: float) -> str:
     return _ARROWS[round((yaw_deg % 360) / 45) % 8]
 
 
+#: What the screen's marks and columns mean, said under it (a newcomer asked).
+LEGEND = (
+    "arrows: where each person faces (green: facing the robot R, yellow: not); "
+    "held s: how long the facing decision has held (≥: already so when the view started); "
+    "engagement needs more than facing: a score that falls with distance past 2.5 m (0 at "
+    "4.5 m) held about a second (docs/engagement.md)"
+)
+
+
 def render(
     people: list[PersonView],
     frame_id: str,
     radius_m: float = 4.0,
     width: int = 41,
     height: int = 19,
+    elsewhere: dict[str, int] | None = None,
 ) -> RenderableType:
-    """The map and the table for one instant."""
+    """The map and the table for one instant; ``elsewhere``: people tracked in other
+    frames (frame -> how many), said when this frame has nobody."""
     grid = [[" "] * width for _ in range(height)]
     styles: dict[tuple[int, int], str] = {}
     cx, cy = width // 2, height // 2
@@ -94,10 +105,9 @@ def render(
         style = "bold green" if person.facing else "yellow"
         grid[row][col] = arrow(person.yaw_deg)
         styles[(row, col)] = style
-        if person.facing:
-            for i, char in enumerate(person.body_id[: width - col - 2]):
-                grid[row][col + 1 + i] = char
-                styles[(row, col + 1 + i)] = "green"
+        for i, char in enumerate(person.body_id[: width - col - 2]):  # every arrow named
+            grid[row][col + 1 + i] = char
+            styles[(row, col + 1 + i)] = "green" if person.facing else "yellow"
     canvas = Text()
     for row in range(height):
         for col in range(width):
@@ -105,7 +115,7 @@ def render(
         if row < height - 1:
             canvas.append("\n")
 
-    table = Table(title=f"frame {frame_id}", expand=False)
+    table = Table(title=f"frame {frame_id}", caption=LEGEND, caption_justify="left", expand=False)
     for name in ("id", "facing", "angle °", "distance m", "held s", "engagement"):
         table.add_column(name, justify="left" if name == "id" else "right")
     for person in sorted(people, key=lambda p: natural_order(p.body_id)):
@@ -126,7 +136,19 @@ def render(
     title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
     if unplaced := sum(1 for p in people if p.x is None):
         title += f"; {unplaced} not drawn (no pose here: ROS 2 input, or not readable)"
-    return Group(Panel(canvas, title=title, expand=False), table)
+    parts: list[RenderableType] = [Panel(canvas, title=title, expand=False)]
+    others = {f: n for f, n in (elsewhere or {}).items() if f != frame_id and n}
+    if not people and others:
+        said = ", ".join(f"{f} ({n})" for f, n in sorted(others.items()))
+        first = sorted(others)[0]
+        parts.append(
+            Text(
+                f"nobody in frame {frame_id}; people are tracked in {said}: "
+                f"watch --base-frame {first}",
+                style="bold yellow",
+            )
+        )
+    return Group(*parts, table)
 
 
 def _number(value: float | None, digits: int) -> str:
@@ -152,7 +174,11 @@ class Watcher:
         # body -> (facing, pose time it began, whether the view saw it begin, latest time)
         self._since: dict[str, tuple[bool, float, bool, float]] = {}
         self._levels: dict[str, str] = {}
+        self._frames: dict[str, int] = {}  # frame -> people tracked there (aggregates)
         self._subscribers = [
+            client.session.declare_subscriber(
+                keys.frame_key(client.namespace, keys.ALL_FRAMES), self._on_frame
+            ),
             client.session.declare_subscriber(
                 keys.pose_key(client.namespace, keys.ALL_FRAMES, frame), self._on_pose
             ),
@@ -167,6 +193,23 @@ class Watcher:
     def close(self) -> None:
         for subscriber in self._subscribers:
             subscriber.undeclare()
+
+    def _on_frame(self, sample: zenoh.Sample) -> None:
+        """Every frame's aggregate: which frames have people (said when this one has none)."""
+        with contextlib.suppress(ValueError, KeyError, TypeError):
+            message = json.loads(sample.payload.to_bytes())
+            with self._lock:
+                self._frames[message["frame_id"]] = len(message["bodies_tracked"])
+
+    def ask_frames(self) -> None:
+        """Ask the service which frames have people now (the aggregates are also
+        published on every change; this answers at once)."""
+        with contextlib.suppress(zenoh.ZError):
+            for reply in self.client.session.get(
+                keys.frame_key(self.client.namespace, keys.ALL_FRAMES), timeout=2.0
+            ):
+                if reply.ok is not None:
+                    self._on_frame(reply.ok)
 
     def _on_engagement(self, sample: zenoh.Sample) -> None:
         self._update(self._levels, sample, lambda message: message["level"])
@@ -236,7 +279,9 @@ class Watcher:
         return people
 
     def view(self) -> RenderableType:
-        return render(self.people(), self.frame)
+        with self._lock:
+            frames = dict(self._frames)
+        return render(self.people(), self.frame, elsewhere=frames)
 
     def live(self, keep_going: Callable[[], bool], period_s: float = 0.1) -> None:
         """Redraw in the terminal every ``period_s`` while ``keep_going()``; the last
@@ -246,6 +291,8 @@ class Watcher:
                 time.sleep(period_s)
                 screen.update(self.view())
             screen.update(self.view())
+        if not screen.console.is_terminal:  # (a terminal gets its line break from Live)
+            screen.console.line()
 
     def save_svg(self, path: Path) -> None:
         """The current frame as an SVG image (rich's export), e.g. for documentation."""

@@ -49,6 +49,12 @@ def run_demo(
         FacingClient(embedded.namespace, frame, session_config=peer) as client,
     ):
         client.on_facing(lambda state: seen_facing.add(state.body_id))
+        print(
+            f"demo: the service answers on {here} (namespace {embedded.namespace}, frame "
+            f"{frame}); another view or your code can join it: facing-service watch -m "
+            f"client -e {here} --no-multicast-scouting --base-frame {frame}",
+            flush=True,
+        )
         watcher = Watcher(client, frame)
         feeder = threading.Thread(
             target=simulate,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import shlex
 import subprocess
 import sys
 import time
@@ -11,6 +12,7 @@ from pathlib import Path
 import pytest
 from rich.console import Console
 
+from facing_service.arguments import build_parser
 from facing_service.client.watch import PersonView, arrow, render
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
@@ -42,12 +44,22 @@ def test_render_draws_people_where_they_stand_and_tabulates_them():
     # alice: 2 m ahead (up), on the robot's column, labelled because she faces it
     alice_row = next(i for i, line in enumerate(lines) if "↓alice" in line)
     assert alice_row < robot_row and lines[alice_row].index("↓") == robot_col
-    # bob: 2 m to the left, on the robot's row, heading +y (left), not labelled
-    assert "←" in lines[robot_row][:robot_col]
+    # bob: 2 m to the left, on the robot's row, heading +y (left), labelled too (in yellow)
+    assert "←bob" in lines[robot_row][:robot_col]
+    assert "held s: how long the facing decision has held" in text  # the screen explained
     assert "1 of 3 facing the robot" in text
     assert re.search(r"alice\s*│\s*yes\s*│\s*4\.0\s*│\s*2\.00\s*│\s*3\.5", text)
     assert re.search(r"bob\s*│\s*no\s*│\s*180\.0", text)
     assert re.search(r"carol\s*│\s*\?\s*│\s*-", text)
+
+
+def test_an_empty_frame_says_which_frames_have_people():
+    """watch defaulted to base_link against a service on camera_link and said "0 of 0
+    facing" with no hint; now it names the frames that have people, and the flag."""
+    text = text_of(render([], "base_link", elsewhere={"camera_link": 4, "base_link": 0}))
+    assert "nobody in frame base_link; people are tracked in camera_link (4)" in text
+    assert "watch --base-frame camera_link" in text
+    assert "people are tracked" not in text_of(render([], "base_link", elsewhere={}))
 
 
 def test_arrows_follow_the_heading():
@@ -87,6 +99,12 @@ def test_demo_runs_alone_and_shows_someone_facing_the_robot():
     assert re.search(r"p\d+\s*│\s*(yes|no)\s*│", proc.stdout), proc.stdout
     match = re.search(r"faced the robot during the demo: (.+)", proc.stdout)
     assert match and match.group(1) != "nobody", proc.stdout[-2000:]
+    # it says where it answers, as a command that joins it
+    joined = re.search(
+        r"another view or your code can join it: facing-service (watch .+)", proc.stdout
+    )
+    assert joined, proc.stdout[:2000]
+    build_parser().parse_args(shlex.split(joined[1]))
 
 
 def run_example(name: str, port: int, seconds: float) -> subprocess.Popen:
