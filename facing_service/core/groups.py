@@ -67,6 +67,11 @@ class Votes:
         2)), or, with ``person`` (one index per point), of that person's sector only
         ((m, 2) -> (m, 2))."""
         pos, head = self.positions, self.headings
+        if self.near == self.far and self.spread == 0:  # GCFF's point votes: no geometry
+            point = pos + self.near * np.column_stack([np.cos(head), np.sin(head)])
+            if person is None:
+                return np.broadcast_to(point, (len(points), *point.shape))
+            return point[person]
         if person is None:
             rel = points[:, None, :] - pos[None, :, :]  # (m, n, 2)
             heading = head[None, :]

@@ -120,12 +120,11 @@ class RobotInput:
             return update  # nothing learned from what does not decode as its topic's type
         if (learned := self.form.learn(sample.key, sample.attachment, now)) is not None:
             log.log(learned[0], "%s", learned[1])
-        topic = reading(self.wire, sample.key)[0]  # type: ignore[index]
-        self._watch.on_input(topic, publisher_gid(sample.attachment))
+        self._watch.on_input(self.topic(sample.key), publisher_gid(sample.attachment))
         self._flapped(update, now)
         if update.time_back_ns:
-            self._watch.time_back = (self._clock(), update.time_back_ns)
-            self.next_diagnosis = self._clock()
+            self._watch.time_back = (now, update.time_back_ns)
+            self.next_diagnosis = now
         return update
 
     def topic(self, key: str) -> str:
