@@ -53,7 +53,6 @@ from facing_service.shell.service import tracker_for
 from . import scoring
 from .scoring import BASE_FRAME, FOLDERS, Labelled, Row, advantage, summaries, summary, timeline_of
 
-RESULTS = Path(__file__).resolve().parent / "results" / "crossval.json"
 S = 1_000_000_000
 #: The settings every candidate shares: the service as the recordings evaluation runs it.
 BASE = {"input": "ros2", "base_frame": BASE_FRAME}

@@ -33,7 +33,6 @@ from facing_service.core.groups import GroupParams, detect, groups
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "data" / "fformations"
 SEQUENCES = ("CoffeeBreak/Seq1", "CoffeeBreak/Seq2", "Synth")
-RESULTS = Path(__file__).resolve().parent / "results" / "groups.json"
 CM = 0.01
 #: GCFF's figures, its code run unchanged and scored by its ff_evalgroups (issue 33):
 #: F1 at T = 2/3 tuned per scene, at T = 1 tuned, at T = 2/3 with one set chosen without
