@@ -99,8 +99,8 @@ class RobotWatch:
     topics: dict[str, int] = field(default_factory=dict)  # read topic pattern -> samples
     strays: list[str] = field(default_factory=list)  # keys of ROS data read nowhere
     time_back: tuple[float, int] | None = None  # (when, how far in ns)
-    #: read topic pattern -> publisher GID (hex) -> samples, at most PUBLISHERS_KEPT each
-    gids: dict[str, dict[str, int]] = field(default_factory=dict)
+    #: read topic pattern -> publisher GID -> samples, at most PUBLISHERS_KEPT each
+    gids: dict[str, dict[bytes, int]] = field(default_factory=dict)
     #: read topic pattern -> node names with a publisher on it (liveliness tokens)
     nodes: dict[str, set[str]] = field(default_factory=dict)
     unnamed: dict[str, int] = field(default_factory=dict)  # topic -> GIDs not kept
@@ -111,9 +111,9 @@ class RobotWatch:
         self.topics[topic] = self.topics.get(topic, 0) + 1
         if publisher is None:
             return
-        gids, gid = self.gids.setdefault(topic, {}), publisher.hex()
-        if gid in gids or len(gids) < PUBLISHERS_KEPT:
-            gids[gid] = gids.get(gid, 0) + 1
+        gids = self.gids.setdefault(topic, {})
+        if publisher in gids or len(gids) < PUBLISHERS_KEPT:
+            gids[publisher] = gids.get(publisher, 0) + 1
         else:
             self.unnamed[topic] = self.unnamed.get(topic, 0) + 1
 

@@ -37,7 +37,7 @@ from ..contract.poses import Rejected, Rejection, stamp_ns
 from ..core.tf_math import Transform
 from . import types as ros2_types
 from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
-from .wire import RosFormat, Wire, publisher_gid
+from .wire import RosFormat, Wire
 
 #: (topic pattern, type, transient-local?)
 TOPICS = (
@@ -79,9 +79,11 @@ def route(
     sample: RosSample,
     max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES,
     received_s: float | None = None,
+    publisher: bytes | None = None,
 ) -> Update | Rejected:
-    """Decode one sample, received at ``received_s`` (the caller's clock), and apply it
-    to ``people``; never raises on any input."""
+    """Decode one sample, received at ``received_s`` (the caller's clock) from
+    ``publisher`` (its GID, when its attachment says), and apply it to ``people``; never
+    raises on any input."""
     read = reading(wire, sample.key)
     if isinstance(read, Rejected):
         return read
@@ -96,7 +98,7 @@ def route(
         return people.on_tf(
             tf_inputs(message),
             static=topic == "/tf_static",
-            publisher=publisher_gid(sample.attachment),
+            publisher=publisher,
             received_s=received_s,
         )
     if typename == ros2_types.IDS_LIST:

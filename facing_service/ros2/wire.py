@@ -216,8 +216,10 @@ def attachment(
     return z_serialize(fields).to_bytes()
 
 
-def _read_attachment(data: bytes | None) -> tuple[Attachment, bytes] | None:
-    """A robot's attachment's layout and publisher GID (None: none, or neither layout)."""
+def read_attachment(data: bytes | None) -> tuple[Attachment, bytes] | None:
+    """A robot's attachment's layout and publisher GID (None: none, or neither layout).
+    The GID says who published a sample; it is sender-chosen like everything else, so
+    it sorts, never authorizes."""
     if data is None:
         return None
     if len(data) == _CURRENT_SIZE and data[16] == GID_SIZE:
@@ -233,15 +235,8 @@ def _read_attachment(data: bytes | None) -> tuple[Attachment, bytes] | None:
 
 def attachment_layout(data: bytes | None) -> Attachment | None:
     """Which layout a robot's attachment is in (None: none, or neither)."""
-    read = _read_attachment(data)
+    read = read_attachment(data)
     return None if read is None else read[0]
-
-
-def publisher_gid(data: bytes | None) -> bytes | None:
-    """Who published a sample: the GID in its rmw_zenoh attachment (None: unknown, as on
-    the bridge). Sender-chosen like everything else, so it sorts, never authorizes."""
-    read = _read_attachment(data)
-    return None if read is None else read[1]
 
 
 #: rmw_zenoh's QoS string for our publishers, every field written out (an empty field
@@ -292,6 +287,7 @@ class FormLearner:
         self.heard: dict[Form, tuple[int, float]] = {}  # form -> (samples, last heard)
         self.present: tuple[Form, ...] = ()  # the robot's, as learned
         self.changes = 0  # times the forms answered in changed after the first
+        self._weighed = float("-inf")  # when the forms were last weighed (caller's clock)
         self.source = "--ros-distro" if forced else "the default: no robot sample learned yet"
 
     @property
@@ -299,16 +295,20 @@ class FormLearner:
         """The first form answered in (the one the status names first)."""
         return self.forms[0]
 
-    def learn(self, key: str, data: bytes | None, now: float) -> tuple[int, str] | None:
-        """One decoded sample of the robot's (its key and attachment) at ``now`` (the
-        caller's clock); a log level and line when the forms answered in changed."""
+    def learn(self, key: str, layout: Attachment | None, now: float) -> tuple[int, str] | None:
+        """One decoded sample of the robot's (its key, and its attachment's layout) at
+        ``now`` (the caller's clock); a log level and line when the forms answered in
+        changed. Per sample on the hot path: a form already answered in is only counted,
+        and the forms are weighed again at most once a second."""
         distro = distro_of(key)
-        layout = attachment_layout(data)
         if distro is None or layout is None:
             return None  # not rmw_zenoh's, or a malformed attachment: nothing learned
         observed = Form(distro, layout)
-        samples, _ = self.heard.get(observed, (0, now))
-        self.heard[observed] = (samples + 1, now)
+        heard = self.heard.get(observed)
+        self.heard[observed] = (1 if heard is None else heard[0] + 1, now)
+        if heard is not None and observed in self.present and now - self._weighed < 1.0:
+            return None
+        self._weighed = now
 
         def answered(form: Form) -> bool:
             n, last = self.heard[form]

@@ -23,7 +23,7 @@ from ..ros2.diagnosis import RobotWatch, names
 from ..ros2.input import Ros2Subscriptions, RosSample, reading, route
 from ..ros2.people import People, Update
 from ..ros2.types import TF_MESSAGE
-from ..ros2.wire import FormLearner, publisher_gid
+from ..ros2.wire import FormLearner, read_attachment
 
 log = logging.getLogger("facing_service")
 
@@ -115,12 +115,14 @@ class RobotInput:
         the form it shows is learned once it decoded, its topic counted as seen, and time
         going back is said at once (the next diagnosis is now)."""
         now = self._clock()
-        update = route(self.people, self.wire, sample, self.settings.ros_max_message_bytes, now)
+        layout, gid = read_attachment(sample.attachment) or (None, None)  # read once
+        limit = self.settings.ros_max_message_bytes
+        update = route(self.people, self.wire, sample, limit, now, gid)
         if isinstance(update, Rejected):
             return update  # nothing learned from what does not decode as its topic's type
-        if (learned := self.form.learn(sample.key, sample.attachment, now)) is not None:
+        if (learned := self.form.learn(sample.key, layout, now)) is not None:
             log.log(learned[0], "%s", learned[1])
-        self._watch.on_input(self.topic(sample.key), publisher_gid(sample.attachment))
+        self._watch.on_input(self.topic(sample.key), gid)
         self._flapped(update, now)
         if update.time_back_ns:
             self._watch.time_back = (now, update.time_back_ns)
@@ -134,8 +136,8 @@ class RobotInput:
 
     def _flapped(self, update: Update, now: float) -> None:
         """Count the people back within FLAP_S of leaving a tracked list."""
-        if update.time_back_ns:
-            return  # everyone lost at once: time went back, said on its own
+        if update.time_back_ns or not (update.lost or self._gone):
+            return  # (time went back: said on its own; nobody left lately: the hot path)
         for subject in update.lost:
             self._gone[subject] = now
             self._gone.move_to_end(subject)

@@ -93,17 +93,17 @@ def test_the_robots_form_is_learned_from_its_keys_and_attachments():
     keyed = rmw_zenoh.make_attachment(rmw_zenoh.HUMBLE_0_1_1, 1, bytes(16))
     learner = FormLearner()
     assert learner.current.distro is Distro.JAZZY  # until the robot says otherwise
-    level, line = learner.learn(humble_key, keyed, 0.0)
+    level, line = learner.learn(humble_key, attachment_layout(keyed), 0.0)
     assert level == logging.INFO
     assert "Humble" in line and "keyed" in line and humble_key in line
     assert (learner.current.distro, learner.current.attachment) == (
         Distro.HUMBLE,
         Attachment.KEYED,
     )
-    assert learner.learn(humble_key, keyed, 0.1) is None  # said once
+    assert learner.learn(humble_key, attachment_layout(keyed), 0.1) is None  # said once
     assert learner.learn("tf", None, 0.2) is None  # the bridge's: nothing to learn
     forced = FormLearner(Distro.JAZZY)
-    level, line = forced.learn(humble_key, keyed, 0.0)
+    level, line = forced.learn(humble_key, attachment_layout(keyed), 0.0)
     assert level == logging.WARNING
     assert "--ros-distro jazzy" in line and forced.current.distro is Distro.JAZZY
 
@@ -116,18 +116,22 @@ def test_another_form_needs_sustained_evidence_and_two_robots_are_each_answered(
     humble = Wire(distro=Distro.HUMBLE).key("/tf", ros2_types.TF_MESSAGE)
     current = rmw_zenoh.make_attachment(rmw_zenoh.JAZZY_0_2_10, 1, bytes(16))
     learner = FormLearner()
-    assert learner.learn(jazzy, current, 0.0) is not None
+    assert learner.learn(jazzy, attachment_layout(current), 0.0) is not None
     for i in range(FORM_EVIDENCE - 1):  # strays: not enough to answer in their form
-        assert learner.learn(humble, current, 0.01 * i) is None
+        assert learner.learn(humble, attachment_layout(current), 0.01 * i) is None
     assert [f.distro for f in learner.forms] == [Distro.JAZZY] and learner.changes == 0
-    level, line = learner.learn(humble, current, 0.5)  # sustained: a second robot
+    level, line = learner.learn(
+        humble, attachment_layout(current), 0.5
+    )  # sustained: a second robot
     assert level == logging.INFO and "each of" in line
     assert [f.distro for f in learner.forms] == [Distro.JAZZY, Distro.HUMBLE]
     assert learner.changes == 1
     for t in (1.0, 5.0, 10.4):  # the Humble robot goes on, the Jazzy one is silent
-        learner.learn(humble, current, t)
+        learner.learn(humble, attachment_layout(current), t)
     assert [f.distro for f in learner.forms] == [Distro.HUMBLE] and learner.changes == 2
-    assert learner.learn(jazzy, current, 10.5) is None  # back, but must show it again
+    assert (
+        learner.learn(jazzy, attachment_layout(current), 10.5) is None
+    )  # back, but must show it again
     assert [f.distro for f in learner.forms] == [Distro.HUMBLE]
 
 
@@ -135,7 +139,7 @@ def test_a_service_that_does_not_answer_says_what_the_robot_does_not_that_it_ans
     """--output json: the form is still learned (and shown), but nothing is answered."""
     key = Wire(distro=Distro.HUMBLE).key("/tf", ros2_types.TF_MESSAGE)
     extra = rmw_zenoh.make_attachment(rmw_zenoh.HUMBLE_0_1_9, 1, bytes(16))
-    _, line = FormLearner(answering=False).learn(key, extra, 0.0)
+    _, line = FormLearner(answering=False).learn(key, attachment_layout(extra), 0.0)
     assert line.startswith("the robot publishes in rmw_zenoh's form for Humble")
     assert "answering" not in line
 
