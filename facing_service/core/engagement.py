@@ -87,12 +87,10 @@ def facing_score(angle_deg: float | None, distance_m: float | None, p: Engagemen
 Vector = tuple[float, float, float]
 
 
-def steadiness(wander_deg: float, p: EngagementParams) -> float:
+def steadiness(wander_deg: float, steady_deg: float) -> float:
     """1 while the head wanders at most ``steady_deg`` from its recent direction, 0 at
-    twice that (always 1 when steadiness is off)."""
-    if p.steady_deg is None:
-        return 1.0
-    return min(1.0, max(0.0, 2.0 - wander_deg / p.steady_deg))
+    twice that."""
+    return min(1.0, max(0.0, 2.0 - wander_deg / steady_deg))
 
 
 def _unit(v: Vector) -> Vector | None:
@@ -149,7 +147,7 @@ def step(
             heading = unit  # the first direction: nothing to have wandered from
         else:
             wander, heading = _wander(heading, unit, 1.0 - math.exp(-dt / p.steady_tau_s))
-            raw_score *= steadiness(wander, p)
+            raw_score *= steadiness(wander, p.steady_deg)
     if state.last is None:
         score, level, since = raw_score, Level.DISENGAGED, t
     else:

@@ -12,7 +12,8 @@ from dataclasses import dataclass, field
 
 from ..contract.keys import cut
 from ..core.tf_errors import TfError
-from .people import KINDS, People
+from .input import TOPICS
+from .people import People
 from .wire import HASH_NOT_SUPPORTED, RosFormat, Wire, where
 
 #: Seconds of nothing (or of a tree without the base frame) before a finding is said: a
@@ -84,10 +85,8 @@ def where_else(wire: Wire, key: str) -> str:
     return "another type hash (another message version)"
 
 
-#: The topics (patterns) the service reads.
-READ_TOPICS = frozenset(
-    {"/tf", "/tf_static", *KINDS, "/humans/persons/*/face_id", "/humans/persons/*/body_id"}
-)
+#: The topics (patterns) the service reads: ros2.input's subscriptions.
+READ_TOPICS = frozenset(topic for topic, _, _ in TOPICS)
 
 
 @dataclass
@@ -137,12 +136,9 @@ class RobotWatch:
         for topic in sorted(self.topics.keys() | self.nodes.keys()):
             nodes = sorted(self.nodes.get(topic, ()))
             gids = len(self.gids.get(topic, {})) + self.unnamed.get(topic, 0)
-            more = self.unnamed_nodes.get(topic, 0)
-            named = (
-                names(nodes) + (f" (+{more} more)" if more else "")
-                if nodes
-                else ("no node token seen")
-            )
+            named = names(nodes) if nodes else "no node token seen"
+            if more := self.unnamed_nodes.get(topic, 0):
+                named += f" (+{more} more)"
             said[topic] = f"{named}; samples from {gids} publisher(s)"
         return said
 
