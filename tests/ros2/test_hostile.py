@@ -275,6 +275,17 @@ def test_a_flood_of_new_frames_stays_under_its_bound(net):
         )
         person_then(robot, flood, seconds=1.0)
         _wait(lambda: len(_puts(results)) == 30, what="the person's results stopped")
+
+        def refused() -> bool:
+            """The flood counted; a 140 KB message the robot publishes DROP (as rmw_zenoh's
+            keep-last publishers do) can be dropped in transit on a loaded machine (seen
+            once in CI, nothing refused and nothing logged): a robot would send it again."""
+            if service.status().rejected["tf_too_many_frames"] >= 1_500:
+                return True
+            robot.publish("/tf", TF, flood)
+            return False
+
+        _wait(refused, what="the flood of frames counted")
         assert len(service._robot.people.tf.frames()) <= 500
         status = service.status()
         assert status.rejected["tf_too_many_frames"] >= 1_500 and status.status == "ok"
