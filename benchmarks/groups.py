@@ -42,13 +42,17 @@ GCFF = {
     "CoffeeBreak/Seq2": (0.94, 0.73, 0.86),
     "Synth": (0.97, 0.91, 0.62),
 }
-#: Candidates: the vote segment's near and far ends (m), the cost of a group (m²).
+#: Candidates: each person's stride from the nearest person ahead (``stride_k`` times it,
+#: within [``stride_min_m``, ``stride_max_m``], "ahead" within ``cone_deg``), the cost of
+#: a group (m²); and GCFF's own rule (one stride for everyone) beside them.
 GRID = {
-    "near_m": (0.2, 0.3, 0.5),
-    "far_m": (0.3, 0.5, 0.8, 1.0),
-    "mdl_m2": (0.4, 0.6, 0.8, 1.0),
-    "spread_deg": (0.0, 20.0, 35.0, 45.0),
+    "stride_k": (0.3, 0.4, 0.5),
+    "stride_min_m": (0.2, 0.3),
+    "stride_max_m": (0.5, 0.6, 0.7),
+    "cone_deg": (45.0, 70.0),
+    "mdl_m2": (0.6, 0.8, 1.0),
 }
+GCFF_GRID = {"stride_m": (0.3, 0.4, 0.5, 0.6), "mdl_m2": (0.4, 0.6, 0.8, 1.0)}
 
 
 @dataclass(frozen=True)
@@ -115,15 +119,23 @@ def run(frames: Sequence[Frame], p: GroupParams) -> list[list[frozenset[int]]]:
 
 
 def candidates() -> list[GroupParams]:
-    names = sorted(GRID)
-    return [
+    """The adaptive-stride grid, then GCFF's fixed-stride rule."""
+    names = list(GRID)
+    adaptive = [
         GroupParams(**dict(zip(names, values, strict=True)))
-        for values in itertools.product(*(GRID[n] for n in names))
-        if values[names.index("near_m")] <= values[names.index("far_m")]
+        for values in itertools.product(*GRID.values())
     ]
+    fixed = [GroupParams.gcff(*values) for values in itertools.product(*GCFF_GRID.values())]
+    return adaptive + fixed
+
+
+def is_gcff_rule(p: GroupParams) -> bool:
+    return p.stride_min_m == p.stride_max_m
 
 
 def evaluate(root: Path = SHARED) -> dict[str, Any]:
+    """Every candidate on every sequence; per rule (the adaptive stride, GCFF's fixed
+    one), per sequence, the set chosen without it and the set tuned on it."""
     data = {s: load(s, root) for s in SEQUENCES}
     options = candidates()
     table = {s: [] for s in SEQUENCES}  # per sequence: (F1 2/3, F1 1) per candidate
@@ -131,42 +143,51 @@ def evaluate(root: Path = SHARED) -> dict[str, Any]:
         for s, frames in data.items():
             found = run(frames, p)
             table[s].append((f1(frames, found, 2 / 3), f1(frames, found, 1.0)))
-    out: dict[str, Any] = {"sequences": {}}
+    rules = {
+        "adaptive": [i for i, p in enumerate(options) if not is_gcff_rule(p)],
+        "gcff_rule": [i for i, p in enumerate(options) if is_gcff_rule(p)],
+    }
+    out: dict[str, Any] = {"sequences": {}, "default": {}}
     for s, frames in data.items():
         others = [o for o in SEQUENCES if o != s]
-        chosen = max(
-            range(len(options)), key=lambda i: statistics.mean(table[o][i][0] for o in others)
-        )
-        tuned = max(range(len(options)), key=lambda i: table[s][i][0])
-        floor = f1(frames, [[] for _ in frames], 2 / 3)
-        out["sequences"][s] = {
-            "one_set": {"params": asdict(options[chosen]), "f1_23": table[s][chosen][0],
-                        "f1_1": table[s][chosen][1]},
-            "tuned": {"params": asdict(options[tuned]), "f1_23": table[s][tuned][0],
-                      "f1_1": table[s][tuned][1]},
-            "no_groups_floor": floor,
+        row: dict[str, Any] = {
+            "no_groups_floor": f1(frames, [[] for _ in frames], 2 / 3),
             "gcff": GCFF[s],
             "frames": len(frames),
-        }  # fmt: skip
-    everywhere = max(
-        range(len(options)), key=lambda i: statistics.mean(table[s][i][0] for s in SEQUENCES)
-    )
-    out["default"] = asdict(options[everywhere])
+        }
+        for rule, indices in rules.items():
+            chosen = max(indices, key=lambda i: statistics.mean(table[o][i][0] for o in others))
+            tuned = max(indices, key=lambda i: table[s][i][0])
+            row[rule] = {
+                "one_set": _figures(options[chosen], table[s][chosen]),
+                "tuned": _figures(options[tuned], table[s][tuned]),
+            }
+        out["sequences"][s] = row
+    for rule, indices in rules.items():
+        best = max(indices, key=lambda i: statistics.mean(table[s][i][0] for s in SEQUENCES))
+        out["default"][rule] = asdict(options[best])
     return out
 
 
+def _figures(p: GroupParams, scores: tuple[float, float]) -> dict[str, Any]:
+    return {"params": asdict(p), "f1_23": scores[0], "f1_1": scores[1]}
+
+
 def print_results(results: dict[str, Any]) -> None:
-    head = f"{'sequence':18} {'one set 2/3':>11} {'1':>6} {'tuned 2/3':>10} {'1':>6}"
-    print(head + f" {'GCFF tuned 2/3':>15} {'1':>6} {'GCFF one set':>13} {'no groups':>10}")
+    print(
+        f"{'sequence':18} {'rule':10} {'one set 2/3':>11} {'1':>6} {'tuned 2/3':>10} {'1':>6}"
+        f" {'GCFF tuned 2/3':>15} {'1':>6} {'GCFF one set':>13} {'no groups':>10}"
+    )
     for s, r in results["sequences"].items():
         g = r["gcff"]
-        print(
-            f"{s:18} {r['one_set']['f1_23']:11.2f} {r['one_set']['f1_1']:6.2f} "
-            f"{r['tuned']['f1_23']:10.2f} {r['tuned']['f1_1']:6.2f} {g[0]:15.2f} {g[1]:6.2f} "
-            f"{g[2]:13.2f} {r['no_groups_floor']:10.2f}"
-        )
-        print(f"  one set (chosen without it): {r['one_set']['params']}")
-        print(f"  tuned on it: {r['tuned']['params']}")
+        for rule in ("adaptive", "gcff_rule"):
+            one, tuned = r[rule]["one_set"], r[rule]["tuned"]
+            print(
+                f"{s:18} {rule:10} {one['f1_23']:11.2f} {one['f1_1']:6.2f} "
+                f"{tuned['f1_23']:10.2f} {tuned['f1_1']:6.2f} {g[0]:15.2f} {g[1]:6.2f} "
+                f"{g[2]:13.2f} {r['no_groups_floor']:10.2f}"
+            )
+            print(f"  {rule} one set (chosen without it): {one['params']}")
     print(f"default (best on all three): {results['default']}")
 
 

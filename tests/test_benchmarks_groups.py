@@ -37,5 +37,5 @@ def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
     tuned = loadmat(SHARED / sequence / "settings_gc.mat")
     stride, mdl = float(tuned["stride"].item()) * 0.01, float(tuned["mdl"].item()) * 1e-4
     frames = load(sequence)
-    found = run(frames, GroupParams(near_m=stride, far_m=stride, mdl_m2=mdl))
+    found = run(frames, GroupParams.gcff(stride, mdl))
     assert f1(frames, found, 2 / 3) == pytest.approx(gcff, abs=0.02)

@@ -135,21 +135,23 @@ def classify_one(
 def facing_matrix(
     translations: FloatArray,
     quaternions: FloatArray,
-    threshold_deg: float,
+    threshold_deg: float | FloatArray,
     cone3d: bool = False,
 ) -> BoolArray:
     """Who faces whom among N people (poses in one base frame): ``[a, b]`` is True when b
     is in a's cone, the tutorial's rule with b in place of the robot (b's position in a's
     frame, ``R_a^T (t_b - t_a)``, is ``classify``'s ``-R^T t`` with ``t = t_a - t_b``).
-    The diagonal is False. The robot is a participant like any other: put its pose (the
-    base frame's origin, identity rotation) among the N."""
+    ``threshold_deg`` is one cone, or one per pair ((N, N): widened where a pair already
+    faces, the hysteresis). The diagonal is False. The robot is a participant like any
+    other: put its pose (the base frame's origin, identity rotation) among the N."""
     t = np.asarray(translations, dtype=np.float64)
     q = np.asarray(quaternions, dtype=np.float64)
     n = len(t)
     if n == 0:
         return np.zeros((0, 0), dtype=np.bool_)
     rel = (t[:, None, :] - t[None, :, :]).reshape(n * n, 3)
-    result = classify(rel, np.repeat(q, n, axis=0), threshold_deg, cone3d)
+    threshold = np.broadcast_to(np.asarray(threshold_deg, dtype=np.float64), (n, n)).ravel()
+    result = classify(rel, np.repeat(q, n, axis=0), threshold, cone3d)
     facing = result.facing.reshape(n, n)
     np.fill_diagonal(facing, False)
     return facing

@@ -9,10 +9,12 @@ people are assigned to groups minimising the squared distance of their vote to t
 group's centre plus a fixed cost per group (the minimum description length, ``mdl``)
 plus a penalty for a member hidden behind another member as seen from the centre;
 centres are refitted as their members' mean, and the assignment is solved again until
-it settles. Here a person's vote is not a point but a **segment** in front of them,
-from ``near_m`` to ``far_m``: the o-space of two people a metre apart is half a metre in
-front of each, that of six people in a ring farther, and the distance of a centre to the
-segment does not care which. (GCFF's stride is the degenerate segment ``near = far``.)
+it settles. Here the stride is each person's own: ``stride_k`` times the distance to the
+nearest person ahead of them (within ``cone_deg`` of their heading), kept within
+``[stride_min_m, stride_max_m]`` (nobody ahead: the least). Two people a metre apart
+have their o-space half a metre in front of each, six in a wide ring farther; GCFF's
+fixed stride fits one spacing (its own tuning differs per scene for that reason), and it
+is the case ``stride_min_m = stride_max_m``.
 
 The assignment is GCFF's energy (unary costs plus a cost per label) minimised by greedy
 label removal and reassignment rather than alpha-expansion: with no pairwise terms that
@@ -39,61 +41,49 @@ IntArray = NDArray[np.int64]
 HIDDEN_COS = 0.75
 CM2_TO_M2 = 1e-4
 MAX_ITERATIONS = 10
-CENTRE_REFITS = 5  # fixed-point steps when refitting a centre to its members' votes
 MAX_EXPONENT = 6.0  # the penalty's exponent is capped (100**6 cm² = 1e8 m²: out either way)
 
 
 @dataclass(frozen=True, slots=True)
 class GroupParams:
-    near_m: float = 0.5  # a person's o-space vote starts this far in front of them
-    far_m: float = 0.5  # ... and ends here (GCFF: near = far, its stride)
-    mdl_m2: float = 0.6  # the cost of one more group (GCFF's MDL, in m²)
-    spread_deg: float = 0.0  # the vote's sector either side of the heading (0: a segment)
+    stride_k: float = 0.4  # a vote's stride: this times the distance to the nearest ahead
+    stride_min_m: float = 0.2  # ... no less (and this when nobody is ahead)
+    stride_max_m: float = 0.5  # ... no more (GCFF: min = max, its stride)
+    cone_deg: float = 70.0  # "ahead": within this of a person's heading
+    mdl_m2: float = 0.8  # the cost of one more group (GCFF's MDL, in m²)
+
+    @classmethod
+    def gcff(cls, stride_m: float, mdl_m2: float) -> GroupParams:
+        """GCFF's own rule: one stride for everyone."""
+        return cls(0.0, stride_m, stride_m, 0.0, mdl_m2)
 
 
-@dataclass(frozen=True, slots=True)
-class Votes:
-    """Each person's vote for their o-space centre: the sector in front of them from
-    ``near`` to ``far``, ``spread`` (radians) either side of their heading."""
-
-    positions: FloatArray  # (n, 2)
-    headings: FloatArray  # (n,)
-    near: float
-    far: float
-    spread: float
-
-    def closest(self, points: FloatArray, person: IntArray | None = None) -> FloatArray:
-        """The closest point of every person's sector to every point ((m, 2) -> (m, n,
-        2)), or, with ``person`` (one index per point), of that person's sector only
-        ((m, 2) -> (m, 2))."""
-        pos, head = self.positions, self.headings
-        if self.near == self.far and self.spread == 0:  # GCFF's point votes: no geometry
-            point = pos + self.near * np.column_stack([np.cos(head), np.sin(head)])
-            if person is None:
-                return np.broadcast_to(point, (len(points), *point.shape))
-            return point[person]
-        if person is None:
-            rel = points[:, None, :] - pos[None, :, :]  # (m, n, 2)
-            heading = head[None, :]
-        else:
-            rel = points - pos[person]
-            heading = head[person]
-        rho = np.hypot(rel[..., 0], rel[..., 1])
-        off = np.angle(np.exp(1j * (np.arctan2(rel[..., 1], rel[..., 0]) - heading)))
-        turn = np.clip(off, -self.spread, self.spread)
-        r = np.clip(rho * np.cos(off - turn), self.near, self.far)
-        phi = heading + turn
-        base = pos[None, :, :] if person is None else pos[person]
-        return base + np.stack([r * np.cos(phi), r * np.sin(phi)], axis=-1)
+def votes(positions: FloatArray, headings: FloatArray, p: GroupParams) -> FloatArray:
+    """(n, 2): each person's vote for their o-space centre, their stride ahead of them."""
+    facing = np.column_stack([np.cos(headings), np.sin(headings)])
+    if p.stride_min_m == p.stride_max_m:
+        return positions + p.stride_min_m * facing
+    rel = positions[None, :, :] - positions[:, None, :]  # [i, j]: j seen from i
+    dist = np.hypot(rel[..., 0], rel[..., 1])
+    off = np.angle(np.exp(1j * (np.arctan2(rel[..., 1], rel[..., 0]) - headings[:, None])))
+    ahead = (np.abs(off) < np.radians(p.cone_deg)) & (dist > 0)
+    nearest = np.where(ahead, dist, np.inf).min(axis=1, initial=np.inf)
+    stride = np.where(
+        np.isfinite(nearest), np.clip(p.stride_k * nearest, p.stride_min_m, p.stride_max_m),
+        p.stride_min_m,
+    )  # fmt: skip
+    return positions + stride[:, None] * facing
 
 
-def _unary(votes: Votes, centres: FloatArray, mdl: float) -> FloatArray:
+def _unary(
+    positions: FloatArray, points: FloatArray, centres: FloatArray, mdl: float
+) -> FloatArray:
     """(n, m): the squared distance of each person's vote to each centre, plus GCFF's
     visibility penalty (m²) among the people near that centre: one farther from it than
     another in about the same direction is penalised, the more the farther behind."""
-    gap = votes.closest(centres) - centres[:, None, :]  # (m, n, 2)
+    gap = points[None, :, :] - centres[:, None, :]  # (m, n, 2)
     cost = np.einsum("mnj,mnj->mn", gap, gap)  # (m, n)
-    disp = votes.positions[None, :, :] - centres[:, None, :]  # (m, n, 2)
+    disp = positions[None, :, :] - centres[:, None, :]  # (m, n, 2)
     dist = np.maximum(np.hypot(disp[..., 0], disp[..., 1]), 1e-9)  # (m, n)
     cos = np.einsum("mkj,mlj->mkl", disp, disp) / (dist[:, :, None] * dist[:, None, :])
     ratio = dist[:, :, None] / dist[:, None, :]  # [m, k, l] > 1: k is behind l
@@ -127,23 +117,11 @@ def _assign(unary: FloatArray, mdl: float) -> IntArray:
     return cols[np.argmin(unary[:, cols], axis=1)].astype(np.int64)
 
 
-def _refit(votes: Votes, labels: IntArray) -> FloatArray:
-    """Each label's centre: the point nearest (least squares) its members' votes, by a
-    few fixed-point steps from the mean of the votes' middles."""
+def centres(points: FloatArray, labels: IntArray) -> FloatArray:
+    """Each label's centre: the mean of its members' votes (least squares)."""
     count = np.bincount(labels).astype(np.float64)[:, None]
-
-    def mean_by_label(points: FloatArray) -> FloatArray:
-        sums = [np.bincount(labels, weights=points[:, j], minlength=len(count)) for j in (0, 1)]
-        return np.column_stack(sums) / count
-
-    middle = (votes.near + votes.far) / 2.0
-    facing = np.column_stack([np.cos(votes.headings), np.sin(votes.headings)])
-    centres = mean_by_label(votes.positions + middle * facing)
-    if votes.near == votes.far and votes.spread == 0:
-        return centres  # points (GCFF's stride): the mean is the least-squares centre
-    for _ in range(CENTRE_REFITS):
-        centres = mean_by_label(votes.closest(centres[labels], labels))
-    return centres
+    sums = [np.bincount(labels, weights=points[:, j], minlength=len(count)) for j in (0, 1)]
+    return np.column_stack(sums) / count
 
 
 def detect(positions: FloatArray, headings: FloatArray, p: GroupParams) -> IntArray:
@@ -152,13 +130,13 @@ def detect(positions: FloatArray, headings: FloatArray, p: GroupParams) -> IntAr
     n = len(positions)
     if n == 0:
         return np.zeros(0, dtype=np.int64)
-    votes = Votes(positions, headings, p.near_m, p.far_m, np.radians(p.spread_deg))
+    points = votes(positions, headings, p)
     labels = np.arange(n, dtype=np.int64)
-    centres = _refit(votes, labels)
+    centre = points
     for _ in range(MAX_ITERATIONS):
-        new = _assign(_unary(votes, centres, p.mdl_m2), p.mdl_m2)
+        new = _assign(_unary(positions, points, centre, p.mdl_m2), p.mdl_m2)
         _, new = np.unique(new, return_inverse=True)
-        centres = _refit(votes, new)
+        centre = centres(points, new)
         if np.array_equal(new, labels):
             break
         labels = new
@@ -207,6 +185,12 @@ class GroupTracker:
         self._next_id = 1
         self._candidate: frozenset[frozenset[str]] | None = None
         self._since = 0.0
+
+    @property
+    def pending(self) -> bool:
+        """A grouping other than the one said has been seen, and is not said yet."""
+        said = frozenset(g.members for g in self.groups.values())
+        return self._candidate is not None and self._candidate != said
 
     def update(
         self, found: list[tuple[frozenset[str], tuple[float, float]]], now: float

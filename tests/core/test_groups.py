@@ -10,7 +10,7 @@ import pytest
 
 from facing_service.core.groups import GroupParams, detect, groups
 
-P = GroupParams(near_m=0.3, far_m=0.3, mdl_m2=1.0)
+P = GroupParams()
 
 
 def scene(*people: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
@@ -40,9 +40,10 @@ def test_two_conversations_side_by_side_are_two_groups():
 
 def test_the_robot_is_a_participant_like_any_other():
     """The robot at the origin facing +x, a person 1 m ahead facing it: a group of two;
-    turned away, no group."""
+    turned away 1.5 m ahead, no group. (At 1 m a back turned to the robot joins its
+    o-space: the method knows positions and headings, not who talks.)"""
     assert groups(detect(*scene((0, 0, 0), (1.0, 0, 180)), P)) == [[0, 1]]
-    assert groups(detect(*scene((0, 0, 0), (1.0, 0, 0)), P)) == []
+    assert groups(detect(*scene((0, 0, 0), (1.5, 0, 0)), P)) == []
 
 
 def test_empty_and_one_person():
@@ -50,11 +51,11 @@ def test_empty_and_one_person():
     assert groups(detect(*scene((0, 0, 0)), P)) == []
 
 
-@pytest.mark.parametrize("spread", [0.0, 30.0])
-def test_people_in_one_spot_are_bounded_and_finite(spread):
+@pytest.mark.parametrize("params", [P, GroupParams.gcff(0.5, 0.8)])
+def test_people_in_one_spot_are_bounded_and_finite(params):
     positions = np.zeros((30, 2))
     headings = np.linspace(0, 2 * math.pi, 30, endpoint=False)
-    labels = detect(positions, headings, GroupParams(0.3, 0.6, 1.0, spread))
+    labels = detect(positions, headings, params)
     assert len(labels) == 30 and labels.min() >= 0
 
 
@@ -103,3 +104,12 @@ def test_a_group_with_the_robot_says_so():
     tracker = GroupTracker(hold_s=0.0)
     changed, _ = tracker.update([(frozenset({"", "alice"}), (0.5, 0.0))], 0.0)
     assert changed[0].robot and changed[0].members == {"", "alice"}
+
+
+def test_one_parameter_set_groups_pairs_at_any_spacing_where_gcffs_stride_cannot():
+    """Two people facing each other 0.8 m apart, and two 1.6 m apart: the stride from the
+    nearest person ahead groups both; one fixed stride fits one spacing only."""
+    close, far = scene((0, 0, 0), (0.8, 0, 180)), scene((0, 0, 0), (1.6, 0, 180))
+    assert groups(detect(*close, P)) == [[0, 1]] and groups(detect(*far, P)) == [[0, 1]]
+    fixed = GroupParams.gcff(0.3, P.mdl_m2)
+    assert groups(detect(*close, fixed)) == [[0, 1]] and groups(detect(*far, fixed)) == []

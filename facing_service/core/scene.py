@@ -1,0 +1,195 @@
+"""The social scene of each base frame: who faces whom, and who stands in a group with whom,
+the robot one of the people (at the frame's origin, facing +x; its id is ``ROBOT``, "",
+as REP 155's Gaze and Group messages say it).
+
+Pure: the caller gives the people and the clock. Bounded: a frame's scene is worked out at
+most once a ``period_s`` (pairwise work is O(N²)), on its ``max_people`` nearest the robot
+(the rest counted in ``left_out``), and said only when it changed: a pair that starts or
+stops facing (with the facing rule's hysteresis), a grouping that has held ``hold_s``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import detector
+from .groups import Group, GroupParams, GroupTracker, centres, detect, votes
+
+ROBOT = GroupTracker.ROBOT
+_ROBOT_POSE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+
+
+@dataclass(frozen=True, slots=True)
+class SceneParams:
+    groups: GroupParams
+    threshold_deg: float  # who faces whom: the facing rule's cone, with a person for the robot
+    hysteresis_deg: float
+    hold_s: float  # a new grouping is said once it has held this long
+    period_s: float  # a frame's scene is worked out at most once a period
+    max_people: int  # the people of one frame considered (nearest the robot first)
+
+
+@dataclass(frozen=True, slots=True)
+class Person:
+    id: str
+    translation: tuple[float, float, float]
+    rotation: tuple[float, float, float, float]  # (x, y, z, w): x is where the person faces
+
+
+Pair = tuple[str, str]  # (sender, receiver): the sender faces the receiver
+
+
+@dataclass(frozen=True, slots=True)
+class SceneUpdate:
+    """What changed in one frame's scene, and the whole scene as it now stands."""
+
+    frame_id: str
+    stamp: tuple[int, int]
+    groups: tuple[Group, ...]  # every group, by id
+    changed: tuple[Group, ...]  # formed (a new id) or with other members
+    dissolved: tuple[int, ...]
+    gazing: frozenset[Pair]
+    gazing_changed: bool
+    left_out: int  # people beyond max_people, not considered
+
+
+def headings(rotations: np.ndarray) -> np.ndarray:
+    """Each frame's x axis in the base frame's ground plane, as a yaw (radians)."""
+    x, y, z, w = rotations.T
+    return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+@dataclass
+class FrameScene:
+    """One base frame's scene between updates."""
+
+    frame_id: str
+    params: SceneParams
+    tracker: GroupTracker = field(init=False)
+    gazing: frozenset[Pair] = frozenset()
+    left_out: int = 0
+    stamp: tuple[int, int] = (0, 0)
+    said_once: bool = False
+
+    def __post_init__(self) -> None:
+        self.tracker = GroupTracker(self.params.hold_s)
+
+    @property
+    def pending(self) -> bool:
+        """A grouping waits to be said (it must be looked at again once it has held)."""
+        return self.tracker.pending
+
+    def update(
+        self, people: Sequence[Person], stamp: tuple[int, int], now: float
+    ) -> SceneUpdate | None:
+        """The scene of ``people`` now; an update when anything said changed."""
+        p = self.params
+        people, left_out = nearest(people, p.max_people)
+        ids = [person.id for person in people] + [ROBOT]
+        t = np.array([person.translation for person in people] + [_ROBOT_POSE[0]])
+        q = np.array([person.rotation for person in people] + [_ROBOT_POSE[1]])
+        gazing = self._who_faces_whom(ids, t, q)
+        positions, yaw = t[:, :2], headings(q)
+        labels = detect(positions, yaw, p.groups)
+        found = [
+            (frozenset(ids[i] for i in np.flatnonzero(labels == label)), (float(x), float(y)))
+            for label, (x, y) in enumerate(centres(votes(positions, yaw, p.groups), labels))
+        ]
+        changed, dissolved = self.tracker.update(found, now)
+        gazing_changed = gazing != self.gazing
+        if not (changed or dissolved or gazing_changed or left_out != self.left_out) and (
+            self.said_once
+        ):
+            return None
+        self.gazing, self.left_out, self.stamp, self.said_once = gazing, left_out, stamp, True
+        return self.snapshot(changed, dissolved, gazing_changed)
+
+    def snapshot(
+        self,
+        changed: Sequence[Group] = (),
+        dissolved: Sequence[int] = (),
+        gazing_changed: bool = False,
+    ) -> SceneUpdate:
+        """The scene as last said, with what its last update changed."""
+        return SceneUpdate(
+            self.frame_id,
+            self.stamp,
+            tuple(sorted(self.tracker.groups.values(), key=lambda g: g.id)),
+            tuple(changed),
+            tuple(dissolved),
+            self.gazing,
+            gazing_changed,
+            self.left_out,
+        )
+
+    def _who_faces_whom(self, ids: list[str], t: np.ndarray, q: np.ndarray) -> frozenset[Pair]:
+        """Pairs (a, b) with b in a's cone; a pair already said keeps facing within the
+        hysteresis, as a body facing the robot does."""
+        p = self.params
+        n = len(ids)
+        index = {person: i for i, person in enumerate(ids)}
+        threshold = np.full((n, n), p.threshold_deg)
+        for a, b in self.gazing:
+            if a in index and b in index:
+                threshold[index[a], index[b]] += p.hysteresis_deg
+        facing = detector.facing_matrix(t, q, threshold)
+        return frozenset((ids[a], ids[b]) for a, b in zip(*np.nonzero(facing), strict=True))
+
+
+def nearest(people: Sequence[Person], most: int) -> tuple[list[Person], int]:
+    """At most ``most`` people, nearest the robot first; how many were left out."""
+    if len(people) <= most:
+        return list(people), 0
+    kept = sorted(people, key=lambda p: p.translation[0] ** 2 + p.translation[1] ** 2)[:most]
+    return kept, len(people) - most
+
+
+class Scenes:
+    """Every base frame's scene: which are due to be worked out, and their updates."""
+
+    def __init__(self, params: SceneParams) -> None:
+        self.params = params
+        self._frames: dict[str, FrameScene] = {}
+        self._dirty: set[str] = set()  # frames whose people moved since last worked out
+        self._due: dict[str, float] = {}  # frame -> earliest time it may be worked out again
+
+    def touch(self, frame_ids: set[str]) -> None:
+        """The people of these frames changed (a pose, a person lost)."""
+        self._dirty |= frame_ids
+
+    def next_due(self) -> float | None:
+        """When the next frame may be worked out (the caller's clock), if any waits."""
+        waiting = self._dirty | {f for f, scene in self._frames.items() if scene.pending}
+        return min((self._due.get(f, float("-inf")) for f in waiting), default=None)
+
+    def tick(
+        self,
+        now: float,
+        people_of: Callable[[str], tuple[list[Person], tuple[int, int]]],
+    ) -> list[SceneUpdate]:
+        """Work out every frame that is due; the updates of those that changed.
+        ``people_of(frame)`` gives a frame's people and their newest stamp."""
+        out = []
+        waiting = self._dirty | {f for f, scene in self._frames.items() if scene.pending}
+        for frame_id in sorted(waiting):
+            if self._due.get(frame_id, float("-inf")) > now:
+                continue
+            self._dirty.discard(frame_id)
+            self._due[frame_id] = now + self.params.period_s
+            people, stamp = people_of(frame_id)
+            scene = self._frames.get(frame_id) or FrameScene(frame_id, self.params)
+            self._frames[frame_id] = scene
+            update = scene.update(people, stamp, now)
+            if update is not None:
+                out.append(update)
+            if not people and not scene.pending and not scene.tracker.groups:
+                del self._frames[frame_id]  # nobody left: forget the frame (memory bound)
+                self._due.pop(frame_id, None)
+        return out
+
+    def current(self) -> list[SceneUpdate]:
+        """Every frame's scene as last said (for queries)."""
+        return [scene.snapshot() for scene in self._frames.values() if scene.said_once]
