@@ -4,7 +4,7 @@ what the type tests check and the output tests hash with an independent implemen
 from __future__ import annotations
 
 from facing_service.ros2 import types as ros2_types
-from facing_service.ros2.output import ENGAGEMENT_LEVEL, INTENT
+from facing_service.ros2.output import ENGAGEMENT_LEVEL, GAZE, GROUP, INTENT
 
 #: typename -> (file in facing_service/ros2/msg, git blob id at the upstream tag, RIHS01 hash).
 #: Upstream: ros4hri/hri_msgs 2.0.0 (5d52c81f) and ros4hri/hri_actions_msgs 2.0.1
@@ -19,6 +19,16 @@ UPSTREAM = {
         "hri_msgs/IdsList.msg",
         "cb80145624c949c1f1ffb52fa07b5aff12167674",
         "RIHS01_7e0812d1ac945c98fd3e393568d581ad0ab567f37b24eff633eab778c1bfe62d",
+    ),
+    GROUP: (
+        "hri_msgs/Group.msg",
+        "2da931d2285aa6957d90c5ccb06d463b2f2ec367",
+        "RIHS01_8a5322be10347f118545806061283201525b8f572bfe6131b4b45b70c56f2935",
+    ),
+    GAZE: (
+        "hri_msgs/Gaze.msg",
+        "a2707146312c1edbf9a744ef270e390ba72d02a3",
+        "RIHS01_e8c46fafadbeca4367ca1987944b54863fcfc0175319002a76df5298570f4ab3",
     ),
     INTENT: (
         "hri_actions_msgs/Intent.msg",

@@ -7,7 +7,9 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ..core.engagement import EngagementParams
+from ..core.groups import GroupParams
 from ..core.records import Profile
+from ..core.scene import SceneParams
 from .settings import Settings
 
 
@@ -48,3 +50,18 @@ def head_profile(settings: Settings) -> Profile:
         steady_tau_s=s.head_steady_tau_s,
     )
     return Profile(s.head_threshold_deg, s.hysteresis_deg, s.head_cone == "3d", engagement)
+
+
+def scene_params(settings: Settings) -> SceneParams:
+    """Who faces whom is the facing rule (body cone and hysteresis) between people; the
+    groups' method keeps its one default set (chosen by leave-one-sequence-out,
+    docs/groups.md)."""
+    s = settings
+    return SceneParams(
+        GroupParams(),
+        threshold_deg=s.threshold_deg,
+        hysteresis_deg=s.hysteresis_deg,
+        hold_s=s.group_hold_s,
+        period_s=1.0 / s.group_rate_hz,
+        max_people=s.group_max_people,
+    )

@@ -34,6 +34,7 @@ def default_instance() -> str:
 
 
 SERVICE, ENGAGEMENT, HEADS = "service", "engagement levels", "heads: face frames, from ROS 2 input"
+GROUPS = "groups: who faces whom, F-formations"
 ROS_IN = "ROS 2 input: a robot's own /tf and /humans/* topics"
 ROS_OUT = "ROS 2 output: our results on the robot's own topics, beside the JSON keys"
 ZENOH = "zenoh session"
@@ -178,6 +179,25 @@ class Settings(BaseModel):
         gt=0.0,
         allow_inf_nan=False,
         **_flag("time constant of a face's recent direction (steadiness)", HEADS),
+    )
+    group_hold_s: float = Field(
+        0.3,
+        ge=0.0,
+        allow_inf_nan=False,
+        **_flag("a new grouping is said once it has held this long (no flicker)", GROUPS),
+    )
+    group_rate_hz: float = Field(
+        10.0,
+        gt=0.0,
+        le=1000.0,
+        allow_inf_nan=False,
+        **_flag("groups and who faces whom are worked out at most this often per frame", GROUPS),
+    )
+    group_max_people: int = Field(
+        50,
+        ge=1,
+        le=1000,
+        **_flag("people of one frame considered for groups, nearest first (O(N^2))", GROUPS),
     )
     input: Literal["json", "ros2"] = Field(
         "json",

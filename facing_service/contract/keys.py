@@ -7,6 +7,9 @@ Layout (``NS`` is the namespace, one or more chunks such as ``hri`` or ``robot1/
     NS/facing/<base_frame>                    per-frame aggregate
     NS/bodies/<body_id>/engagement/<frame>    per-body engagement level
     NS/events/engagement/<base_frame>         engagement level changes
+    NS/groups/<base_frame>                    every F-formation of a frame (on change)
+    NS/groups/<base_frame>/<group_id>         one group (PUT), dissolved (DELETE)
+    NS/gazing/<base_frame>                    who faces whom in a frame (on change)
     NS/services/facing/<instance>             liveliness token while a service runs
     NS/services/facing/<instance>/status      status queryable
 
@@ -93,6 +96,18 @@ def frame_key(namespace: str, frame_id: str) -> str:
     return f"{namespace}/facing/{frame_id}"
 
 
+def groups_key(namespace: str, frame_id: str) -> str:
+    return f"{namespace}/groups/{frame_id}"
+
+
+def group_key(namespace: str, frame_id: str, group_id: str) -> str:
+    return f"{namespace}/groups/{frame_id}/{group_id}"
+
+
+def gazing_key(namespace: str, frame_id: str) -> str:
+    return f"{namespace}/gazing/{frame_id}"
+
+
 def service_token(namespace: str, instance: str) -> str:
     return f"{namespace}/services/facing/{instance}"
 
@@ -131,6 +146,9 @@ def published_spaces(namespace: str) -> tuple[str, ...]:
         frame_key(namespace, ALL_FRAMES),
         engagement_key(namespace, ALL_FRAMES, ALL_FRAMES),
         event_key(namespace, ALL_FRAMES),
+        groups_key(namespace, ALL_FRAMES),
+        group_key(namespace, ALL_FRAMES, ALL_FRAMES),
+        gazing_key(namespace, ALL_FRAMES),
     )
 
 
@@ -139,6 +157,8 @@ def served_spaces(namespace: str) -> tuple[str, ...]:
     return (
         *result_queryables(namespace, ALL_FRAMES),
         engagement_key(namespace, ALL_FRAMES, ALL_FRAMES),
+        groups_key(namespace, ALL_FRAMES),
+        gazing_key(namespace, ALL_FRAMES),
         status_key(namespace, ALL_FRAMES),
     )
 

@@ -125,6 +125,59 @@ class EngagementEvent(BaseModel):
     )
 
 
+INSTANCE_DESCRIPTION = (
+    "The service instance that produced it (its token is NS/services/facing/<instance>): "
+    "consumers drop what a dead instance said."
+)
+
+
+class Centre(BaseModel):
+    x: float
+    y: float
+
+
+class GroupState(BaseModel):
+    """One F-formation, on ``NS/groups/<frame>/<id>`` (DELETE when it dissolves) and in
+    its frame's list."""
+
+    id: str = Field(description="Stable while the group keeps most of its members.")
+    members: list[str] = Field(description="Body ids, sorted; the robot is not one (see robot).")
+    robot: bool = Field(description="The robot (the base frame's origin) is in the group.")
+    centre: Centre = Field(description="The o-space centre in the base frame, metres.")
+
+
+class FrameGroups(BaseModel):
+    """Every group of a base frame, on ``NS/groups/<frame>``: published when a group
+    forms, changes or dissolves (an empty list: none), and answered as a queryable."""
+
+    frame: str
+    stamp: Stamp = Field(description="Stamp of the newest pose behind this grouping.")
+    groups: list[GroupState]
+    people_left_out: int = Field(
+        description="People beyond --group-max-people (the farthest from the robot), "
+        "not considered."
+    )
+    instance: str | None = Field(default=None, description=INSTANCE_DESCRIPTION)
+
+
+class GazePair(BaseModel):
+    sender: str = Field(description='Who faces: a body id, or "" for the robot (REP 155).')
+    receiver: str = Field(description='Whom: a body id, or "" for the robot.')
+    mutual: bool = Field(description="The receiver faces the sender too.")
+
+
+class FrameGazing(BaseModel):
+    """Who faces whom in a base frame, on ``NS/gazing/<frame>``: published when a pair
+    starts or stops facing, and answered as a queryable. A faces B when B is within A's
+    facing cone (the rule for the robot, with B in its place, and its hysteresis)."""
+
+    frame: str
+    stamp: Stamp
+    pairs: list[GazePair]
+    people_left_out: int
+    instance: str | None = Field(default=None, description=INSTANCE_DESCRIPTION)
+
+
 class Ros2Status(BaseModel):
     """What a service on ROS 2 input (``--input ros2``) knows of its robot."""
 
@@ -192,8 +245,11 @@ class ServiceStatus(BaseModel):
         description="samples_accepted, results_published, results_superseded, "
         "deletes_published, frames_published, engagement_published, events_published, "
         "queries_answered, queries_refused, publish_errors, tf_lookups_unresolved, "
-        "ros_published, worker_errors: every one present from the start. Read with the "
-        "outbox depth: all accepted and an outbox_depth of 0 means all sent."
+        "ros_published, scene_published, scene_people_left_out, worker_errors: every one "
+        "present from the start (scene_published: groups, group and who-faces-whom "
+        "publications; scene_people_left_out: people beyond --group-max-people, summed "
+        "over the scenes said). Read with the outbox depth: all accepted and an "
+        "outbox_depth of 0 means all sent."
     )
     rejected: dict[str, int] = Field(description="Rejected samples per reason (all reasons).")
     connected: dict[str, list[str]] = Field(
@@ -227,6 +283,9 @@ SCHEMA_FILES: dict[str, tuple[type[BaseModel], str]] = {
     "engagement_state.schema.json": (EngagementState, "serialization"),
     "engagement_event.schema.json": (EngagementEvent, "serialization"),
     "status.schema.json": (ServiceStatus, "serialization"),
+    "frame_groups.schema.json": (FrameGroups, "serialization"),
+    "group_state.schema.json": (GroupState, "serialization"),
+    "frame_gazing.schema.json": (FrameGazing, "serialization"),
 }
 
 

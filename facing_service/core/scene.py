@@ -52,7 +52,8 @@ class SceneUpdate:
     changed: tuple[Group, ...]  # formed (a new id) or with other members
     dissolved: tuple[int, ...]
     gazing: frozenset[Pair]
-    gazing_changed: bool
+    groups_news: bool  # the frame's groups are to be said (changed, or said first)
+    gazing_news: bool  # who faces whom is to be said
     left_out: int  # people beyond max_people, not considered
 
 
@@ -99,19 +100,20 @@ class FrameScene:
             for label, (x, y) in enumerate(centres(votes(positions, yaw, p.groups), labels))
         ]
         changed, dissolved = self.tracker.update(found, now)
-        gazing_changed = gazing != self.gazing
-        if not (changed or dissolved or gazing_changed or left_out != self.left_out) and (
-            self.said_once
-        ):
+        anew = not self.said_once or left_out != self.left_out
+        groups_news = anew or bool(changed or dissolved)
+        gazing_news = anew or gazing != self.gazing
+        if not (groups_news or gazing_news):
             return None
         self.gazing, self.left_out, self.stamp, self.said_once = gazing, left_out, stamp, True
-        return self.snapshot(changed, dissolved, gazing_changed)
+        return self.snapshot(changed, dissolved, groups_news, gazing_news)
 
     def snapshot(
         self,
         changed: Sequence[Group] = (),
         dissolved: Sequence[int] = (),
-        gazing_changed: bool = False,
+        groups_news: bool = False,
+        gazing_news: bool = False,
     ) -> SceneUpdate:
         """The scene as last said, with what its last update changed."""
         return SceneUpdate(
@@ -121,7 +123,8 @@ class FrameScene:
             tuple(changed),
             tuple(dissolved),
             self.gazing,
-            gazing_changed,
+            groups_news,
+            gazing_news,
             self.left_out,
         )
 

@@ -12,6 +12,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import replace
 
 from ..contract.keys import BodyRef
+from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing
 from . import detector
 from .engagement import EngagementParams, Level, advance, facing_score, step
@@ -274,6 +275,12 @@ class Tracker(Journaled):
         """How many bodies each known frame tracks (for the status report)."""
         return {frame_id: len(frame.tracked) for frame_id, frame in self._frames.items()}
 
+    def poses(self, frame_id: str) -> list[tuple[str, Pose]]:
+        """The latest pose of every body tracked in a frame (for the scene)."""
+        frame = self._frames.get(frame_id)
+        bodies = () if frame is None else sorted(frame.tracked)
+        return [(b, self._tracks[BodyRef(frame_id=frame_id, body_id=b)].pose) for b in bodies]
+
     def states(self) -> list[BodyState]:
         """The latest decision of every tracked body."""
         return [track.state for track in self._tracks.values()]
@@ -286,27 +293,20 @@ class Tracker(Journaled):
         ]
 
     def evaluate(self, threshold_deg: float) -> tuple[list[BodyState], list[FrameFacing]]:
-        """Re-decide the latest poses under another cone, without hysteresis.
-
-        For queries: a what-if that leaves the tracker's state untouched.
-        """
+        """Re-decide the latest poses under another cone, without hysteresis: for
+        queries, a what-if that leaves the tracker's state untouched."""
         samples = [PoseSample(body, track.pose) for body, track in self._tracks.items()]
         same = [threshold_deg] * len(samples)
         profiles = [track.profile for track in self._tracks.values()]
         states = decide(samples, same, profiles, same)
         facing: dict[str, list[str]] = {frame_id: [] for frame_id in self._frames}
-        for state in states:
-            if state.facing:
-                facing[state.frame_id].append(state.body_id)
-        frames = [
-            frame_facing(frame_id, frame.stamp, facing[frame_id], frame.tracked)
-            for frame_id, frame in self._frames.items()
-        ]
-        return states, frames
+        for state in (s for s in states if s.facing):
+            facing[state.frame_id].append(state.body_id)
+        frames = self._frames.items()
+        return states, [frame_facing(f, fr.stamp, facing[f], fr.tracked) for f, fr in frames]
 
     def _was_facing(self, key: BodyRef) -> bool:
-        track = self._tracks.get(key)
-        return track is not None and track.state.facing
+        return (track := self._tracks.get(key)) is not None and track.state.facing
 
     def _store(
         self,

@@ -11,6 +11,12 @@ Topics (under ``--ros-namespace``; messages from the upstream ``.msg`` files in 
         ENGAGE_WITH, data {"recipient": "<person id>"}, when a person becomes ENGAGED.
     /humans/{bodies,faces,persons}/facing    hri_msgs/msg/IdsList
         the ids facing the robot in the base frame, whenever that set changes.
+    /humans/interactions/groups              hri_msgs/msg/Group
+        each group when it forms or changes, and every period while it lasts (as
+        engagement_status); ``members`` empty once when it dissolves. The robot, when in
+        a group, is the member "" (REP 155's id for it in Gaze).
+    /humans/interactions/gazing              hri_msgs/msg/Gaze
+        each pair (sender faces receiver; "" is the robot) when it starts facing.
 
 The pure part (``RosOutput``) turns the tracker's changes into messages; ``RosPublishers``
 (the publisher thread's) sends them in the robot's format: in rmw_zenoh's, every sample
@@ -32,6 +38,7 @@ import zenoh
 from ..contract.schemas import FrameFacing
 from ..core.engagement import Level
 from ..core.records import Changes, EngagementUpdate
+from ..core.scene import SceneUpdate
 from . import types as ros2_types
 from .wire import (
     QOS_RELIABLE_VOLATILE,
@@ -44,6 +51,10 @@ from .wire import (
 
 ENGAGEMENT_LEVEL = "hri_msgs/msg/EngagementLevel"
 INTENT = "hri_actions_msgs/msg/Intent"
+GROUP = "hri_msgs/msg/Group"
+GAZE = "hri_msgs/msg/Gaze"
+GROUPS_TOPIC = "/humans/interactions/groups"
+GAZING_TOPIC = "/humans/interactions/gazing"
 #: Intent.msg: "0 is the lowest priority, 128 is the default priority, 255 is the highest".
 DEFAULT_PRIORITY = 128
 #: Our subject prefixes -> the ROS4HRI kind whose facing list they go to. Subjects from
@@ -124,6 +135,41 @@ def facing_list(frame: FrameFacing, topic: str, ids: list[str]) -> RosMessage:
     )
 
 
+def ros_id(subject: str) -> str:
+    """A subject as REP 155 names it on interaction topics: its id without our kind
+    prefix (a person's id where the robot has persons); the robot stays ""."""
+    prefix = next((p for p in FACING_TOPICS if subject.startswith(p)), "")
+    return subject[len(prefix) :]
+
+
+def group_message(frame_id: str, stamp: tuple[int, int], group_id: int, members: Any) -> RosMessage:
+    message = ros2_types.message_type(GROUP)(
+        header=_header(frame_id, stamp),
+        group_id=str(group_id),
+        members=sorted(ros_id(m) for m in members),
+    )
+    return RosMessage(GROUPS_TOPIC, GROUP, ros2_types.serialize(message, GROUP))
+
+
+def gaze_message(frame_id: str, stamp: tuple[int, int], sender: str, receiver: str) -> RosMessage:
+    message = ros2_types.message_type(GAZE)(
+        header=_header(frame_id, stamp), sender=ros_id(sender), receiver=ros_id(receiver)
+    )
+    return RosMessage(GAZING_TOPIC, GAZE, ros2_types.serialize(message, GAZE))
+
+
+def scene_messages(
+    update: SceneUpdate, said_gazing: frozenset[tuple[str, str]]
+) -> list[RosMessage]:
+    """A frame's scene changed: its groups formed or changed, those dissolved (no
+    members), and the pairs that started facing since ``said_gazing``."""
+    frame, stamp = update.frame_id, update.stamp
+    out = [group_message(frame, stamp, g.id, g.members) for g in update.changed]
+    out += [group_message(frame, stamp, gid, ()) for gid in update.dissolved]
+    out += [gaze_message(frame, stamp, a, b) for a, b in sorted(update.gazing - said_gazing)]
+    return out
+
+
 class RosOutput:
     """Which messages the tracker's changes call for, and when the periodic
     engagement_status is due (the caller's clock, seconds)."""
@@ -133,6 +179,7 @@ class RosOutput:
         self.intents = intents
         self.next_tick: float | None = None
         self._said_facing: dict[tuple[str, str], list[str]] = {}  # (frame, topic) -> ids
+        self._said_gazing: dict[str, frozenset[tuple[str, str]]] = {}  # frame -> pairs
 
     def on_changes(self, changes: Changes) -> list[RosMessage]:
         out: list[RosMessage] = []
@@ -159,16 +206,33 @@ class RosOutput:
                 out.append(facing_list(frame, topic, ids))
         return out
 
+    def on_scene(self, update: SceneUpdate) -> list[RosMessage]:
+        said = self._said_gazing.get(update.frame_id, frozenset())
+        if update.gazing:
+            self._said_gazing[update.frame_id] = update.gazing
+        else:
+            self._said_gazing.pop(update.frame_id, None)  # bounded: frames come and go
+        return scene_messages(update, said)
+
     def tick(
-        self, engagements: Callable[[], list[EngagementUpdate]], now: float
+        self,
+        engagements: Callable[[], list[EngagementUpdate]],
+        now: float,
+        scenes: Callable[[], list[SceneUpdate]] = list,
     ) -> list[RosMessage]:
-        """Every period: each tracked person's current level, as hri_engagement does.
-        ``engagements`` is called only when the period is due: the worker calls ``tick``
-        every loop turn, and listing every body's level each time was wasted work."""
+        """Every period: each tracked person's current level, as hri_engagement does, and
+        each current group. ``engagements`` and ``scenes`` are called only when the
+        period is due: the worker calls ``tick`` every loop turn, and listing every
+        body's level each time was wasted work."""
         if self.next_tick is not None and now < self.next_tick:
             return []
         self.next_tick = now + self.period_s
-        return [engagement_status(e) for e in engagements() if e.body_id.startswith(PERSON)]
+        out = [engagement_status(e) for e in engagements() if e.body_id.startswith(PERSON)]
+        for scene in scenes():
+            out += [
+                group_message(scene.frame_id, scene.stamp, g.id, g.members) for g in scene.groups
+            ]
+        return out
 
 
 class RosPublishers:

@@ -38,6 +38,7 @@ DECIDED = (
     "queries_refused",
     "tf_lookups_unresolved",
     "worker_errors",
+    "scene_people_left_out",
 )
 #: The publisher's counters, one per kind of publication, plus its errors.
 SENT = {
@@ -47,6 +48,7 @@ SENT = {
     Kind.EVENT: "events_published",
     Kind.DELETE: "deletes_published",
     Kind.ROS: "ros_published",
+    Kind.SCENE: "scene_published",
 }
 PUBLISH_ERRORS = "publish_errors"
 #: Every counter the service reports, present from the start (at 0), in this order.
@@ -63,6 +65,8 @@ COUNTERS = (
     "publish_errors",
     "tf_lookups_unresolved",
     "ros_published",
+    "scene_published",
+    "scene_people_left_out",
     "worker_errors",
 )
 

@@ -40,6 +40,7 @@ class Kind(str, Enum):
     EVENT = "event"  # a change of engagement level: never superseded
     DELETE = "delete"  # a body lost: a state change, never superseded
     ROS = "ros"  # a message on the robot's own topics (--output ros2): never superseded
+    SCENE = "scene"  # a frame's groups, a group (PUT or DELETE), who faces whom: never superseded
 
 
 class Publication(NamedTuple):

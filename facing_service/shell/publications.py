@@ -11,16 +11,27 @@ from typing import Any
 
 from ..contract import keys
 from ..contract.poses import Stamp
-from ..contract.schemas import EngagementEvent, EngagementState, FrameFacing
+from ..contract.schemas import (
+    Centre,
+    EngagementEvent,
+    EngagementState,
+    FrameFacing,
+    FrameGazing,
+    FrameGroups,
+    GazePair,
+    GroupState,
+)
 from ..core.engagement import Level
+from ..core.groups import Group
 from ..core.records import BodyState, Changes, EngagementUpdate
+from ..core.scene import ROBOT, SceneUpdate
 from ..ros2.output import RosMessage
 from .outbox import Kind, Publication
 
 #: Selector parameters the queryable understands; zenoh reserves names starting with "_".
 QUERY_PARAMETERS = frozenset({"threshold_deg"})
 #: The output key spaces a query can reach the service through.
-QUERY_SPACES = ("facing", "frame", "engagement")
+QUERY_SPACES = ("facing", "frame", "engagement", "groups", "gazing")
 
 
 def publications(changes: Changes, namespace: str, instance: str) -> list[Publication]:
@@ -67,6 +78,78 @@ def publications(changes: Changes, namespace: str, instance: str) -> list[Public
     return out
 
 
+def scene_publications(update: SceneUpdate, namespace: str, instance: str) -> list[Publication]:
+    """A frame's scene changed: each group formed or changed (PUT) and dissolved
+    (DELETE), then the frame's whole list; who faces whom when a pair changed."""
+    frame = update.frame_id
+    out = [
+        Publication(
+            keys.group_key(namespace, frame, str(g.id)),
+            group_state(g).model_dump_json().encode(),
+            Kind.SCENE,
+        )
+        for g in update.changed
+    ]
+    out += [
+        Publication(keys.group_key(namespace, frame, str(gid)), None, Kind.SCENE)
+        for gid in update.dissolved
+    ]
+    if update.groups_news:
+        out.append(
+            Publication(
+                keys.groups_key(namespace, frame), groups_json(update, instance), Kind.SCENE
+            )
+        )
+    if update.gazing_news:
+        out.append(
+            Publication(
+                keys.gazing_key(namespace, frame), gazing_json(update, instance), Kind.SCENE
+            )
+        )
+    return out
+
+
+def group_state(group: Group) -> GroupState:
+    return GroupState(
+        id=str(group.id),
+        members=sorted(group.members - {ROBOT}),
+        robot=group.robot,
+        centre=Centre(x=group.centre[0], y=group.centre[1]),
+    )
+
+
+def groups_json(update: SceneUpdate, instance: str) -> bytes:
+    return (
+        FrameGroups(
+            frame=update.frame_id,
+            stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+            groups=[group_state(g) for g in update.groups],
+            people_left_out=update.left_out,
+            instance=instance,
+        )
+        .model_dump_json()
+        .encode()
+    )
+
+
+def gazing_json(update: SceneUpdate, instance: str) -> bytes:
+    pairs = [
+        GazePair(sender=a, receiver=b, mutual=(b, a) in update.gazing)
+        for a, b in sorted(update.gazing)
+    ]
+    return (
+        FrameGazing(
+            frame=update.frame_id,
+            stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+            pairs=pairs,
+            people_left_out=update.left_out,
+            instance=instance,
+        )
+        .model_dump_json()
+        .encode()
+    )
+
+
 def ros_publications(messages: Iterable[RosMessage]) -> list[Publication]:
     """Messages for the robot's own topics (``--output ros2``), as the outbox carries them."""
     return [Publication(m.topic, m.payload, Kind.ROS, m.typename) for m in messages]
@@ -79,6 +162,7 @@ def query_replies(
     states: Iterable[BodyState],
     frames: Iterable[FrameFacing],
     engagements: Iterable[EngagementUpdate],
+    scenes: Iterable[SceneUpdate] = (),
 ) -> list[tuple[str, bytes]]:
     """Every ``(key, payload)`` a query on ``space`` (one of ``QUERY_SPACES``) could be
     answered with; the shell keeps those whose key the query's selector matches."""
@@ -96,11 +180,16 @@ def query_replies(
             )
             for e in engagements
         ]
+    if space == "groups":
+        return [(keys.groups_key(namespace, u.frame_id), groups_json(u, instance)) for u in scenes]
+    if space == "gazing":
+        return [(keys.gazing_key(namespace, u.frame_id), gazing_json(u, instance)) for u in scenes]
     raise ValueError(f"unknown query space {space!r}; known: {', '.join(QUERY_SPACES)}")
 
 
-def threshold_parameter(parameters: Mapping[str, str]) -> float | None:
-    """The query's ``threshold_deg``, None when absent; ValueError when it is bad."""
+def threshold_parameter(parameters: Mapping[str, str], space: str = "facing") -> float | None:
+    """The query's ``threshold_deg``, None when absent; ValueError when it is bad, or
+    asked of groups or who faces whom (worked out over time, not re-decided per query)."""
     unknown = sorted(
         name for name in parameters if name not in QUERY_PARAMETERS and not name.startswith("_")
     )
@@ -112,6 +201,8 @@ def threshold_parameter(parameters: Mapping[str, str]) -> float | None:
     raw = parameters.get("threshold_deg")
     if raw is None:
         return None
+    if space in ("groups", "gazing"):
+        raise ValueError(f"threshold_deg applies to facing results, not to {space}")
     try:
         value = float(raw)
     except ValueError:

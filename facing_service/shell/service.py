@@ -52,9 +52,10 @@ from .intake import Intake
 from .ledger import Ledger
 from .outbox import Outbox
 from .publisher import JSON, Publisher
+from .queries import QueryItem
 from .robot_input import RobotInput
 from .threads import daemon_thread
-from .worker import QueryItem, Worker
+from .worker import Worker
 
 log = logging.getLogger("facing_service")
 
@@ -162,6 +163,12 @@ class FacingService:
                 session.declare_queryable(
                     keys.engagement_key(ns, keys.ALL_FRAMES, frame),
                     lambda q: self._enqueue(QueryItem(q, "engagement")),
+                ),
+                session.declare_queryable(
+                    keys.groups_key(ns, frame), lambda q: self._enqueue(QueryItem(q, "groups"))
+                ),
+                session.declare_queryable(
+                    keys.gazing_key(ns, frame), lambda q: self._enqueue(QueryItem(q, "gazing"))
                 ),
                 session.declare_queryable(keys.status_key(ns, s.instance), self._on_status),
             ]

@@ -16,24 +16,24 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import zenoh
 
+from ..config.profiles import scene_params
 from ..config.settings import Settings
 from ..contract import keys
 from ..contract.keys import BodyRef
 from ..contract.poses import Rejected, Rejection, decode_pose
-from ..contract.schemas import QueryError
 from ..core.records import Changes, PoseSample
+from ..core.scene import Person, Scenes
 from ..core.tracker import Tracker
 from ..ros2.input import RosSample
 from ..ros2.output import RosOutput
 from .intake import Intake
 from .ledger import Ledger
 from .outbox import Outbox, Publication
-from .publications import publications, query_replies, ros_publications, threshold_parameter
-from .publisher import JSON
+from .publications import publications, ros_publications, scene_publications
+from .queries import QueryItem, answer
 from .robot_input import RobotInput
 
 log = logging.getLogger("facing_service")
@@ -45,12 +45,6 @@ MAX_BATCH = 1024
 #: tick and diagnosis run. Input that is dear to handle (a robot's deep TF chains) then
 #: delays the others' results by at most this much, not by the whole batch.
 BATCH_BUDGET_S = 0.05
-
-
-@dataclass(frozen=True)
-class QueryItem:
-    query: zenoh.Query
-    space: str  # which output key space it reached us through: facing, frame, engagement
 
 
 class Worker:
@@ -88,6 +82,7 @@ class Worker:
         self.failing = False  # the last batch raised (written by the worker only)
         self._faults = 0  # errors in the current batch
         self._carried: list[object] = []  # the rest of a batch over BATCH_BUDGET_S
+        self._scenes = Scenes(scene_params(settings))
 
     def first_aggregates(self) -> None:
         """Every declared frame's aggregate, before any input (sent once the publisher
@@ -107,6 +102,7 @@ class Worker:
                 self._handle(batch)
                 self._expire()
                 self._ros_tick()
+                self._scene_tick()
                 self._robot.diagnose()
                 self._ledger.rejection_log.maybe_log()
                 self._ledger.tracked = self._tracker.tracked_per_frame()
@@ -153,6 +149,7 @@ class Worker:
                     self._ledger.rejection_log.next_due(),
                     self._ros_out.next_tick if self._ros_out is not None else None,
                     self._robot.next_diagnosis,
+                    self._scenes.next_due(),
                 )
                 if d is not None
             ),
@@ -175,8 +172,27 @@ class Worker:
     def _ros_tick(self) -> None:
         """--output ros2: every tracked person's level at hri_engagement's rate."""
         if self._ros_out is not None:
-            messages = self._ros_out.tick(self._tracker.engagements, self._clock())
+            messages = self._ros_out.tick(
+                self._tracker.engagements, self._clock(), self._scenes.current
+            )
             self._said += ros_publications(messages)
+
+    def _scene_tick(self) -> None:
+        """Each frame whose people changed, at most ``--group-rate-hz``: who faces whom
+        and its groups, said when they changed."""
+        for update in self._scenes.tick(self._clock(), self._people):
+            self._said += scene_publications(
+                update, self.settings.namespace, self.settings.instance
+            )
+            if update.left_out:
+                self._ledger.count("scene_people_left_out", update.left_out)
+            if self._ros_out is not None:
+                self._said += ros_publications(self._ros_out.on_scene(update))
+
+    def _people(self, frame_id: str) -> tuple[list[Person], tuple[int, int]]:
+        poses = self._tracker.poses(frame_id)
+        people = [Person(body, p.translation, p.rotation) for body, p in poses]
+        return people, max((p.stamp for _, p in poses), default=(0, 0))
 
     def _handle(self, batch: list[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together. An item
@@ -212,7 +228,7 @@ class Worker:
             self._on_ros(item, poses)
         elif isinstance(item, QueryItem):
             self._flush(poses)
-            self._answer(item)
+            answer(item, self._tracker, self._scenes, self._ledger, self.settings)
 
     def _on_ros(self, sample: RosSample, poses: list[PoseSample]) -> None:
         """A sample of the robot's topics: poses join the batch; losses are published
@@ -327,6 +343,10 @@ class Worker:
         """What the changes call for, in the order it must be sent (handed over at the end
         of the loop's turn, see ``_hand_over``)."""
         self._said += publications(changes, self.settings.namespace, self.settings.instance)
+        if changes.results or changes.lost:
+            self._scenes.touch(
+                {s.frame_id for s in changes.results} | {b.frame_id for b in changes.lost}
+            )
         if self._ros_out is not None:
             self._said += ros_publications(self._ros_out.on_changes(changes))
 
@@ -344,30 +364,3 @@ class Worker:
         if self._accepted:
             self._ledger.count("samples_accepted", self._accepted)
             self._accepted = 0
-
-    def _answer(self, item: QueryItem) -> None:
-        """Reply with the current state of every matching key, one reply per key."""
-        query = item.query
-        try:
-            threshold = threshold_parameter(dict(query.parameters))
-        except ValueError as error:
-            query.reply_err(
-                QueryError(error="bad_parameter", detail=str(error)).model_dump_json(),
-                encoding=JSON,
-            )
-            query.drop()
-            self._ledger.count("queries_refused")
-            return
-        # The status then agrees with the answer (a client reading it next sees the same).
-        self._ledger.tracked = self._tracker.tracked_per_frame()
-        if threshold is None:
-            states, frames = self._tracker.states(), self._tracker.frames()
-        else:
-            states, frames = self._tracker.evaluate(threshold)
-        engagements = self._tracker.engagements() if item.space == "engagement" else []
-        ns, me = self.settings.namespace, self.settings.instance
-        for key, payload in query_replies(item.space, ns, me, states, frames, engagements):
-            if query.key_expr.intersects(zenoh.KeyExpr(key)):
-                query.reply(key, payload, encoding=JSON)
-        query.drop()
-        self._ledger.count("queries_answered")

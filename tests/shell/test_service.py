@@ -152,7 +152,8 @@ def test_queries_answer_current_state_and_what_if_thresholds(rig):
     everything = dict(get(client, f"{NS}/**"))
     status = f"{NS}/services/facing/{service.settings.instance}/status"
     engagement = {f"{NS}/bodies/{b}/engagement/cam" for b in ("a", "b")}
-    assert set(everything) == {body_key("a"), body_key("b"), FRAME_KEY, status, *engagement}
+    scene = {f"{NS}/groups/cam", f"{NS}/gazing/cam"}
+    assert set(everything) == {body_key("a"), body_key("b"), FRAME_KEY, status, *engagement, *scene}
 
     what_if = dict(get(client, f"{NS}/bodies/*/facing/cam?threshold_deg=35"))
     assert what_if[body_key("b")]["facing"] and what_if[body_key("b")]["threshold_deg"] == 35.0

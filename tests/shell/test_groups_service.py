@@ -1,0 +1,81 @@
+"""Groups and who faces whom through the live service (issue 33): published on change,
+one key per group with a DELETE when it dissolves, answered as queryables; the robot a
+participant. Real zenoh sessions on loopback."""
+
+from __future__ import annotations
+
+import pytest
+
+from loopback import get, send, send_delete, wait_until_answered
+from poses import pose_json
+
+NS = "hri"
+GROUPS, GAZING = f"{NS}/groups/cam", f"{NS}/gazing/cam"
+
+
+def pose_key(body: str) -> str:
+    return f"{NS}/bodies/{body}/pose/cam"
+
+
+@pytest.fixture
+def scene(net):
+    service, ep = net.service(group_hold_s=0.2)
+    client = net.client(ep)
+    groups = net.recorder(client, f"{NS}/groups/**")
+    gazing = net.recorder(client, f"{NS}/gazing/**")
+    wait_until_answered(client, f"{NS}/facing/cam")
+    return service, client, groups, gazing
+
+
+def test_two_people_talking_form_a_group_said_on_its_key_and_queryable(scene):
+    service, client, groups, gazing = scene
+    send(client, pose_key("ann"), pose_json("ann", "cam", x=3.0, y=2.0, yaw_deg=0.0))
+    send(client, pose_key("bob"), pose_json("bob", "cam", x=4.2, y=2.0, yaw_deg=180.0))
+    said = groups.wait_for(lambda i: i.key == GROUPS and i.value["groups"])[-1].value
+    (group,) = said["groups"]
+    assert group["members"] == ["ann", "bob"] and group["robot"] is False
+    assert group["centre"]["x"] == pytest.approx(3.6, abs=0.05)
+    assert said["frame"] == "cam" and said["instance"] == service.settings.instance
+    (one,) = groups.wait_for(lambda i: i.key == f"{GROUPS}/{group['id']}" and i.kind == "put")
+    assert one.value == group
+    pairs = gazing.wait_for(lambda i: i.key == GAZING and len(i.value["pairs"]) == 2)[-1]
+    assert {(p["sender"], p["receiver"], p["mutual"]) for p in pairs.value["pairs"]} == {
+        ("ann", "bob", True),
+        ("bob", "ann", True),
+    }
+    assert dict(get(client, GROUPS))[GROUPS] == said
+    assert dict(get(client, f"{NS}/gazing/*"))[GAZING] == pairs.value
+
+    # bob walks away: the group dissolves, its key is DELETEd, the list empties
+    send_delete(client, pose_key("bob"))
+    groups.wait_for(lambda i: i.key == f"{GROUPS}/{group['id']}" and i.kind == "delete")
+    groups.wait_for(lambda i: i.key == GROUPS and i.value["groups"] == [])
+    assert service.status().counters["scene_published"] >= 4
+
+
+def test_a_person_facing_the_robot_is_in_a_group_with_it(scene):
+    _, client, groups, gazing = scene
+    send(client, pose_key("cat"), pose_json("cat", "cam", x=1.0, y=0.0))  # faces the robot
+    said = groups.wait_for(lambda i: i.key == GROUPS and i.value["groups"])[-1].value
+    assert said["groups"][0]["robot"] is True and said["groups"][0]["members"] == ["cat"]
+    pairs = gazing.wait_for(lambda i: i.key == GAZING and i.value["pairs"])[-1].value["pairs"]
+    assert {(p["sender"], p["receiver"]) for p in pairs} == {("cat", ""), ("", "cat")}
+
+
+def test_a_threshold_on_groups_is_refused_by_name(scene):
+    service, client, _, _ = scene
+    (reply,) = get(client, f"{GROUPS}?threshold_deg=30")
+    assert reply[0] == "error"
+    assert "threshold_deg applies to facing results" in reply[1]["detail"]
+    assert service.status().counters["queries_refused"] == 1
+
+
+def test_a_crowd_is_cut_and_counted(net):
+    service, ep = net.service(group_max_people=3)
+    client = net.client(ep)
+    groups = net.recorder(client, f"{NS}/groups/**")
+    wait_until_answered(client, f"{NS}/facing/cam")
+    for i in range(6):
+        send(client, pose_key(f"p{i}"), pose_json(f"p{i}", "cam", x=2.0 + i, yaw_deg=90.0))
+    groups.wait_for(lambda i: i.key == GROUPS and i.value["people_left_out"] == 3)
+    assert service.status().counters["scene_people_left_out"] >= 3
