@@ -43,6 +43,12 @@ TYPE_HASHES = {
     "hri_msgs/msg/EngagementLevel": (
         "RIHS01_275391f46d2e6cc0d21085f8e02dce6a8150baa57539ec99bd9f4e0321443788"
     ),
+    "hri_msgs/msg/Group": (
+        "RIHS01_8a5322be10347f118545806061283201525b8f572bfe6131b4b45b70c56f2935"
+    ),
+    "hri_msgs/msg/Gaze": (
+        "RIHS01_e8c46fafadbeca4367ca1987944b54863fcfc0175319002a76df5298570f4ab3"
+    ),
     "hri_actions_msgs/msg/Intent": (
         "RIHS01_850d5c0a06aecf153f4cbc75f27fc655d687f93300bcc928a9d21712716fcfaa"
     ),

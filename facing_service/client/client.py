@@ -8,8 +8,10 @@
 
 The application never sees a key expression. A local cache, seeded by a query when the
 client starts and kept live by a subscription, answers ``bodies`` / ``bodies_facing``
-without a network round trip. Callbacks fire on transitions only (``on_facing``,
-``on_not_facing``, ``on_lost``) or on every result (``on_change``); they run, in order,
+without a network round trip; ``groups`` / ``gazing`` say who stands in a group with whom
+(the robot too) and who faces whom. Callbacks fire on transitions only (``on_facing``,
+``on_not_facing``, ``on_lost``, ``on_group``: formed, changed, dissolved, the robot joined
+or left) or on every result (``on_change``); they run, in order,
 on the client's own dispatcher thread, never on zenoh's, so a slow behaviour cannot stall
 the session. ``query`` asks the service directly, e.g. with another facing cone.
 """
@@ -28,8 +30,9 @@ import zenoh
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
-from ..contract.schemas import EngagementEvent, FacingState, QueryError
+from ..contract.schemas import EngagementEvent, FacingState, GazePair, GroupState, QueryError
 from ..core.engagement import Level
+from .scene import SCENE_EVENTS, Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
 
@@ -71,7 +74,9 @@ class FacingClient:
             "change": [],
             "engaged": [],
             "disengaged": [],
+            **{event: [] for event in SCENE_EVENTS},
         }
+        self._scene = SceneListener(self.namespace, self.frame, self._is_live, self._emit)
         self._events: queue.SimpleQueue[object] = queue.SimpleQueue()
         self._session: zenoh.Session | None = None
         self._subscriber: zenoh.Subscriber[None] | None = None
@@ -106,6 +111,7 @@ class FacingClient:
         self._events_subscriber = self._session.declare_subscriber(
             keys.event_key(self.namespace, self.frame), self._on_event
         )
+        self._scene.open(self._session)
         if self._wait_for_service():
             self._reseed()
         else:
@@ -144,6 +150,7 @@ class FacingClient:
             if subscriber is not None:
                 subscriber.undeclare()
         self._subscriber = self._events_subscriber = self._liveliness_subscriber = None
+        self._scene.close()
         if self._dispatcher is not None:
             self._events.put(_STOP)
             self._dispatcher.join(timeout=2.0)
@@ -176,7 +183,25 @@ class FacingClient:
         with self._lock:
             return sorted(b for (f, b), s in self._states.items() if f == frame and s.facing)
 
+    def groups(self, frame: str) -> list[GroupState]:
+        """The groups in ``frame`` as the service last said them (``robot``: the robot
+        is one of the members)."""
+        return self._scene.groups(frame)
+
+    def gazing(self, frame: str) -> list[GazePair]:
+        """Who faces whom in ``frame`` (``""`` is the robot)."""
+        return self._scene.gazing(frame)
+
     # -- callbacks -------------------------------------------------------------------
+
+    def on_group(self, event: str, callback: Callable[..., Any]) -> Callable[..., Any]:
+        """``callback(frame, group)`` on ``event``: ``group_formed``, ``group_dissolved``,
+        ``robot_joined``, ``robot_left`` (the group as it was), or ``group_changed``
+        (``callback(frame, group, previous)``)."""
+        if event not in SCENE_EVENTS:
+            raise ValueError(f"unknown group event {event!r}; known: {', '.join(SCENE_EVENTS)}")
+        self._on[event].append(callback)
+        return callback
 
     def on_facing(self, callback: StateCallback) -> StateCallback:
         """``callback(state)`` when a body starts facing the robot (or first appears
@@ -271,6 +296,14 @@ class FacingClient:
                 )
                 self._queue(disengaged_callbacks, (gone,))
             self._queue(lost_callbacks, (body,))
+        self._scene.forget(instance)  # outside the lock: the scene's is its own
+
+    def _is_live(self, instance: str) -> bool:
+        return instance in self._live  # a set read: atomic under the GIL
+
+    def _emit(self, events: list[Event]) -> None:
+        for name, args in events:
+            self._queue(list(self._on[name]), args)
 
     def _forget(self, key: keys.BodyRef) -> EngagementEvent | None:
         """Drop a body from the cache (lock held); its last ENGAGED event, if engaged."""
@@ -282,6 +315,7 @@ class FacingClient:
         """The cache from a query: at start, and when a service (re)appears."""
         try:
             states = self._ask(None, None)
+            self._scene.seed(self.session, self.timeout_s)
         except Exception:
             log.exception("facing client: could not query the service")
             return

@@ -105,7 +105,10 @@ class FrameScene:
         gazing_news = anew or gazing != self.gazing
         if not (groups_news or gazing_news):
             return None
-        self.gazing, self.left_out, self.stamp, self.said_once = gazing, left_out, stamp, True
+        # The newest stamp behind anything said here: never back (a person with the
+        # newest stamp leaving does not make the scene older than what was said).
+        self.stamp = max(self.stamp, stamp)
+        self.gazing, self.left_out, self.said_once = gazing, left_out, True
         return self.snapshot(changed, dissolved, groups_news, gazing_news)
 
     def snapshot(

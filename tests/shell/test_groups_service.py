@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from loopback import get, send, send_delete, wait_until_answered
+from loopback import get, send, send_delete, wait_until, wait_until_answered
 from poses import pose_json
 
 NS = "hri"
@@ -79,3 +79,50 @@ def test_a_crowd_is_cut_and_counted(net):
         send(client, pose_key(f"p{i}"), pose_json(f"p{i}", "cam", x=2.0 + i, yaw_deg=90.0))
     groups.wait_for(lambda i: i.key == GROUPS and i.value["people_left_out"] == 3)
     assert service.status().counters["scene_people_left_out"] >= 3
+
+
+def test_the_client_says_groups_formed_changed_dissolved_and_the_robot_joining_and_leaving(net):
+    """FacingClient's callbacks, in order, as a behaviour would use them; its cache
+    seeded by a query for a group formed before it started."""
+    import queue
+
+    from facing_service import FacingClient
+
+    from loopback import loopback_config
+
+    _service, ep = net.service(group_hold_s=0.1)
+    tracker = net.client(ep)
+    wait_until_answered(tracker, f"{NS}/facing/cam")
+    send(tracker, pose_key("ann"), pose_json("ann", "cam", x=3.0, y=2.0, yaw_deg=0.0))
+    send(tracker, pose_key("bob"), pose_json("bob", "cam", x=4.2, y=2.0, yaw_deg=180.0))
+    wait_until(lambda: any(r[1]["groups"] for r in get(tracker, GROUPS)), 5, "a group")
+    events: queue.SimpleQueue = queue.SimpleQueue()
+    with FacingClient(session_config=loopback_config(connect=[ep])) as hri:
+        (seeded,) = hri.groups("cam")
+        assert seeded.members == ["ann", "bob"] and not seeded.robot
+        assert {(p.sender, p.receiver) for p in hri.gazing("cam")} == {
+            ("ann", "bob"),
+            ("bob", "ann"),
+        }
+        for name in (
+            "group_formed",
+            "group_changed",
+            "group_dissolved",
+            "robot_joined",
+            "robot_left",
+        ):
+            hri.on_group(name, lambda frame, group, *_, name=name: events.put((name, frame, group)))
+        # cat steps up facing the robot: a second group, with the robot
+        send(tracker, pose_key("cat"), pose_json("cat", "cam", x=1.0, y=-1.0, sec=2))
+        assert [events.get(timeout=5)[0] for _ in range(2)] == ["group_formed", "robot_joined"]
+        send_delete(tracker, pose_key("cat"))
+        got = [events.get(timeout=5) for _ in range(2)]
+        assert [(n, g.robot) for n, _, g in got] == [
+            ("group_dissolved", True),
+            ("robot_left", True),
+        ]
+        send_delete(tracker, pose_key("bob"))
+        name, frame, group = events.get(timeout=5)
+        assert (name, frame, group.id) == ("group_dissolved", "cam", seeded.id)
+        with pytest.raises(ValueError, match="unknown group event"):
+            hri.on_group("group_merged", print)

@@ -1,0 +1,170 @@
+"""The client's view of each frame's social scene: its groups and who faces whom, as the
+service last said them, and what changed as callback events. ``SceneCache`` is pure;
+``SceneListener`` feeds it from zenoh (subscriptions, and queries when a service
+appears) for ``FacingClient``, which queues the events on its dispatcher.
+
+Events: ``group_formed(frame, group)``, ``group_changed(frame, group, previous)``,
+``group_dissolved(frame, group)``, ``robot_joined(frame, group)`` and
+``robot_left(frame, group)`` (the group the robot was in, as it was).
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable
+from typing import Any
+
+import zenoh
+
+from ..contract import keys
+from ..contract.schemas import FrameGazing, FrameGroups, GazePair, GroupState
+
+log = logging.getLogger("facing_service.client")
+
+Event = tuple[str, tuple[Any, ...]]
+SCENE_EVENTS = ("group_formed", "group_changed", "group_dissolved", "robot_joined", "robot_left")
+
+
+class SceneCache:
+    """The latest groups and pairs per frame, newest stamp wins (a seeding query may race
+    a publication), and the frames each service instance vouches for."""
+
+    def __init__(self) -> None:
+        self._groups: dict[str, FrameGroups] = {}
+        self._gazing: dict[str, FrameGazing] = {}
+
+    def groups(self, frame: str) -> list[GroupState]:
+        said = self._groups.get(frame)
+        return [] if said is None else list(said.groups)
+
+    def gazing(self, frame: str) -> list[GazePair]:
+        said = self._gazing.get(frame)
+        return [] if said is None else list(said.pairs)
+
+    def apply_groups(self, said: FrameGroups) -> list[Event]:
+        before = self._groups.get(said.frame)
+        if before is not None and _stamp(before) > _stamp(said):
+            return []
+        if said.groups:
+            self._groups[said.frame] = said
+        else:  # nobody grouped: forgotten (the service forgets an empty frame, and its
+            self._groups.pop(said.frame, None)  # stamps may start over when it returns)
+        return changes(said.frame, [] if before is None else before.groups, said.groups)
+
+    def apply_gazing(self, said: FrameGazing) -> None:
+        before = self._gazing.get(said.frame)
+        if before is None or _stamp(before) <= _stamp(said):
+            self._gazing[said.frame] = said
+
+    def forget(self, instance: str) -> list[Event]:
+        """A service instance vanished: what it said goes, its groups dissolve."""
+        events: list[Event] = []
+        for frame, said in list(self._groups.items()):
+            if said.instance == instance:
+                del self._groups[frame]
+                events += changes(frame, said.groups, [])
+        for frame, pairs in list(self._gazing.items()):
+            if pairs.instance == instance:
+                del self._gazing[frame]
+        return events
+
+
+class SceneListener:
+    """Subscriptions to a frame filter's groups and pairs, a seeding query, the cache.
+    ``is_live(instance)`` says whether a service instance is alive (what a dead one said
+    is refused, counted in ``dropped_from_dead``); ``emit(events)`` queues callbacks."""
+
+    def __init__(
+        self,
+        namespace: str,
+        frame: str,
+        is_live: Callable[[str], bool],
+        emit: Callable[[list[Event]], None],
+    ) -> None:
+        self._keys = {
+            keys.groups_key(namespace, frame): FrameGroups,
+            keys.gazing_key(namespace, frame): FrameGazing,
+        }
+        self._gazing_prefix = keys.gazing_key(namespace, "")
+        self._is_live, self._emit = is_live, emit
+        self._lock = threading.Lock()
+        self._cache = SceneCache()
+        self._subscribers: list[zenoh.Subscriber[None]] = []
+        self.dropped_from_dead = 0
+
+    def open(self, session: zenoh.Session) -> None:
+        self._subscribers = [session.declare_subscriber(k, self._on_sample) for k in self._keys]
+
+    def close(self) -> None:
+        for subscriber in self._subscribers:
+            subscriber.undeclare()
+        self._subscribers = []
+
+    def seed(self, session: zenoh.Session, timeout_s: float) -> None:
+        """What the services say now (at start, and when one appears)."""
+        for key, model in self._keys.items():
+            for reply in session.get(key, timeout=timeout_s):
+                if reply.ok is not None:
+                    self._said(model.model_validate_json(reply.ok.payload.to_bytes()))
+
+    def groups(self, frame: str) -> list[GroupState]:
+        with self._lock:
+            return self._cache.groups(frame)
+
+    def gazing(self, frame: str) -> list[GazePair]:
+        with self._lock:
+            return self._cache.gazing(frame)
+
+    def forget(self, instance: str) -> None:
+        with self._lock:
+            events = self._cache.forget(instance)
+        self._emit(events)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        try:
+            gazing = str(sample.key_expr).startswith(self._gazing_prefix)
+            model = FrameGazing if gazing else FrameGroups
+            said = model.model_validate_json(sample.payload.to_bytes())
+        except Exception:  # a bad sample must never break the subscription
+            log.exception("facing client: could not read %s", sample.key_expr)
+            return
+        self._said(said)
+
+    def _said(self, said: FrameGroups | FrameGazing) -> None:
+        if said.instance is not None and not self._is_live(said.instance):
+            self.dropped_from_dead += 1
+            return
+        with self._lock:
+            if isinstance(said, FrameGazing):
+                self._cache.apply_gazing(said)
+                return
+            events = self._cache.apply_groups(said)
+        self._emit(events)
+
+
+def changes(frame: str, before: list[GroupState], after: list[GroupState]) -> list[Event]:
+    """The events between two lists of a frame's groups, matched by id."""
+    old = {g.id: g for g in before}
+    new = {g.id: g for g in after}
+    events: list[Event] = []
+    for gid, group in new.items():
+        previous = old.get(gid)
+        if previous is None:
+            events.append(("group_formed", (frame, group)))
+        elif previous.members != group.members or previous.robot != group.robot:
+            events.append(("group_changed", (frame, group, previous)))
+        if group.robot and (previous is None or not previous.robot):
+            events.append(("robot_joined", (frame, group)))
+        if previous is not None and previous.robot and not group.robot:
+            events.append(("robot_left", (frame, previous)))
+    for gid, group in old.items():
+        if gid not in new:
+            events.append(("group_dissolved", (frame, group)))
+            if group.robot:
+                events.append(("robot_left", (frame, group)))
+    return events
+
+
+def _stamp(said: FrameGroups | FrameGazing) -> tuple[int, int]:
+    return said.stamp.sec, said.stamp.nanosec
