@@ -19,7 +19,7 @@ import math
 import re
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -32,7 +32,7 @@ from rich.table import Table
 from rich.text import Text
 
 from ..contract import keys
-from ..contract.schemas import FacingState
+from ..contract.schemas import FacingState, GroupState
 from .client import FacingClient
 
 #: Arrows for a heading in the map (base x is up, base y is left), every 45 degrees.
@@ -81,9 +81,11 @@ def render(
     width: int = 41,
     height: int = 19,
     elsewhere: dict[str, int] | None = None,
+    groups: Sequence[GroupState] = (),
 ) -> RenderableType:
     """The map and the table for one instant; ``elsewhere``: people tracked in other
-    frames (frame -> how many), said when this frame has nobody."""
+    frames (frame -> how many), said when this frame has nobody; ``groups``: the frame's
+    F-formations (each centre drawn ``o``, each member's group in the table)."""
     grid = [[" "] * width for _ in range(height)]
     styles: dict[tuple[int, int], str] = {}
     cx, cy = width // 2, height // 2
@@ -94,6 +96,11 @@ def render(
             if abs(r - round(r)) < 0.06 and 0 < round(r) <= radius_m:
                 grid[row][col] = "·"
                 styles[(row, col)] = "grey35"
+    for group in groups:  # o-space centres, under the people drawn over them
+        col, row = cx - round(group.centre.y * scale_x), cy - round(group.centre.x * scale_y)
+        if 0 <= row < height and 0 <= col < width:
+            grid[row][col] = "o"
+            styles[(row, col)] = "bold magenta"
     grid[cy][cx] = "R"
     styles[(cy, cx)] = "bold cyan"
     for person in sorted(people, key=lambda p: natural_order(p.body_id)):
@@ -116,7 +123,8 @@ def render(
             canvas.append("\n")
 
     table = Table(title=f"frame {frame_id}", caption=LEGEND, caption_justify="left", expand=False)
-    for name in ("id", "facing", "angle °", "distance m", "held s", "engagement"):
+    group_of = {m: g.id + (" +R" if g.robot else "") for g in groups for m in g.members}
+    for name in ("id", "facing", "angle °", "distance m", "held s", "engagement", "group"):
         table.add_column(name, justify="left" if name == "id" else "right")
     for person in sorted(people, key=lambda p: natural_order(p.body_id)):
         table.add_row(
@@ -130,6 +138,7 @@ def render(
                 person.engagement or "-",
                 style="bold magenta" if person.engagement == "ENGAGED" else "",
             ),
+            group_of.get(person.body_id, "-"),
             style="bold green" if person.facing else None,
         )
     facing = sum(1 for p in people if p.facing)
@@ -148,7 +157,14 @@ def render(
                 style="bold yellow",
             )
         )
-    return Group(*parts, table)
+    parts.append(table)
+    if groups:
+        said = "; ".join(
+            f"{g.id}: {', '.join(g.members)}" + (" and the robot" if g.robot else "")
+            for g in groups
+        )
+        parts.append(Text(f"groups (o): {said}", style="magenta"))
+    return Group(*parts)
 
 
 def _number(value: float | None, digits: int) -> str:
@@ -281,7 +297,8 @@ class Watcher:
     def view(self) -> RenderableType:
         with self._lock:
             frames = dict(self._frames)
-        return render(self.people(), self.frame, elsewhere=frames)
+        groups = self.client.groups(self.frame)
+        return render(self.people(), self.frame, elsewhere=frames, groups=groups)
 
     def live(self, keep_going: Callable[[], bool], period_s: float = 0.1) -> None:
         """Redraw in the terminal every ``period_s`` while ``keep_going()``; the last
