@@ -1,6 +1,7 @@
 """F-formations on the shared benchmark sequences, scored as GCFF scores them.
 
     python -m benchmarks.groups            # per sequence: one parameter set, and tuned
+    python -m benchmarks.groups --live     # ... and the default through the live service
 
 The sequences (../shared/data/fformations: CoffeeBreak Seq1, Seq2, Synth; read from there,
 never copied) give per annotated frame each person's id, position (cm) and heading, and
@@ -191,12 +192,48 @@ def print_results(results: dict[str, Any]) -> None:
     print(f"default (best on all three): {results['default']}")
 
 
+def evaluate_live(hold_s: float, root: Path = SHARED) -> dict[str, Any]:
+    """The shipped defaults through the live service, beside the same through the core
+    (people and the robot, as the service has them)."""
+    from .groups_live import live
+
+    out = {}
+    for s in SEQUENCES:
+        frames = load(s, root)
+        found = live(frames, hold_s)
+        core = run(frames, GroupParams())
+        out[s] = {
+            "live": {"f1_23": f1(frames, found, 2 / 3), "f1_1": f1(frames, found, 1.0)},
+            "core": {"f1_23": f1(frames, core, 2 / 3), "f1_1": f1(frames, core, 1.0)},
+            "hold_s": hold_s,
+        }
+    return out
+
+
+def print_live(live: dict[str, Any]) -> None:
+    print(f"\nthe shipped defaults (in-sample: chosen on all three), {'live':>14} {'core':>10}")
+    for s, r in live.items():
+        print(
+            f"{s:18} F1 2/3 {r['live']['f1_23']:5.2f} (1: {r['live']['f1_1']:4.2f})"
+            f"   {r['core']['f1_23']:5.2f} (1: {r['core']['f1_1']:4.2f})"
+        )
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, help="write the results as JSON")
+    parser.add_argument(
+        "--live", action="store_true", help="also feed the live service (1 s per frame)"
+    )
+    parser.add_argument("--hold-s", type=float, default=1.0, help="--live: each frame held")
     args = parser.parse_args(argv)
+    if not 0.1 <= args.hold_s <= 10:
+        parser.error(f"--hold-s must be in [0.1, 10] s, got {args.hold_s}")
     results = evaluate()
     print_results(results)
+    if args.live:
+        results["live"] = evaluate_live(args.hold_s)
+        print_live(results["live"])
     if args.out is not None:
         args.out.write_text(json.dumps(results, indent=2) + "\n")
 
