@@ -43,6 +43,9 @@ TYPE_HASHES = {
     "hri_msgs/msg/EngagementLevel": (
         "RIHS01_275391f46d2e6cc0d21085f8e02dce6a8150baa57539ec99bd9f4e0321443788"
     ),
+    "visualization_msgs/msg/MarkerArray": (
+        "RIHS01_86cb8800b6fb05b5eff1abd7a56f62a5641d3ae9a1c29e78e67e704f1d067dcf"
+    ),
     "hri_msgs/msg/Group": (
         "RIHS01_8a5322be10347f118545806061283201525b8f572bfe6131b4b45b70c56f2935"
     ),

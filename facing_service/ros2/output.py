@@ -40,6 +40,7 @@ from ..core.engagement import Level
 from ..core.records import Changes, EngagementUpdate
 from ..core.scene import SceneUpdate
 from . import types as ros2_types
+from .markers import MARKER_ARRAY, MARKERS_TOPIC, Drawn, MarkerDrawer
 from .wire import (
     QOS_RELIABLE_VOLATILE,
     Form,
@@ -180,6 +181,7 @@ class RosOutput:
         self.next_tick: float | None = None
         self._said_facing: dict[tuple[str, str], list[str]] = {}  # (frame, topic) -> ids
         self._said_gazing: dict[str, frozenset[tuple[str, str]]] = {}  # frame -> pairs
+        self._drawers: dict[str, MarkerDrawer] = {}  # frame -> what its markers drew
 
     def on_changes(self, changes: Changes) -> list[RosMessage]:
         out: list[RosMessage] = []
@@ -219,19 +221,38 @@ class RosOutput:
         engagements: Callable[[], list[EngagementUpdate]],
         now: float,
         scenes: Callable[[], list[SceneUpdate]] = list,
+        drawn: Callable[[], dict[str, list[Drawn]]] = dict,
     ) -> list[RosMessage]:
-        """Every period: each tracked person's current level, as hri_engagement does, and
-        each current group. ``engagements`` and ``scenes`` are called only when the
-        period is due: the worker calls ``tick`` every loop turn, and listing every
-        body's level each time was wasted work."""
+        """Every period: each tracked person's current level, as hri_engagement does,
+        each current group, and the markers (``drawn``: the people by frame). The
+        callables are called only when the period is due: the worker calls ``tick``
+        every loop turn, and listing every body's level each time was wasted work."""
         if self.next_tick is not None and now < self.next_tick:
             return []
         self.next_tick = now + self.period_s
         out = [engagement_status(e) for e in engagements() if e.body_id.startswith(PERSON)]
-        for scene in scenes():
+        by_frame = {scene.frame_id: scene for scene in scenes()}
+        for scene in by_frame.values():
             out += [
                 group_message(scene.frame_id, scene.stamp, g.id, g.members) for g in scene.groups
             ]
+        return out + self._markers(drawn(), by_frame)
+
+    def _markers(
+        self, people: dict[str, list[Drawn]], scenes: dict[str, SceneUpdate]
+    ) -> list[RosMessage]:
+        """Each frame's markers (people, groups), and the last DELETEs of a frame that
+        emptied (then forgotten: bounded)."""
+        out = []
+        for frame in sorted(people.keys() | self._drawers.keys()):
+            drawer = self._drawers.setdefault(frame, MarkerDrawer())
+            scene = scenes.get(frame)
+            stamp = scene.stamp if scene is not None else (0, 0)
+            groups = scene.groups if scene is not None else ()
+            payload = drawer.draw(frame, stamp, people.get(frame, []), groups)
+            out.append(RosMessage(MARKERS_TOPIC, MARKER_ARRAY, payload))
+            if frame not in people:
+                del self._drawers[frame]
         return out
 
 

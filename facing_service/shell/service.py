@@ -202,7 +202,9 @@ class FacingService:
         s = self.settings
         said = self._robot.said() if self._ros_input else ""
         if s.output == "ros2":
-            topics = "engagement_status, facing lists" + (", /intents" if s.ros_intents else "")
+            topics = "engagement_status, facing lists, groups, gazing, markers" + (
+                ", /intents" if s.ros_intents else ""
+            )
             said += f"; ROS 2 output on the robot's topics ({topics})"
         return said
 

@@ -24,10 +24,12 @@ from ..config.settings import Settings
 from ..contract import keys
 from ..contract.keys import BodyRef
 from ..contract.poses import Rejected, Rejection, decode_pose
+from ..core.engagement import Level
 from ..core.records import Changes, PoseSample
 from ..core.scene import Person, Scenes
 from ..core.tracker import Tracker
 from ..ros2.input import RosSample
+from ..ros2.markers import Drawn
 from ..ros2.output import RosOutput
 from .intake import Intake
 from .ledger import Ledger
@@ -173,7 +175,7 @@ class Worker:
         """--output ros2: every tracked person's level at hri_engagement's rate."""
         if self._ros_out is not None:
             messages = self._ros_out.tick(
-                self._tracker.engagements, self._clock(), self._scenes.current
+                self._tracker.engagements, self._clock(), self._scenes.current, self._drawn
             )
             self._said += ros_publications(messages)
 
@@ -188,6 +190,22 @@ class Worker:
                 self._ledger.count("scene_people_left_out", update.left_out)
             if self._ros_out is not None:
                 self._said += ros_publications(self._ros_out.on_scene(update))
+
+    def _drawn(self) -> dict[str, list[Drawn]]:
+        """Every tracked person as the markers draw them, by frame."""
+        levels = {e.body: e.level for e in self._tracker.engagements()}
+        poses: dict[str, dict] = {}
+        out: dict[str, list[Drawn]] = {}
+        for s in self._tracker.states():
+            if s.frame_id not in poses:
+                poses[s.frame_id] = dict(self._tracker.poses(s.frame_id))
+            pose = poses[s.frame_id][s.body_id]
+            out.setdefault(s.frame_id, []).append(
+                Drawn(s.body_id, pose.translation, pose.rotation,
+                      levels.get(s.body, Level.UNKNOWN), s.threshold_deg, s.angle_deg,
+                      s.distance_m)
+            )  # fmt: skip
+        return out
 
     def _people(self, frame_id: str) -> tuple[list[Person], tuple[int, int]]:
         poses = self._tracker.poses(frame_id)

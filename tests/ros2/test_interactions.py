@@ -21,6 +21,7 @@ pytestmark = pytest.mark.slow  # a router and seconds of streaming per release
 
 TF, IDS = ros2_types.TF_MESSAGE, ros2_types.IDS_LIST
 GROUP, GAZE = "hri_msgs/msg/Group", "hri_msgs/msg/Gaze"
+MARKERS = "visualization_msgs/msg/MarkerArray"
 
 
 @pytest.mark.parametrize(
@@ -40,6 +41,7 @@ def test_two_people_talking_are_a_group_and_face_each_other_on_the_robots_topics
         listener = net.client(ep, mode="client")
         groups = Subscription.open(listener, release, "/humans/interactions/groups", GROUP)
         gazing = Subscription.open(listener, release, "/humans/interactions/gazing", GAZE)
+        markers = Subscription.open(listener, release, "/humans/facing/markers", MARKERS)
         time.sleep(0.5)  # the subscriptions reach the service's publishers
         # b1 and b2 2 m ahead of the robot, 1.2 m apart, facing each other
         for i in range(60):  # 2 s at 30 Hz
@@ -68,7 +70,20 @@ def test_two_people_talking_are_a_group_and_face_each_other_on_the_robots_topics
             for g in (ros2_types.deserialize(m.payload, GAZE) for m in gazing.messages())
         }
         assert {("b1", "b2"), ("b2", "b1")} <= pairs, pairs
-        assert groups.dropped == gazing.dropped == 0
+        assert groups.dropped == gazing.dropped == markers.dropped == 0
+        # RViz's view of it (issue 34): both people and their group, as rosbags decodes it
+        group_ns = f"group/{said[-1].group_id}"
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline:
+            arrays = [ros2_types.deserialize(m.payload, MARKERS) for m in markers.messages()]
+            with_group = [a for a in arrays if any(m.ns == group_ns for m in a.markers)]
+            if with_group:
+                break
+            time.sleep(0.05)
+        assert with_group, f"{release}: no MarkerArray drew the group"
+        drawn = {(m.ns, m.id): m for m in with_group[0].markers}
+        assert {ns for ns, _ in drawn} == {"person/body_b1", "person/body_b2", group_ns}
+        assert all(m.header.frame_id == "base_link" for m in drawn.values())
         print(f"\n{release}: {said[-1]}\n{sorted(pairs)}")  # the closing note quotes it
     finally:
         robot.close()
