@@ -311,7 +311,9 @@ def test_help_log_and_status_say_the_same(net, tmp_path, caplog):
     assert (config["mode"], config["no_multicast_scouting"]) == ("peer", True)
     (started,) = [r.getMessage() for r in caplog.records if "started" in r.getMessage()]
     assert "faces facing within 26.0 deg (3d)" in started
-    assert "ROS 2 output on the robot's topics (engagement_status, facing lists)" in started
+    topics = "engagement_status, facing lists, groups, gazing, markers"
+    said = f"ROS 2 output on the robot's topics ({topics})"
+    assert said in started
     commands = build_parser().commands
     assert "--mode {" not in commands["router"].format_help()  # its description names it only
     assert "CRITICAL" in commands["run"].format_help().split("--log-level")[-1].split("--")[0]
