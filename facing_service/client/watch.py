@@ -42,10 +42,10 @@ _ARROWS = "↑↖←↙↓↘→↗"
 @dataclass(frozen=True)
 class PersonView:
     body_id: str
-    x: float | None  # None: where the person stands is not known here (no pose)
-    y: float | None
-    yaw_deg: float | None
-    facing: bool | None  # None: no result yet
+    x: float  # where the person stands, and their heading, in the base frame
+    y: float
+    yaw_deg: float
+    facing: bool
     angle_deg: float | None
     distance_m: float | None
     since_s: float | None  # how long the facing decision has held, in pose time
@@ -104,8 +104,6 @@ def render(
     grid[cy][cx] = "R"
     styles[(cy, cx)] = "bold cyan"
     for person in sorted(people, key=lambda p: natural_order(p.body_id)):
-        if person.x is None or person.y is None or person.yaw_deg is None:
-            continue
         col, row = cx - round(person.y * scale_x), cy - round(person.x * scale_y)
         if not (0 <= row < height and 0 <= col < width):
             continue
@@ -129,7 +127,7 @@ def render(
     for person in sorted(people, key=lambda p: natural_order(p.body_id)):
         table.add_row(
             person.body_id,
-            "?" if person.facing is None else ("yes" if person.facing else "no"),
+            "yes" if person.facing else "no",
             _number(person.angle_deg, 1),
             _number(person.distance_m, 2),
             ("" if person.since_seen or person.since_s is None else "≥")
@@ -143,8 +141,6 @@ def render(
         )
     facing = sum(1 for p in people if p.facing)
     title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
-    if unplaced := sum(1 for p in people if p.x is None):
-        title += f"; {unplaced} not drawn (no pose here: ROS 2 input, or not readable)"
     parts: list[RenderableType] = [Panel(canvas, title=title, expand=False)]
     others = {f: n for f, n in (elsewhere or {}).items() if f != frame_id and n}
     if not people and others:
@@ -171,22 +167,14 @@ def _number(value: float | None, digits: int) -> str:
     return "-" if value is None else f"{value:.{digits}f}"
 
 
-def _position_and_yaw(message: Any) -> tuple[float, float, float]:
-    """x, y and heading (degrees) of a TransformStamped pose message."""
-    t = message["transform"]
-    q = t["rotation"]
-    yaw = math.atan2(2 * (q["w"] * q["z"] + q["x"] * q["y"]), 1 - 2 * (q["y"] ** 2 + q["z"] ** 2))
-    return t["translation"]["x"], t["translation"]["y"], math.degrees(yaw)
-
-
 class Watcher:
-    """Gathers what ``render`` needs: results from a FacingClient, poses from the input."""
+    """Gathers what ``render`` needs from the service's outputs alone (results, levels,
+    aggregates, groups), so it draws people on any input, a robot's ROS 2 topics too."""
 
     def __init__(self, client: FacingClient, frame: str) -> None:
         self.client = client
         self.frame = frame
         self._lock = threading.Lock()
-        self._poses: dict[str, tuple[float, float, float]] = {}
         # body -> (facing, pose time it began, whether the view saw it begin, latest time)
         self._since: dict[str, tuple[bool, float, bool, float]] = {}
         self._levels: dict[str, str] = {}
@@ -194,9 +182,6 @@ class Watcher:
         self._subscribers = [
             client.session.declare_subscriber(
                 keys.frame_key(client.namespace, keys.ALL_FRAMES), self._on_frame
-            ),
-            client.session.declare_subscriber(
-                keys.pose_key(client.namespace, keys.ALL_FRAMES, frame), self._on_pose
             ),
             client.session.declare_subscriber(
                 keys.engagement_key(client.namespace, keys.ALL_FRAMES, frame),
@@ -230,9 +215,6 @@ class Watcher:
     def _on_engagement(self, sample: zenoh.Sample) -> None:
         self._update(self._levels, sample, lambda message: message["level"])
 
-    def _on_pose(self, sample: zenoh.Sample) -> None:
-        self._update(self._poses, sample, _position_and_yaw)
-
     def _update(
         self, store: dict[str, Any], sample: zenoh.Sample, read: Callable[[Any], Any]
     ) -> None:
@@ -265,28 +247,24 @@ class Watcher:
         if body.frame_id == self.frame:
             with self._lock:
                 self._since.pop(body.body_id, None)
-                self._poses.pop(body.body_id, None)
 
     def people(self) -> list[PersonView]:
         states = self.client.bodies(self.frame)
         with self._lock:
-            poses = dict(self._poses)
             since = dict(self._since)
             levels = dict(self._levels)
         people = []
-        for body_id in states.keys() | poses.keys():
-            x, y, yaw = poses.get(body_id, (None, None, None))
-            state = states.get(body_id)
+        for body_id, state in states.items():
             changed = since.get(body_id)
             people.append(
                 PersonView(
                     body_id,
-                    x,
-                    y,
-                    yaw,
-                    None if state is None else state.facing,
-                    None if state is None else state.angle_deg,
-                    None if state is None else state.distance_m,
+                    state.position.x,
+                    state.position.y,
+                    state.heading_deg,
+                    state.facing,
+                    state.angle_deg,
+                    state.distance_m,
                     None if changed is None else changed[3] - changed[1],
                     levels.get(body_id),
                     changed is None or changed[2],

@@ -35,6 +35,14 @@ class FacingState(BaseModel):
     )
     robot_in_body: Point = Field(description="The robot origin in the body frame.")
     threshold_deg: float = Field(description="Half-angle of the facing cone applied.")
+    position: Point = Field(
+        description="The body's origin in the base frame (the pose's translation): where "
+        "to draw it."
+    )
+    heading_deg: float = Field(
+        description="Where the body's x axis points in the base frame's ground plane, as a "
+        "yaw from the base frame's x axis, in (-180, 180]."
+    )
     instance: str | None = Field(
         default=None,
         description="The service instance that produced it (its token is "
@@ -51,6 +59,8 @@ def facing_state_json(
     distance_m: float | None,
     robot_in_body: tuple[float, float, float],
     threshold_deg: float,
+    position: tuple[float, float, float],
+    heading_deg: float,
     instance: str | None = None,
 ) -> bytes:
     """The JSON of a ``FacingState``, written directly: the service's hot path.
@@ -60,6 +70,7 @@ def facing_state_json(
     escaping) and every number is finite; a test checks it against ``FacingState``.
     """
     x, y, z = robot_in_body
+    px, py, pz = position
     return (
         f'{{"body_id":"{body_id}","frame_id":"{frame_id}",'
         f'"stamp":{{"sec":{stamp[0]},"nanosec":{stamp[1]}}},'
@@ -68,6 +79,7 @@ def facing_state_json(
         f'"distance_m":{"null" if distance_m is None else repr(distance_m)},'
         f'"robot_in_body":{{"x":{x!r},"y":{y!r},"z":{z!r}}},'
         f'"threshold_deg":{threshold_deg!r},'
+        f'"position":{{"x":{px!r},"y":{py!r},"z":{pz!r}}},"heading_deg":{heading_deg!r},'
         f'"instance":{"null" if instance is None else chr(34) + instance + chr(34)}}}'
     ).encode()
 

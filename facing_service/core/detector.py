@@ -104,6 +104,12 @@ def classify(
     )
 
 
+def heading_deg(quaternion: tuple[float, float, float, float]) -> float:
+    """Where a frame's x axis points in the base frame's ground plane: its yaw, degrees."""
+    x, y, z, w = quaternion
+    return math.degrees(math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z)))
+
+
 def classify_one(
     translation: tuple[float, float, float],
     quaternion: tuple[float, float, float, float],

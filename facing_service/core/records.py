@@ -62,6 +62,8 @@ class BodyState(_OfABody):
     distance_m: float | None
     robot_in_body: tuple[float, float, float]
     threshold_deg: float
+    position: tuple[float, float, float]
+    heading_deg: float
 
     def to_json(self, instance: str | None = None) -> bytes:
         return facing_state_json(
@@ -73,6 +75,8 @@ class BodyState(_OfABody):
             self.distance_m,
             self.robot_in_body,
             self.threshold_deg,
+            self.position,
+            self.heading_deg,
             instance,
         )
 
@@ -203,6 +207,16 @@ def decide(
             )
         ]
     return [
-        BodyState(s.body, s.pose.stamp, facing, angle, distance, r, threshold)
+        BodyState(
+            s.body,
+            s.pose.stamp,
+            facing,
+            angle,
+            distance,
+            r,
+            threshold,
+            s.pose.translation,
+            detector.heading_deg(s.pose.rotation),
+        )
         for s, (r, angle, distance, facing), threshold in zip(samples, rows, reported, strict=True)
     ]

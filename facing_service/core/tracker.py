@@ -149,21 +149,14 @@ class Tracker(Journaled):
             p = profiles[sample.profile]
             widened = track is not None and track.state.facing
             pose = sample.pose
+            t, q, threshold = pose.translation, pose.rotation, p.threshold_deg
             r, angle, distance, facing = detector.classify_one(
-                pose.translation,
-                pose.rotation,
-                p.threshold_deg + p.hysteresis_deg if widened else p.threshold_deg,
-                p.cone3d,
+                t, q, threshold + p.hysteresis_deg if widened else threshold, p.cone3d
             )
-            state = BodyState(
-                sample.body,
-                pose.stamp,
-                facing,
-                angle,
-                distance,
-                r,
-                p.threshold_deg,
-            )
+            # fmt: off
+            state = BodyState(sample.body, pose.stamp, facing, angle, distance, r, threshold,
+                              t, detector.heading_deg(q))
+            # fmt: on
             update = self._store(sample, state, p, now, track)
             if update is not None:
                 changes.engagement.append(update)

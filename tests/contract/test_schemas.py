@@ -181,6 +181,8 @@ def test_degenerate_result_serializes_null_never_nan():
         distance_m=None,
         robot_in_body=Point(x=0.0, y=0.0, z=1.5),
         threshold_deg=20.0,
+        position=Point(x=0.0, y=0.0, z=-1.5),
+        heading_deg=0.0,
     )
     text = state.model_dump_json()
     assert '"angle_deg":null' in text and '"distance_m":null' in text
@@ -213,14 +215,17 @@ finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
     st.none() | finite,
     st.tuples(finite, finite, finite),
     st.floats(0.001, 179.999),
+    st.tuples(finite, finite, finite),
+    st.floats(-180.0, 180.0),
     st.none() | names,
 )
 def test_hand_written_facing_state_json_matches_the_model(
-    body, frame, sec, nanosec, facing, angle, distance, r, threshold, instance
+    body, frame, sec, nanosec, facing, angle, distance, r, threshold, position, heading, instance
 ):
     fast = facing_state_json(
-        body, frame, (sec, nanosec), facing, angle, distance, r, threshold, instance
-    )
+        body, frame, (sec, nanosec), facing, angle, distance, r, threshold, position, heading,
+        instance,
+    )  # fmt: skip
     model = FacingState(
         body_id=body,
         frame_id=frame,
@@ -230,6 +235,8 @@ def test_hand_written_facing_state_json_matches_the_model(
         distance_m=distance,
         robot_in_body=Point(x=r[0], y=r[1], z=r[2]),
         threshold_deg=threshold,
+        position=Point(x=position[0], y=position[1], z=position[2]),
+        heading_deg=heading,
         instance=instance,
     )
     assert json.loads(fast) == json.loads(model.model_dump_json())

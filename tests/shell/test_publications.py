@@ -33,7 +33,9 @@ def at(body: str) -> BodyRef:
 
 
 def state(body: str, facing: bool = True) -> BodyState:
-    return BodyState(at(body), (5, 6), facing, 3.0, 2.0, (2.0, 0.1, 0.0), 20.0)
+    return BodyState(
+        at(body), (5, 6), facing, 3.0, 2.0, (2.0, 0.1, 0.0), 20.0, (-2.0, 0.1, 0.0), 0.0
+    )
 
 
 def update(body: str, level: Level, previous: Level | None) -> EngagementUpdate:

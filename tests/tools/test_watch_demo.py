@@ -35,7 +35,7 @@ def test_render_draws_people_where_they_stand_and_tabulates_them():
     people = [
         PersonView("alice", 2.0, 0.0, 180.0, True, 4.0, 2.0, 3.5),  # ahead, facing the robot
         PersonView("bob", 0.0, 2.0, 90.0, False, 180.0, 2.0, 1.0),  # on the left, turned away
-        PersonView("carol", -1.0, -1.0, 0.0, None, None, None, None),  # no result yet
+        PersonView("carol", -1.0, -1.0, 0.0, False, None, None, None),  # degenerate angle
     ]
     text = text_of(render(people, "base_link"))
     lines = text.splitlines()
@@ -50,7 +50,7 @@ def test_render_draws_people_where_they_stand_and_tabulates_them():
     assert "1 of 3 facing the robot" in text
     assert re.search(r"alice\s*│\s*yes\s*│\s*4\.0\s*│\s*2\.00\s*│\s*3\.5", text)
     assert re.search(r"bob\s*│\s*no\s*│\s*180\.0", text)
-    assert re.search(r"carol\s*│\s*\?\s*│\s*-", text)
+    assert re.search(r"carol\s*│\s*no\s*│\s*-", text)
 
 
 def test_an_empty_frame_says_which_frames_have_people():
@@ -161,8 +161,8 @@ def test_examples_against_a_simulated_scene(net):
 
 
 def test_watch_lists_what_the_service_says_on_ros2_input(net):
-    """On ROS 2 input there are no JSON poses to draw: the rows are the service's results
-    and levels all the same (the docs' replay recipe showed "0 of 0" before)."""
+    """On ROS 2 input there are no JSON poses: people are drawn from the service's results
+    (their position and heading), as on any input (they were only listed before)."""
     from facing_service.client.client import FacingClient
     from facing_service.client.watch import Watcher
     from facing_service.tools.loopback import loopback_config
@@ -192,6 +192,7 @@ def test_watch_lists_what_the_service_says_on_ros2_input(net):
                 watcher.close()
     finally:
         robot.close()
-    assert "1 of 1 facing the robot" in text and "1 not drawn" in text
+    assert "1 of 1 facing the robot" in text and "not drawn" not in text
+    assert "↓body_a" in text  # 2 m ahead, facing the robot (down the screen)
     # held: 44 frames of pose time (1.47 s) at least, since the view did not see it begin
     assert re.search(r"body_a\s*│\s*yes\s*│\s*0\.0\s*│\s*2\.00\s*│\s*≥1\.5", text), text
