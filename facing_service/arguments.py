@@ -8,6 +8,7 @@ own example programs, so a zenoh user already knows them. What each command does
 from __future__ import annotations
 
 import argparse
+import ipaddress
 import math
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -48,6 +49,27 @@ def _number(minimum: float, *, strict: bool, integer: bool = False) -> Callable[
 
 POSITIVE = _number(0, strict=True)
 NON_NEGATIVE = _number(0, strict=False)
+
+
+def port_number(text: str) -> int:
+    """An argparse type: a TCP port, 0 for any free one."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a port number: {text!r}") from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"must be a port in 0..65535 (0: any free), got {text}")
+    return value
+
+
+def listen_address(text: str) -> str:
+    """An argparse type: an IP address to listen on (a name could resolve anywhere)."""
+    try:
+        return str(ipaddress.ip_address(text))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"not an IP address: {text!r} (127.0.0.1 for this machine only, 0.0.0.0 for all)"
+        ) from None
 
 
 #: The zenoh session's settings: the flags of zenoh's own example programs.
@@ -244,6 +266,29 @@ def build_parser() -> _Parser:
     watch.add_argument("--svg", type=Path, help="also save the last frame as an SVG image")
     add_zenoh_arguments(watch)
 
+    view = commands.add_parser(
+        "view",
+        help="live page in a browser: a radar of the base frame, a table, groups",
+        description="Serve a live page of what a running service decides: a top-down radar "
+        "of the base frame (the robot, people with their facing cones coloured by "
+        "engagement level, groups, who faces whom), a table beside it and the connection "
+        "state, pushed to the browser as it changes. A client of the service's keys like "
+        "watch: on a laptop, through a robot's router, in a container. Listens on "
+        "127.0.0.1 unless --host says otherwise; nothing is fetched from the internet.",
+    )
+    add_settings_arguments(view, ["namespace"])
+    view.add_argument(
+        "--base-frame", default="base_link", help="the frame to show (default base_link)"
+    )
+    view.add_argument(
+        "--host", type=listen_address, default="127.0.0.1",
+        help="address to listen on (default 127.0.0.1: this machine only)",
+    )  # fmt: skip
+    view.add_argument(
+        "--port", type=port_number, default=8780, help="port to listen on (default 8780)"
+    )
+    add_zenoh_arguments(view)
+
     demo = commands.add_parser(
         "demo",
         help="the service, a simulated scene and the live view, in one process",
@@ -253,6 +298,10 @@ def build_parser() -> _Parser:
     _add_scene_arguments(demo)
     demo.add_argument("--duration-s", type=POSITIVE, help="end by itself after this long")
     demo.add_argument("--svg", type=Path, help="save the last frame as an SVG image")
+    demo.add_argument(
+        "--view-port", type=port_number, default=8780,
+        help="the live page's port on 127.0.0.1, beside the terminal view (0: any free)",
+    )  # fmt: skip
 
     export = commands.add_parser(
         "export-schemas",

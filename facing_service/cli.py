@@ -22,6 +22,7 @@ from .arguments import build_parser
 from .client import health
 from .client.client import FacingClient
 from .client.sim import Scene, TrackerPublisher, simulate
+from .client.view.live import run_view
 from .client.watch import Watcher, natural_order
 from .config.disclosure import zenoh_failure
 from .config.errors import SettingsError
@@ -194,6 +195,34 @@ def _watch(args: argparse.Namespace) -> int:
     return 0
 
 
+def _view(args: argparse.Namespace) -> int:
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    stop = _stop_on_signals()
+    client = FacingClient(
+        settings.namespace, args.base_frame, session_config=zenoh_config(settings)
+    )
+    try:
+        client.open()
+    except zenoh.ZError as error:
+        print(zenoh_failure("view", error), file=sys.stderr)
+        return 1
+    try:
+        run_view(client, args.base_frame, args.host, args.port, stop, _say_page)
+    except OSError as error:
+        print(f"facing-service view: --host {args.host} --port {args.port}: {error.strerror}",
+              file=sys.stderr)  # fmt: skip
+        return 1
+    finally:
+        client.close()
+    return 0
+
+
+def _say_page(url: str) -> None:
+    _say(f"the live page is on {url} (Ctrl-C ends it)")
+
+
 def _demo(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
@@ -206,6 +235,7 @@ def _demo(args: argparse.Namespace) -> int:
         args.duration_s,
         _stop_on_signals(),
         args.svg,
+        args.view_port,
     )
     people = ", ".join(sorted(seen_facing, key=natural_order)) or "nobody"
     print(f"faced the robot during the demo: {people}")
@@ -237,6 +267,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "inspect": _inspect,
         "simulate": _simulate,
         "watch": _watch,
+        "view": _view,
         "demo": _demo,
         "export-schemas": _export_schemas,
     }

@@ -336,3 +336,40 @@ def test_a_client_waiting_for_its_router_says_so(monkeypatch, caplog):
         r.getMessage() for r in caplog.records if "still waiting for a router" in r.getMessage()
     ]
     assert len(warnings) >= 2 and nobody in warnings[0]
+
+
+@pytest.mark.parametrize(
+    ("flags", "message"),
+    [
+        (["--host", "example.com"], "--host: not an IP address: 'example.com'"),
+        (["--port", "70000"], "--port: must be a port in 0..65535"),
+    ],
+    ids=["host", "port"],
+)
+def test_view_refuses_a_bad_address_naming_the_flag(flags, message):
+    proc = subprocess.run(
+        [sys.executable, "-m", "facing_service", "view", *flags],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
+    assert proc.returncode == 2 and message in proc.stderr, proc.stderr
+
+
+def test_view_says_a_port_in_use_in_one_line(net):
+    """The page's port taken (here by a listening socket): one line naming the flags."""
+    import socket
+
+    _service, ep = net.service()
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        proc = subprocess.run(
+            [sys.executable, "-m", "facing_service", "view", "-e", ep, *LOOPBACK_FLAGS,
+             "--port", str(port)],
+            capture_output=True, text=True, timeout=30,
+        )  # fmt: skip
+    assert proc.returncode == 1
+    assert f"facing-service view: --host 127.0.0.1 --port {port}: " in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr

@@ -202,6 +202,11 @@ class Watcher:
             with self._lock:
                 self._frames[message["frame_id"]] = len(message["bodies_tracked"])
 
+    def frames(self) -> dict[str, int]:
+        """How many people each frame tracks, as the aggregates last said."""
+        with self._lock:
+            return dict(self._frames)
+
     def ask_frames(self) -> None:
         """Ask the service which frames have people now (the aggregates are also
         published on every change; this answers at once)."""
@@ -273,10 +278,8 @@ class Watcher:
         return people
 
     def view(self) -> RenderableType:
-        with self._lock:
-            frames = dict(self._frames)
         groups = self.client.groups(self.frame)
-        return render(self.people(), self.frame, elsewhere=frames, groups=groups)
+        return render(self.people(), self.frame, elsewhere=self.frames(), groups=groups)
 
     def live(self, keep_going: Callable[[], bool], period_s: float = 0.1) -> None:
         """Redraw in the terminal every ``period_s`` while ``keep_going()``; the last

@@ -11,6 +11,7 @@ import zenoh
 
 from ..client.client import FacingClient
 from ..client.sim import Scene, TrackerPublisher, simulate
+from ..client.view.live import run_view
 from ..client.watch import Watcher
 from ..config.settings import Settings
 from ..shell.service import FacingService
@@ -24,9 +25,11 @@ def run_demo(
     duration_s: float | None,
     stop: threading.Event,
     svg: Path | None = None,
+    view_port: int | None = None,
 ) -> set[str]:
     """Until ``stop`` (or ``duration_s``): the service in ``settings.base_frame``, the
-    scene at ``rate_hz``, the view. Returns who faced the robot meanwhile."""
+    scene at ``rate_hz``, the terminal view, and the live page on ``view_port`` of
+    127.0.0.1 (None: no page). Returns who faced the robot meanwhile."""
     here = endpoint(free_port())
     # The embedded session is a router and the simulator and the view are its clients:
     # a router does not forward between peers (it expects them to mesh), so as peers the
@@ -56,6 +59,12 @@ def run_demo(
             flush=True,
         )
         watcher = Watcher(client, frame)
+        page = None
+        if view_port is not None:
+            page = threading.Thread(
+                target=_serve_page, args=(client, frame, view_port, stop), daemon=True
+            )
+            page.start()
         feeder = threading.Thread(
             target=simulate,
             args=(TrackerPublisher(tracker), scene, frame, embedded.namespace, rate_hz),
@@ -70,5 +79,20 @@ def run_demo(
         finally:
             stop.set()
             feeder.join(timeout=2.0)
+            if page is not None:
+                page.join(timeout=2.0)
             watcher.close()
     return seen_facing
+
+
+def _serve_page(client: FacingClient, frame: str, port: int, stop: threading.Event) -> None:
+    """The live page beside the terminal view; a port in use is said, not fatal."""
+    try:
+        run_view(client, frame, "127.0.0.1", port, stop, _offer)
+    except OSError as error:
+        print(f"demo: no live page on 127.0.0.1:{port} ({error.strerror}); "
+              "choose another with --view-port", flush=True)  # fmt: skip
+
+
+def _offer(url: str) -> None:
+    print(f"demo: the live page is on {url}: open it in a browser", flush=True)
