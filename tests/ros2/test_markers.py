@@ -4,7 +4,9 @@ sequence of structs is where encoders go wrong), against the upstream type hash.
 
 from __future__ import annotations
 
+import hashlib
 import math
+from pathlib import Path
 
 import pytest
 
@@ -67,3 +69,60 @@ def test_who_leaves_is_deleted_by_id_and_nothing_else():
         ("person/ann", i) for i in range(3)
     ]
     assert [m for m in decode(drawer.draw("base_link", (7, 0), [ANN], [])) if m.action == 2] == []
+
+
+# -- the definition, checked against upstream common_interfaces --------------------------
+
+UPSTREAM_MSGS = Path(__file__).resolve().parents[1] / "upstream_msgs"
+JAZZY, HUMBLE = "common_interfaces-5.3.5", "common_interfaces-4.2.4"
+#: git blob ids at ros2/common_interfaces 5.3.5 (b8539bfd, Jazzy) and 4.2.4 (53761cba,
+#: Humble): `git rev-parse <tag>:<path>`. Humble's files are those whose text differs.
+BLOBS = {
+    (JAZZY, "visualization_msgs/msg/MarkerArray.msg"): "dd0fab432abc3cc14ce9c24c12975867c1aca905",
+    (JAZZY, "visualization_msgs/msg/Marker.msg"): "eb9938a11a039098037b68b5f7d781b9c4ec4620",
+    (JAZZY, "visualization_msgs/msg/UVCoordinate.msg"): "d48b0f293e99b7a660213e052d1532bc36005708",
+    (JAZZY, "visualization_msgs/msg/MeshFile.msg"): "f7c43398365d5849158ee6cc08567b8d87047580",
+    (JAZZY, "std_msgs/msg/Header.msg"): "6966bb98863c237131a2bd2822298df9511ce948",
+    (JAZZY, "std_msgs/msg/ColorRGBA.msg"): "182dbc8349abec122d95436cb840906503f569f2",
+    (JAZZY, "geometry_msgs/msg/Pose.msg"): "277e2f0179a64cd3e17e31502e3d8a074ace7064",
+    (JAZZY, "geometry_msgs/msg/Point.msg"): "f1d3a71a853c668f066de795ba5e0f4458f3f1c0",
+    (JAZZY, "geometry_msgs/msg/Quaternion.msg"): "96d392779a286cc3f4c83d80962236f5ea42c884",
+    (JAZZY, "geometry_msgs/msg/Vector3.msg"): "b54588e117c4632f551c221fbc33df8f958804bf",
+    (JAZZY, "sensor_msgs/msg/CompressedImage.msg"): "12a724d564752fe076b394114aeaeca9e79b1f67",
+    (HUMBLE, "visualization_msgs/msg/Marker.msg"): "53811d5f4264996ea7e64fd8834d69c39bc67b4e",
+    (HUMBLE, "sensor_msgs/msg/CompressedImage.msg"): "0b0b4f537974d33aa9ffd8edaaac48bd0c237957",
+}
+#: rcl_interfaces' builtin_interfaces (Time, Duration: the same two fields).
+BUILTIN = {
+    "builtin_interfaces/msg/Time": "int32 sec\nuint32 nanosec\n",
+    "builtin_interfaces/msg/Duration": "int32 sec\nuint32 nanosec\n",
+}
+
+
+def test_the_copies_are_upstreams_files():
+    for (tag, path), blob in BLOBS.items():
+        data = (UPSTREAM_MSGS / tag / path).read_bytes()
+        assert hashlib.sha1(b"blob %d\0" % len(data) + data).hexdigest() == blob, (tag, path)
+    assert {p.relative_to(UPSTREAM_MSGS).as_posix() for p in UPSTREAM_MSGS.rglob("*.msg")} == {
+        f"{tag}/{path}" for tag, path in BLOBS
+    }
+
+
+@pytest.mark.parametrize("release", [JAZZY, HUMBLE])
+def test_humble_and_jazzy_marker_arrays_hash_as_the_type_we_send(release):
+    """zenoh-ros2-sdk's RIHS01 from upstream's text (Humble's Marker and CompressedImage
+    differ in comments only) is the hash of what rosbags encodes for us."""
+    from zenoh_ros2_sdk.utils import compute_type_hash_from_msg
+
+    texts = {
+        path.removesuffix(".msg"): (UPSTREAM_MSGS / tag / path).read_text()
+        for tag, path in BLOBS
+        if tag == JAZZY
+    }
+    texts |= {
+        path.removesuffix(".msg"): (UPSTREAM_MSGS / tag / path).read_text()
+        for tag, path in BLOBS
+        if tag == release
+    }
+    top = texts.pop(MARKER_ARRAY)
+    assert compute_type_hash_from_msg(MARKER_ARRAY, top, texts | BUILTIN) == UPSTREAM_HASH
