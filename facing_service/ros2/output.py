@@ -55,6 +55,9 @@ INTENT = "hri_actions_msgs/msg/Intent"
 GROUP = "hri_msgs/msg/Group"
 GAZE = "hri_msgs/msg/Gaze"
 GROUPS_TOPIC = "/humans/interactions/groups"
+#: RViz markers at most 10 Hz, whatever --ros-engagement-rate-hz (RViz draws no faster
+#: usefully, and a MarkerArray of many people is the largest message we send).
+MARKER_PERIOD_S = 0.1
 GAZING_TOPIC = "/humans/interactions/gazing"
 #: Intent.msg: "0 is the lowest priority, 128 is the default priority, 255 is the highest".
 DEFAULT_PRIORITY = 128
@@ -182,6 +185,7 @@ class RosOutput:
         self._said_facing: dict[tuple[str, str], list[str]] = {}  # (frame, topic) -> ids
         self._said_gazing: dict[str, frozenset[tuple[str, str]]] = {}  # frame -> pairs
         self._drawers: dict[str, MarkerDrawer] = {}  # frame -> what its markers drew
+        self._next_markers = float("-inf")  # markers at most every MARKER_PERIOD_S
 
     def on_changes(self, changes: Changes) -> list[RosMessage]:
         out: list[RosMessage] = []
@@ -236,6 +240,9 @@ class RosOutput:
             out += [
                 group_message(scene.frame_id, scene.stamp, g.id, g.members) for g in scene.groups
             ]
+        if now < self._next_markers:
+            return out
+        self._next_markers = now + MARKER_PERIOD_S
         return out + self._markers(drawn(), by_frame)
 
     def _markers(

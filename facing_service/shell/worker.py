@@ -246,6 +246,9 @@ class Worker:
             self._on_ros(item, poses)
         elif isinstance(item, QueryItem):
             self._flush(poses)
+            # What was decided before the query goes out (and is counted) first: a status
+            # read after the answer agrees with it, as a result sent before it does.
+            self._hand_over()
             answer(item, self._tracker, self._scenes, self._ledger, self.settings)
 
     def _on_ros(self, sample: RosSample, poses: list[PoseSample]) -> None:

@@ -84,6 +84,11 @@ def test_two_people_talking_are_a_group_and_face_each_other_on_the_robots_topics
         drawn = {(m.ns, m.id): m for m in with_group[0].markers}
         assert {ns for ns, _ in drawn} == {"person/body_b1", "person/body_b2", group_ns}
         assert all(m.header.frame_id == "base_link" for m in drawn.values())
+        print(f"\n{release}: MarkerArray as rosbags decodes it:")
+        for m in with_group[0].markers:  # the closing note quotes it
+            print(f"  ns={m.ns!r} id={m.id} type={m.type} action={m.action} "
+                  f"points={len(m.points)} text={m.text!r} rgb=({m.color.r:.2f}, "
+                  f"{m.color.g:.2f}, {m.color.b:.2f})")  # fmt: skip
         print(f"\n{release}: {said[-1]}\n{sorted(pairs)}")  # the closing note quotes it
     finally:
         robot.close()

@@ -126,3 +126,17 @@ def test_humble_and_jazzy_marker_arrays_hash_as_the_type_we_send(release):
     }
     top = texts.pop(MARKER_ARRAY)
     assert compute_type_hash_from_msg(MARKER_ARRAY, top, texts | BUILTIN) == UPSTREAM_HASH
+
+
+def test_markers_go_out_at_most_ten_times_a_second_whatever_the_rate():
+    from facing_service.ros2.markers import MARKERS_TOPIC
+    from facing_service.ros2.output import RosOutput
+
+    out = RosOutput(rate_hz=40.0, intents=False)
+    people = {"base_link": [ANN]}
+    said = [
+        m.topic
+        for i in range(40)  # one second of ticks at 40 Hz
+        for m in out.tick(list, i / 40, list, lambda: people)
+    ]
+    assert said.count(MARKERS_TOPIC) == 10
