@@ -22,7 +22,6 @@ from .arguments import build_parser
 from .client import health
 from .client.client import FacingClient
 from .client.sim import Scene, TrackerPublisher, simulate
-from .client.view.live import run_view
 from .client.watch import Watcher, natural_order
 from .config.disclosure import zenoh_failure
 from .config.errors import SettingsError
@@ -208,6 +207,8 @@ def _view(args: argparse.Namespace) -> int:
     except zenoh.ZError as error:
         print(zenoh_failure("view", error), file=sys.stderr)
         return 1
+    from .client.view.live import run_view  # aiohttp: loaded by the command that serves
+
     try:
         run_view(client, args.base_frame, args.host, args.port, stop, _say_page)
     except OSError as error:

@@ -11,7 +11,6 @@ import zenoh
 
 from ..client.client import FacingClient
 from ..client.sim import Scene, TrackerPublisher, simulate
-from ..client.view.live import run_view
 from ..client.watch import Watcher
 from ..config.settings import Settings
 from ..shell.service import FacingService
@@ -87,6 +86,8 @@ def run_demo(
 
 def _serve_page(client: FacingClient, frame: str, port: int, stop: threading.Event) -> None:
     """The live page beside the terminal view; a port in use is said, not fatal."""
+    from ..client.view.live import run_view  # aiohttp: loaded when a page is served
+
     try:
         run_view(client, frame, "127.0.0.1", port, stop, _offer)
     except OSError as error:

@@ -73,12 +73,13 @@ def test_watch_once_shows_a_known_scene(net):
     wait_until_answered(tracker, "hri/facing/base_link")
     flags = ("--once", "--wait-s", "2", "-e", endpoint(port), *LOOPBACK_FLAGS)
     with running_cli("watch", *flags) as watcher:
-        time.sleep(0.8)  # the view needs poses, seen only once it has subscribed
-        for sec in (1, 2):
+        # a tracker streams: the view, whenever it has subscribed, sees the scene
+        for sec in range(1, 16):
             ann = pose_json("ann", "base_link", x=2.0, y=1.0, off_deg=5.0, sec=sec)
             ben = pose_json("ben", "base_link", x=-1.5, y=0.5, yaw_deg=90.0, sec=sec)
             send(tracker, "hri/bodies/ann/pose/base_link", ann)
             send(tracker, "hri/bodies/ben/pose/base_link", ben)
+            time.sleep(0.1)
         out, _ = watcher.communicate(timeout=30)
     assert watcher.returncode == 0, out
     assert "1 of 2 facing the robot" in out
