@@ -194,7 +194,7 @@ class Settings(BaseModel):
         **_flag("groups and who faces whom are worked out at most this often per frame", GROUPS),
     )
     group_max_people: int = Field(
-        50,
+        20,
         ge=1,
         le=1000,
         **_flag("people of one frame considered for groups, nearest first (O(N^2))", GROUPS),

@@ -194,12 +194,12 @@ class GroupTracker:
         self._next_id = 1
         self._candidate: frozenset[frozenset[str]] | None = None
         self._since = 0.0
+        self._said: frozenset[frozenset[str]] = frozenset()  # the groups' members, as said
 
     @property
     def pending(self) -> bool:
         """A grouping other than the one said has been seen, and is not said yet."""
-        said = frozenset(g.members for g in self.groups.values())
-        return self._candidate is not None and self._candidate != said
+        return self._candidate is not None and self._candidate != self._said
 
     def update(
         self, found: list[tuple[frozenset[str], tuple[float, float]]], now: float
@@ -209,8 +209,7 @@ class GroupTracker:
         partition = frozenset(members for members, _ in found if len(members) > 1)
         if partition != self._candidate:
             self._candidate, self._since = partition, now
-        said = frozenset(g.members for g in self.groups.values())
-        if partition == said or now - self._since < self.hold_s:
+        if partition == self._said or now - self._since < self.hold_s:
             self._recentre(found)
             return [], []
         return self._adopt(found)
@@ -252,4 +251,5 @@ class GroupTracker:
             if gid not in old or old[gid].members != members:
                 changed.append(group)
         self.groups = new
+        self._said = frozenset(g.members for g in new.values())
         return changed, sorted(old.keys() - new.keys())

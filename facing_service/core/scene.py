@@ -63,6 +63,28 @@ def headings(rotations: np.ndarray) -> np.ndarray:
     return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
+#: Nobody moved when no position changed by more than this (m) and no rotation by more
+#: than this (quaternion components): a tracker re-sending still people costs no scene.
+STILL_M, STILL_Q = 1e-3, 1e-4
+
+
+@dataclass(frozen=True)
+class Worked:
+    """What the last computation was given, and the groups it found."""
+
+    ids: list[str]
+    t: np.ndarray
+    q: np.ndarray
+    found: list[tuple[frozenset[str], tuple[float, float]]]
+
+    def still(self, ids: list[str], t: np.ndarray, q: np.ndarray) -> bool:
+        return (
+            ids == self.ids
+            and bool(np.all(np.abs(t - self.t) <= STILL_M))
+            and bool(np.all(np.abs(q - self.q) <= STILL_Q))
+        )
+
+
 @dataclass
 class FrameScene:
     """One base frame's scene between updates."""
@@ -74,6 +96,7 @@ class FrameScene:
     left_out: int = 0
     stamp: tuple[int, int] = (0, 0)
     said_once: bool = False
+    _worked: Worked | None = None
 
     def __post_init__(self) -> None:
         self.tracker = GroupTracker(self.params.hold_s)
@@ -92,14 +115,18 @@ class FrameScene:
         ids = [person.id for person in people] + [ROBOT]
         t = np.array([person.translation for person in people] + [_ROBOT_POSE[0]])
         q = np.array([person.rotation for person in people] + [_ROBOT_POSE[1]])
-        gazing = self._who_faces_whom(ids, t, q)
-        positions, yaw = t[:, :2], headings(q)
-        labels = detect(positions, yaw, p.groups)
-        found = [
-            (frozenset(ids[i] for i in np.flatnonzero(labels == label)), (float(x), float(y)))
-            for label, (x, y) in enumerate(centres(votes(positions, yaw, p.groups), labels))
-        ]
-        changed, dissolved = self.tracker.update(found, now)
+        if self._worked is not None and self._worked.still(ids, t, q):
+            gazing, found = self.gazing, self._worked.found  # nobody moved: nothing to redo
+        else:
+            gazing = self._who_faces_whom(ids, t, q)
+            positions, yaw = t[:, :2], headings(q)
+            labels = detect(positions, yaw, p.groups)
+            found = [
+                (frozenset(ids[i] for i in np.flatnonzero(labels == label)), (float(x), float(y)))
+                for label, (x, y) in enumerate(centres(votes(positions, yaw, p.groups), labels))
+            ]
+            self._worked = Worked(ids, t, q, found)
+        changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
         anew = not self.said_once or left_out != self.left_out
         groups_news = anew or bool(changed or dissolved)
         gazing_news = anew or gazing != self.gazing
@@ -161,15 +188,18 @@ class Scenes:
         self._frames: dict[str, FrameScene] = {}
         self._dirty: set[str] = set()  # frames whose people moved since last worked out
         self._due: dict[str, float] = {}  # frame -> earliest time it may be worked out again
+        self._pending: set[str] = set()  # frames with a grouping waiting to have held
 
     def touch(self, frame_ids: set[str]) -> None:
         """The people of these frames changed (a pose, a person lost)."""
         self._dirty |= frame_ids
 
     def next_due(self) -> float | None:
-        """When the next frame may be worked out (the caller's clock), if any waits."""
-        waiting = self._dirty | {f for f, scene in self._frames.items() if scene.pending}
-        return min((self._due.get(f, float("-inf")) for f in waiting), default=None)
+        """When the next frame may be worked out (the caller's clock), if any waits.
+        Asked on every turn of the service's loop: nothing to do costs a truth test."""
+        if not (self._dirty or self._pending):
+            return None
+        return min(self._due.get(f, float("-inf")) for f in self._dirty | self._pending)
 
     def tick(
         self,
@@ -178,9 +208,10 @@ class Scenes:
     ) -> list[SceneUpdate]:
         """Work out every frame that is due; the updates of those that changed.
         ``people_of(frame)`` gives a frame's people and their newest stamp."""
+        if not (self._dirty or self._pending):
+            return []
         out = []
-        waiting = self._dirty | {f for f, scene in self._frames.items() if scene.pending}
-        for frame_id in sorted(waiting):
+        for frame_id in sorted(self._dirty | self._pending):
             if self._due.get(frame_id, float("-inf")) > now:
                 continue
             self._dirty.discard(frame_id)
@@ -191,6 +222,10 @@ class Scenes:
             update = scene.update(people, stamp, now)
             if update is not None:
                 out.append(update)
+            if scene.pending:
+                self._pending.add(frame_id)
+            else:
+                self._pending.discard(frame_id)
             if not people and not scene.pending and not scene.tracker.groups:
                 del self._frames[frame_id]  # nobody left: forget the frame (memory bound)
                 self._due.pop(frame_id, None)
