@@ -136,9 +136,16 @@ def centres(points: FloatArray, labels: IntArray) -> FloatArray:
 def detect(positions: FloatArray, headings: FloatArray, p: GroupParams) -> IntArray:
     """A group label per person (0..G-1, in order of first member); a label held by one
     person is a singleton, not a group (``groups`` leaves those out)."""
+    return detect_centres(positions, headings, p)[0]
+
+
+def detect_centres(
+    positions: FloatArray, headings: FloatArray, p: GroupParams
+) -> tuple[IntArray, FloatArray]:
+    """``detect``'s labels, and each label's o-space centre ((G, 2), by label)."""
     n = len(positions)
     if n == 0:
-        return np.zeros(0, dtype=np.int64)
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 2))
     points = votes(positions, headings, p)
     labels = np.arange(n, dtype=np.int64)
     centre = points
@@ -149,7 +156,8 @@ def detect(positions: FloatArray, headings: FloatArray, p: GroupParams) -> IntAr
         if np.array_equal(new, labels):
             break
         labels = new
-    return _in_order(labels)
+    ordered = _in_order(labels)
+    return ordered, centres(points, ordered)
 
 
 def _in_order(labels: IntArray) -> IntArray:

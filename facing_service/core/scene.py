@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import detector
-from .groups import Group, GroupParams, GroupTracker, centres, detect, votes
+from .groups import Group, GroupParams, GroupTracker, detect_centres
 
 ROBOT = GroupTracker.ROBOT
 _ROBOT_POSE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
@@ -119,11 +119,13 @@ class FrameScene:
             gazing, found = self.gazing, self._worked.found  # nobody moved: nothing to redo
         else:
             gazing = self._who_faces_whom(ids, t, q)
-            positions, yaw = t[:, :2], headings(q)
-            labels = detect(positions, yaw, p.groups)
+            labels, centre = detect_centres(t[:, :2], headings(q), p.groups)
+            members: dict[int, list[str]] = {}  # by label, in label order
+            for i, label in enumerate(labels.tolist()):
+                members.setdefault(label, []).append(ids[i])
             found = [
-                (frozenset(ids[i] for i in np.flatnonzero(labels == label)), (float(x), float(y)))
-                for label, (x, y) in enumerate(centres(votes(positions, yaw, p.groups), labels))
+                (frozenset(m), (x, y))
+                for m, (x, y) in zip(members.values(), centre.tolist(), strict=True)
             ]
             self._worked = Worked(ids, t, q, found)
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
