@@ -61,3 +61,27 @@ def test_the_performance_page_shows_latest_json():
 
     page = report.PAGE.read_text()
     assert report.section(page, json.loads(report.RESULTS.read_text())) == page
+
+
+def test_the_grid_runs_its_cells_and_loses_nothing(tmp_path):
+    """benchmarks.grid (issue 36) at --quick sizes: two cells, every target measured,
+    every result of the consumed cell arrived."""
+    out = tmp_path / "grid.json"
+    proc = subprocess.run(
+        [sys.executable, "-m", "benchmarks.grid", "--quick", "--out", str(out)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=240,
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    cells = json.loads(out.read_text())
+    assert [(c["mode"], c["style"], c["consumer"]) for c in cells] == [
+        ("peer", "put", "none"),
+        ("client", "publishers", "results"),
+    ]
+    for cell in cells:
+        assert set(cell["targets"]) == {"relay_put", "relay_publishers", "service"}
+        assert all(t["sent"] == 300 for t in cell["targets"].values())
+        assert cell["cheapest_relay"] in ("relay_put", "relay_publishers")
+    assert all(t["lost"] == 0 for t in cells[1]["targets"].values())
