@@ -50,6 +50,8 @@ RELAYS = ("relay_put", "relay_publishers")
 def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]:
     if kind.startswith("service"):  # through its CLI, as users run it
         ros = ("--input", "ros2", "--base-frame", "base_link") if kind == "service-ros" else ()
+        if kind == "service-declared":  # per-body results through declared publishers
+            ros = ("--result-publishers", "declared")
         return running_cli(
             "run",
             "-l",

@@ -81,7 +81,9 @@ def test_the_grid_runs_its_cells_and_loses_nothing(tmp_path):
         ("client", "publishers", "results"),
     ]
     for cell in cells:
-        assert set(cell["targets"]) == {"relay_put", "relay_publishers", "service"}
+        assert set(cell["targets"]) == {
+            "relay_put", "relay_publishers", "service", "service-declared"
+        }  # fmt: skip
         assert all(t["sent"] == 300 for t in cell["targets"].values())
         assert cell["cheapest_relay"] in ("relay_put", "relay_publishers")
     assert all(t["lost"] == 0 for t in cells[1]["targets"].values())

@@ -137,7 +137,14 @@ class FacingService:
             if self._ros_out is not None:
                 robot = self._robot
                 ros = partial(RosPublishers, session, robot.wire, s.ros_node_name, robot.form)
-            publisher = Publisher(session, self._outbox, self._ledger, self._closing, ros)
+            publisher = Publisher(
+                session,
+                self._outbox,
+                self._ledger,
+                self._closing,
+                ros,
+                declared=s.result_publishers == "declared",
+            )
             self._threads = [
                 daemon_thread(self._worker.run, "facing-worker"),
                 daemon_thread(publisher.run, "facing-publish"),

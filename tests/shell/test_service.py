@@ -239,3 +239,38 @@ def test_bad_samples_are_counted_and_good_ones_all_processed(rig):
         "invalid_key": 5,
         "payload_too_large": 5,
     }
+
+
+def test_declared_result_publishers_say_the_same_results_and_deletes(rig):
+    """--result-publishers declared (issue 36's grid: cheaper under client-mode trackers
+    of declared publishers): the same results, and the DELETE when a body goes."""
+    service, client, rec = rig(result_publishers="declared")
+    for sec in (1, 2):
+        send(client, pose_key("a"), pose_json("a", "cam", off_deg=5.0, sec=sec))
+    results = rec.wait_for(is_put(body_key("a")), count=2)
+    assert [r.value["stamp"]["sec"] for r in results] == [1, 2] and results[0].value["facing"]
+    send_delete(client, pose_key("a"))
+    rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete")
+    assert service.status().config["result_publishers"] == "declared"
+
+
+def test_result_publishers_stay_bounded_and_forget_a_lost_body(net):
+    from facing_service.shell.publisher import ResultPublishers
+
+    _service, ep = net.service()
+    session = net.client(ep)
+    rec = net.recorder(session, "test/**")
+
+    class Small(ResultPublishers):
+        CAPACITY = 2
+
+    publishers = Small(session)
+    try:
+        for key in ("test/a", "test/b", "test/a", "test/c"):
+            publishers.put(key, b"{}")
+        assert list(publishers._publishers) == ["test/a", "test/c"]  # b, least recent, went
+        publishers.forget("test/a")
+        assert list(publishers._publishers) == ["test/c"]
+        rec.wait_for(lambda i: True, count=4)  # every put went out, before and after
+    finally:
+        publishers.close()
