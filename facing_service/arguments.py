@@ -126,6 +126,14 @@ def _choices(annotation: Any) -> list[str] | None:
     return None
 
 
+def _add_view_arguments(parser: argparse.ArgumentParser) -> None:
+    """What every view of a running service takes: its namespace and the frame shown."""
+    add_settings_arguments(parser, ["namespace"])
+    parser.add_argument(
+        "--base-frame", default="base_link", help="the frame to show (default base_link)"
+    )
+
+
 def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     add_settings_arguments(parser, ["namespace"])
     parser.add_argument(
@@ -255,10 +263,7 @@ def build_parser() -> _Parser:
         "angle, distance and for how long. Redraws 10 times a second; --once prints one "
         "frame.",
     )
-    add_settings_arguments(watch, ["namespace"])
-    watch.add_argument(
-        "--base-frame", default="base_link", help="the frame to show (default base_link)"
-    )
+    _add_view_arguments(watch)
     watch.add_argument("--once", action="store_true", help="print one frame and exit")
     watch.add_argument(
         "--wait-s", type=NON_NEGATIVE, default=1.0, help="with --once: gather data this long first"
@@ -276,10 +281,7 @@ def build_parser() -> _Parser:
         "watch: on a laptop, through a robot's router, in a container. Listens on "
         "127.0.0.1 unless --host says otherwise; nothing is fetched from the internet.",
     )
-    add_settings_arguments(view, ["namespace"])
-    view.add_argument(
-        "--base-frame", default="base_link", help="the frame to show (default base_link)"
-    )
+    _add_view_arguments(view)
     view.add_argument(
         "--host", type=listen_address, default="127.0.0.1",
         help="address to listen on (default 127.0.0.1: this machine only)",

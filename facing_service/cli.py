@@ -165,19 +165,27 @@ def _say(line: str) -> None:
     print(line, flush=True)
 
 
-def _watch(args: argparse.Namespace) -> int:
+def _viewer(args: argparse.Namespace, command: str) -> FacingClient | int:
+    """The open client a view of ``--base-frame`` reads (``watch``, ``view``), or the
+    exit code when the settings or the session are refused (said in one line)."""
     settings = _session_settings(args)
     if settings is None:
         return 2
-    stop = _stop_on_signals()
     client = FacingClient(
         settings.namespace, args.base_frame, session_config=zenoh_config(settings)
     )
     try:
-        client.open()
+        return client.open()
     except zenoh.ZError as error:
-        print(zenoh_failure("watch", error), file=sys.stderr)
+        print(zenoh_failure(command, error), file=sys.stderr)
         return 1
+
+
+def _watch(args: argparse.Namespace) -> int:
+    stop = _stop_on_signals()
+    client = _viewer(args, "watch")
+    if isinstance(client, int):
+        return client
     watcher = Watcher(client, args.base_frame)
     watcher.ask_frames()
     try:
@@ -195,18 +203,10 @@ def _watch(args: argparse.Namespace) -> int:
 
 
 def _view(args: argparse.Namespace) -> int:
-    settings = _session_settings(args)
-    if settings is None:
-        return 2
     stop = _stop_on_signals()
-    client = FacingClient(
-        settings.namespace, args.base_frame, session_config=zenoh_config(settings)
-    )
-    try:
-        client.open()
-    except zenoh.ZError as error:
-        print(zenoh_failure("view", error), file=sys.stderr)
-        return 1
+    client = _viewer(args, "view")
+    if isinstance(client, int):
+        return client
     from .client.view.live import run_view  # aiohttp: loaded by the command that serves
 
     try:
