@@ -105,9 +105,16 @@ def classify(
 
 
 def heading_deg(quaternion: tuple[float, float, float, float]) -> float:
-    """Where a frame's x axis points in the base frame's ground plane: its yaw, degrees."""
+    """Where a frame's x axis points in the base frame's ground plane: its yaw, degrees
+    (one body, on floats; ``headings`` for many)."""
     x, y, z, w = quaternion
     return math.degrees(math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z)))
+
+
+def headings(quaternions: FloatArray) -> FloatArray:
+    """``heading_deg`` of N frames at once ((N, 4) -> (N,)), in radians."""
+    x, y, z, w = np.asarray(quaternions, dtype=np.float64).T
+    return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
 def classify_one(

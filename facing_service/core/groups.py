@@ -166,12 +166,18 @@ def _in_order(labels: IntArray) -> IntArray:
     return np.array([first.setdefault(int(x), len(first)) for x in labels], dtype=np.int64)
 
 
-def groups(labels: IntArray) -> list[list[int]]:
-    """The groups (two or more members), as lists of indices."""
+def members(labels: IntArray) -> list[list[int]]:
+    """Each label's members, as lists of indices, in label order (``detect``'s labels
+    are numbered in order of first member), singletons included."""
     out: dict[int, list[int]] = {}
     for i, label in enumerate(labels.tolist()):
         out.setdefault(label, []).append(i)
-    return [members for members in out.values() if len(members) > 1]
+    return list(out.values())
+
+
+def groups(labels: IntArray) -> list[list[int]]:
+    """The groups (two or more members), as lists of indices."""
+    return [m for m in members(labels) if len(m) > 1]
 
 
 @dataclass(frozen=True, slots=True)

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import detector
-from .groups import Group, GroupParams, GroupTracker, detect_centres
+from .groups import Group, GroupParams, GroupTracker, detect_centres, members
 
 ROBOT = GroupTracker.ROBOT
 _ROBOT_POSE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
@@ -55,12 +55,6 @@ class SceneUpdate:
     groups_news: bool  # the frame's groups are to be said (changed, or said first)
     gazing_news: bool  # who faces whom is to be said
     left_out: int  # people beyond max_people, not considered
-
-
-def headings(rotations: np.ndarray) -> np.ndarray:
-    """Each frame's x axis in the base frame's ground plane, as a yaw (radians)."""
-    x, y, z, w = rotations.T
-    return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
 #: Nobody moved when no position changed by more than this (m) and no rotation by more
@@ -119,13 +113,10 @@ class FrameScene:
             gazing, found = self.gazing, self._worked.found  # nobody moved: nothing to redo
         else:
             gazing = self._who_faces_whom(ids, t, q)
-            labels, centre = detect_centres(t[:, :2], headings(q), p.groups)
-            members: dict[int, list[str]] = {}  # by label, in label order
-            for i, label in enumerate(labels.tolist()):
-                members.setdefault(label, []).append(ids[i])
+            labels, centre = detect_centres(t[:, :2], detector.headings(q), p.groups)
             found = [
-                (frozenset(m), (x, y))
-                for m, (x, y) in zip(members.values(), centre.tolist(), strict=True)
+                (frozenset(ids[i] for i in m), (x, y))
+                for m, (x, y) in zip(members(labels), centre.tolist(), strict=True)
             ]
             self._worked = Worked(ids, t, q, found)
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
