@@ -63,35 +63,41 @@ def _point(x: float, y: float, z: float = 0.0) -> Any:
     return _t("geometry_msgs/msg/Point")(x=x, y=y, z=z)
 
 
-def _marker(frame: str, stamp: tuple[int, int], ns: str, mid: int, kind: int, **fields: Any) -> Any:
-    m = _t("visualization_msgs/msg/Marker")
-    colour = fields.pop("colour", (1.0, 1.0, 1.0))
-    return m(
-        header=_t("std_msgs/msg/Header")(
-            stamp=_t("builtin_interfaces/msg/Time")(sec=stamp[0], nanosec=stamp[1]),
-            frame_id=frame,
-        ),
+def _marker(
+    frame: str,
+    stamp: tuple[int, int],
+    ns: str,
+    mid: int,
+    kind: int,
+    *,
+    action: int = 0,  # Marker.ADD
+    pose: Any = None,
+    points: list[Any] | None = None,
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0),
+    colour: tuple[float, float, float] = (1.0, 1.0, 1.0),
+    alpha: float = 1.0,
+    text: str = "",
+) -> Any:
+    """One marker; the fields RViz does not use here (textures, meshes) empty."""
+    return _t("visualization_msgs/msg/Marker")(
+        header=ros2_types.header(frame, stamp),
         ns=ns,
         id=mid,
         type=kind,
-        action=fields.pop("action", m.ADD),
-        pose=fields.pop("pose", _pose((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))),
-        scale=_t("geometry_msgs/msg/Vector3")(*fields.pop("scale", (1.0, 1.0, 1.0))),
-        color=_t("std_msgs/msg/ColorRGBA")(*colour, fields.pop("alpha", 1.0)),
+        action=action,
+        pose=pose if pose is not None else _pose((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),
+        scale=_t("geometry_msgs/msg/Vector3")(*scale),
+        color=_t("std_msgs/msg/ColorRGBA")(*colour, alpha),
         lifetime=_t("builtin_interfaces/msg/Duration")(sec=LIFETIME_S, nanosec=0),
         frame_locked=False,
-        points=fields.pop("points", []),
+        points=points or [],
         colors=[],
         texture_resource="",
         texture=_t("sensor_msgs/msg/CompressedImage")(
-            header=_t("std_msgs/msg/Header")(
-                stamp=_t("builtin_interfaces/msg/Time")(sec=0, nanosec=0), frame_id=""
-            ),
-            format="",
-            data=np.zeros(0, dtype=np.uint8),
+            header=ros2_types.header("", (0, 0)), format="", data=np.zeros(0, dtype=np.uint8)
         ),
         uv_coordinates=[],
-        text=fields.pop("text", ""),
+        text=text,
         mesh_resource="",
         mesh_file=_t("visualization_msgs/msg/MeshFile")(
             filename="", data=np.zeros(0, dtype=np.uint8)

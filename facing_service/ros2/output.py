@@ -82,18 +82,10 @@ class RosMessage:
     payload: bytes | None
 
 
-def _stamp(stamp: tuple[int, int]) -> Any:
-    return ros2_types.message_type("builtin_interfaces/msg/Time")(sec=stamp[0], nanosec=stamp[1])
-
-
-def _header(frame_id: str, stamp: tuple[int, int]) -> Any:
-    return ros2_types.message_type("std_msgs/msg/Header")(stamp=_stamp(stamp), frame_id=frame_id)
-
-
 def engagement_status(update: EngagementUpdate) -> RosMessage:
     person = update.body_id.removeprefix(PERSON)
     message = ros2_types.message_type(ENGAGEMENT_LEVEL)(
-        header=_header(update.frame_id, update.stamp), level=int(update.level)
+        header=ros2_types.header(update.frame_id, update.stamp), level=int(update.level)
     )
     return RosMessage(
         f"/humans/persons/{person}/engagement_status",
@@ -124,15 +116,20 @@ def facing_ids(frame: FrameFacing) -> dict[str, list[str]]:
     empty ones included)."""
     ids: dict[str, list[str]] = {topic: [] for topic in FACING_TOPICS.values()}
     for subject in frame.bodies_facing:
-        prefix = next((p for p in FACING_TOPICS if subject.startswith(p)), "")
+        prefix = _kind(subject)
         ids[FACING_TOPICS.get(prefix, "/humans/bodies/facing")].append(subject[len(prefix) :])
     return ids
+
+
+def _kind(subject: str) -> str:
+    """A subject's kind prefix (``body_``, ``face_``, ``person_``), "" for none."""
+    return next((p for p in FACING_TOPICS if subject.startswith(p)), "")
 
 
 def facing_list(frame: FrameFacing, topic: str, ids: list[str]) -> RosMessage:
     stamp = (frame.stamp.sec, frame.stamp.nanosec) if frame.stamp else (0, 0)
     message = ros2_types.message_type(ros2_types.IDS_LIST)(
-        header=_header(frame.frame_id, stamp), ids=ids
+        header=ros2_types.header(frame.frame_id, stamp), ids=ids
     )
     return RosMessage(
         topic, ros2_types.IDS_LIST, ros2_types.serialize(message, ros2_types.IDS_LIST)
@@ -142,13 +139,12 @@ def facing_list(frame: FrameFacing, topic: str, ids: list[str]) -> RosMessage:
 def ros_id(subject: str) -> str:
     """A subject as REP 155 names it on interaction topics: its id without our kind
     prefix (a person's id where the robot has persons); the robot stays ""."""
-    prefix = next((p for p in FACING_TOPICS if subject.startswith(p)), "")
-    return subject[len(prefix) :]
+    return subject[len(_kind(subject)) :]
 
 
 def group_message(frame_id: str, stamp: tuple[int, int], group_id: int, members: Any) -> RosMessage:
     message = ros2_types.message_type(GROUP)(
-        header=_header(frame_id, stamp),
+        header=ros2_types.header(frame_id, stamp),
         group_id=str(group_id),
         members=sorted(ros_id(m) for m in members),
     )
@@ -157,7 +153,7 @@ def group_message(frame_id: str, stamp: tuple[int, int], group_id: int, members:
 
 def gaze_message(frame_id: str, stamp: tuple[int, int], sender: str, receiver: str) -> RosMessage:
     message = ros2_types.message_type(GAZE)(
-        header=_header(frame_id, stamp), sender=ros_id(sender), receiver=ros_id(receiver)
+        header=ros2_types.header(frame_id, stamp), sender=ros_id(sender), receiver=ros_id(receiver)
     )
     return RosMessage(GAZING_TOPIC, GAZE, ros2_types.serialize(message, GAZE))
 

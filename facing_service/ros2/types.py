@@ -64,6 +64,12 @@ def message_type(typename: str) -> Any:
     return typestore().types[typename]
 
 
+def header(frame_id: str, stamp: tuple[int, int]) -> Any:
+    """A ``std_msgs/Header``: every message we send carries one."""
+    time = message_type("builtin_interfaces/msg/Time")(sec=stamp[0], nanosec=stamp[1])
+    return message_type("std_msgs/msg/Header")(stamp=time, frame_id=frame_id)
+
+
 def read_bag(path: Path) -> Iterator[tuple[str, int, Any]]:
     """``(topic, receive time in ns, message)`` of a ROS 2 bag (sqlite3 or mcap), in order."""
     from rosbags.highlevel import AnyReader
