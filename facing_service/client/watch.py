@@ -48,6 +48,7 @@ class PersonView:
     facing: bool
     angle_deg: float | None
     distance_m: float | None
+    threshold_deg: float  # the facing cone the service applied (the page draws it)
     since_s: float | None  # how long the facing decision has held, in pose time
     engagement: str | None = None  # the engagement level, when known
     since_seen: bool = True  # False: held since before the view started (at least since_s)
@@ -270,6 +271,7 @@ class Watcher:
                     state.facing,
                     state.angle_deg,
                     state.distance_m,
+                    state.threshold_deg,
                     None if changed is None else changed[3] - changed[1],
                     levels.get(body_id),
                     changed is None or changed[2],

@@ -58,13 +58,14 @@ class Publisher:
                 publications = self._outbox.take()
                 if not publications and self._outbox.closed:
                     return
-                put, result = self._put, Kind.RESULT
-                if self._results is not None:
-                    put = self._results.put
+                put, result, declared = self._session.put, Kind.RESULT, self._results
                 for p in publications:
                     try:
                         if p.kind is result:  # the hot path, inlined: most of what is sent
-                            put(p.key, p.payload)
+                            if declared is None:  # (a wrapper cost 55 ns a result more)
+                                put(p.key, p.payload, encoding=JSON, congestion_control=BLOCK)
+                            else:
+                                declared.put(p.key, p.payload)
                         else:
                             self._send(p, ros)
                         self._ledger.count_sent(p.kind)
@@ -79,9 +80,6 @@ class Publisher:
                 self._results.close()
             if ros is not None:
                 ros.close()
-
-    def _put(self, key: str, payload: bytes | None) -> None:
-        self._session.put(key, payload, encoding=JSON, congestion_control=BLOCK)
 
     def _send(self, p: Publication, ros: RosPublishers | None) -> None:
         if p.kind is Kind.ROS:  # the robot's own topics (--output ros2)

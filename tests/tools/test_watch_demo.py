@@ -33,9 +33,9 @@ def text_of(renderable) -> str:
 
 def test_render_draws_people_where_they_stand_and_tabulates_them():
     people = [
-        PersonView("alice", 2.0, 0.0, 180.0, True, 4.0, 2.0, 3.5),  # ahead, facing the robot
-        PersonView("bob", 0.0, 2.0, 90.0, False, 180.0, 2.0, 1.0),  # on the left, turned away
-        PersonView("carol", -1.0, -1.0, 0.0, False, None, None, None),  # degenerate angle
+        PersonView("alice", 2.0, 0.0, 180.0, True, 4.0, 2.0, 20.0, 3.5),  # ahead, facing the robot
+        PersonView("bob", 0.0, 2.0, 90.0, False, 180.0, 2.0, 20.0, 1.0),  # on the left, turned away
+        PersonView("carol", -1.0, -1.0, 0.0, False, None, None, 20.0, None),  # degenerate angle
     ]
     text = text_of(render(people, "base_link"))
     lines = text.splitlines()

@@ -28,7 +28,6 @@ def run_view(
         return snapshot(
             frame,
             watcher.people(),
-            client.bodies(frame),
             client.groups(frame),
             client.gazing(frame),
             bool(client.live_instances),

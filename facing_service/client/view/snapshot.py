@@ -9,7 +9,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from ...contract.schemas import FacingState, GazePair, GroupState
+from ...contract.schemas import GazePair, GroupState
 from ..watch import PersonView, natural_order
 
 #: People sent to the page at most: a crowd of thousands renders bounded.
@@ -19,7 +19,6 @@ MAX_DRAWN = 200
 def snapshot(
     frame: str,
     people: Sequence[PersonView],
-    states: Mapping[str, FacingState],
     groups: Sequence[GroupState],
     gazing: Sequence[GazePair],
     service_live: bool,
@@ -42,7 +41,7 @@ def snapshot(
                 "facing": p.facing,
                 "angle_deg": p.angle_deg,
                 "distance_m": p.distance_m,
-                "threshold_deg": states[p.body_id].threshold_deg if p.body_id in states else None,
+                "threshold_deg": p.threshold_deg,
                 "level": p.engagement or "UNKNOWN",
             }
             for p in sorted(drawn, key=lambda p: natural_order(p.body_id))

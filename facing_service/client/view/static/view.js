@@ -51,14 +51,11 @@ function draw(model) {
   for (const p of people) {
     const colour = COLOUR[p.level] || COLOUR.UNKNOWN;
     const shape = el("g", { class: "person", "data-id": p.id, "data-level": p.level,
-                            "data-colour": colour,
                             transform: `translate(${sx(p)} ${sy(p)}) rotate(${-p.heading_deg - 90})` }, radar);
-    if (p.threshold_deg !== null) {
-      const t = (p.threshold_deg * Math.PI) / 180, len = 1.2;
-      el("path", { d: `M0 0 L${len * Math.cos(t)} ${len * Math.sin(t)} A${len} ${len} 0 0 0 ${len * Math.cos(t)} ${-len * Math.sin(t)} Z`,
-                   fill: colour, "fill-opacity": 0.18, stroke: colour, "stroke-width": 0.01,
-                   class: "cone" }, shape);
-    }
+    const t = (p.threshold_deg * Math.PI) / 180, len = 1.2;
+    el("path", { d: `M0 0 L${len * Math.cos(t)} ${len * Math.sin(t)} A${len} ${len} 0 0 0 ${len * Math.cos(t)} ${-len * Math.sin(t)} Z`,
+                 fill: colour, "fill-opacity": 0.18, stroke: colour, "stroke-width": 0.01,
+                 class: "cone" }, shape);
     el("line", { x1: 0, y1: 0, x2: 0.55, y2: 0, stroke: colour, "stroke-width": 0.06 }, shape);
     el("circle", { cx: 0, cy: 0, r: 0.14, fill: colour }, shape);
     const label = el("text", { x: sx(p) + 0.2, y: sy(p) - 0.2, "font-size": 0.3, fill: "#222",
