@@ -25,7 +25,6 @@ PUBLIC_FIELDS = frozenset(
         "stale_after_s",
         "max_payload_bytes",
         "max_bodies",
-        "result_publishers",
         "engage_above",
         "disengage_below",
         "engagement_tau_s",

@@ -94,14 +94,6 @@ class Settings(BaseModel):
         gt=0,
         **_flag("most bodies tracked over all frames; new ones beyond are rejected (`capacity`)"),
     )
-    result_publishers: Literal["put", "declared"] = Field(
-        "put",
-        **_flag(
-            "how per-body results go out: `put` (`Session.put`), or `declared` (a publisher per "
-            "body; cheaper where trackers are clients with declared publishers: "
-            "docs/performance.md, the grid)"
-        ),
-    )
     engage_above: float = Field(
         0.6, gt=0.0, le=1.0, **_flag("smoothed score at which a body starts ENGAGING", ENGAGEMENT)
     )

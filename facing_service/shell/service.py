@@ -48,6 +48,7 @@ from ..contract import keys
 from ..contract.schemas import Ros2Status, ServiceStatus
 from ..core.tracker import Tracker
 from ..ros2.output import RosOutput, RosPublishers
+from .declared_keys import DeclaredKeys
 from .intake import Intake
 from .ledger import Ledger
 from .outbox import Outbox
@@ -137,14 +138,8 @@ class FacingService:
             if self._ros_out is not None:
                 robot = self._robot
                 ros = partial(RosPublishers, session, robot.wire, s.ros_node_name, robot.form)
-            publisher = Publisher(
-                session,
-                self._outbox,
-                self._ledger,
-                self._closing,
-                ros,
-                declared=s.result_publishers == "declared",
-            )
+            declared = DeclaredKeys(session, ns, inputs=not self._ros_input)
+            publisher = Publisher(session, self._outbox, self._ledger, self._closing, declared, ros)
             self._threads = [
                 daemon_thread(self._worker.run, "facing-worker"),
                 daemon_thread(publisher.run, "facing-publish"),

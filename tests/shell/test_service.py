@@ -241,36 +241,53 @@ def test_bad_samples_are_counted_and_good_ones_all_processed(rig):
     }
 
 
-def test_declared_result_publishers_say_the_same_results_and_deletes(rig):
-    """--result-publishers declared (issue 36's grid: cheaper under client-mode trackers
-    of declared publishers): the same results, and the DELETE when a body goes."""
-    service, client, rec = rig(result_publishers="declared")
-    for sec in (1, 2):
-        send(client, pose_key("a"), pose_json("a", "cam", off_deg=5.0, sec=sec))
-    results = rec.wait_for(is_put(body_key("a")), count=2)
-    assert [r.value["stamp"]["sec"] for r in results] == [1, 2] and results[0].value["facing"]
-    send_delete(client, pose_key("a"))
-    rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete")
-    assert service.status().config["result_publishers"] == "declared"
+def test_a_lost_body_that_comes_back_is_said_again_through_client_declared_publishers(net):
+    """Results go out on key expressions declared per body, undeclared when the body is
+    lost (shell/declared_keys.py): a tracker in client mode with declared publishers (the
+    grid's costliest cell before) gets every result, the DELETE, and the results of the
+    same body when it comes back."""
+    _service, ep = net.service()
+    tracker = net.client(ep, mode="client")
+    rec = net.recorder(tracker, f"{NS}/bodies/*/facing/cam")
+    wait_until_answered(tracker, FRAME_KEY)
+    publisher = tracker.declare_publisher(pose_key("a"))
+    try:
+        for sec in (1, 2):
+            publisher.put(pose_json("a", "cam", off_deg=5.0, sec=sec))
+        publisher.delete()
+        publisher.put(pose_json("a", "cam", off_deg=5.0, sec=3))
+        items = rec.wait_for(lambda i: i.kind == "put" and i.value["stamp"]["sec"] == 3)
+    finally:
+        publisher.undeclare()
+    said = [(i.kind, i.value["stamp"]["sec"] if i.kind == "put" else None) for i in rec.items]
+    assert said == [("put", 1), ("put", 2), ("delete", None), ("put", 3)], items
 
 
-def test_result_publishers_stay_bounded_and_forget_a_lost_body(net):
-    from facing_service.shell.publisher import ResultPublishers
+def test_declared_keys_are_bounded_and_forgotten_with_their_body(net):
+    from facing_service.shell.declared_keys import DeclaredKeys
 
     _service, ep = net.service()
     session = net.client(ep)
     rec = net.recorder(session, "test/**")
 
-    class Small(ResultPublishers):
+    class Small(DeclaredKeys):
         CAPACITY = 2
 
-    publishers = Small(session)
+    declared = Small(session, "test", inputs=True)
+    results = [f"test/bodies/{b}/facing/cam" for b in ("a", "b", "c")]
     try:
-        for key in ("test/a", "test/b", "test/a", "test/c"):
-            publishers.put(key, b"{}")
-        assert list(publishers._publishers) == ["test/a", "test/c"]  # b, least recent, went
-        publishers.forget("test/a")
-        assert list(publishers._publishers) == ["test/c"]
-        rec.wait_for(lambda i: True, count=4)  # every put went out, before and after
+        for key in results:
+            session.put(declared.results.get(key) or declared.declare(key), b"{}")
+        assert list(declared.results) == results[1:]  # a, the oldest, was undeclared
+        assert [str(k) for k in declared._poses.values()] == [
+            "test/bodies/b/pose/cam",
+            "test/bodies/c/pose/cam",
+        ]
+        declared.forget(results[1])
+        assert list(declared.results) == results[2:] and len(declared._poses) == 1
+        session.put(declared.results[results[2]], b"{}")
+        rec.wait_for(lambda i: True, count=4)  # every put on a declared key went out
+        assert [i.key for i in rec.items] == [*results, results[2]]
     finally:
-        publishers.close()
+        declared.close()
+    assert not declared.results and not declared._poses
