@@ -322,15 +322,7 @@ class Tracker(Journaled):
         update = self._engage(track, state, now)
         self._keep("_frames", sample.frame_id)
         frame = self._frames.setdefault(sample.frame_id, Frame())
-        if sample.body_id not in frame.tracked:
-            frame.tracked.add(sample.body_id)
-            frame.dirty = True
-        if state.facing and sample.body_id not in frame.facing:
-            frame.facing.add(sample.body_id)
-            frame.dirty = True
-        elif not state.facing and sample.body_id in frame.facing:
-            frame.facing.remove(sample.body_id)
-            frame.dirty = True
+        frame.update(sample.body_id, state.facing)
         if frame.stamp is None or sample.pose.stamp > frame.stamp:
             frame.stamp = sample.pose.stamp
         return update
@@ -374,10 +366,7 @@ class Tracker(Journaled):
         if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
             update = track.engagement_update(track.engagement.level)
             changes.engagement.append(replace(update, level=Level.UNKNOWN, since=update.stamp))
-        frame = self._frames[key.frame_id]
-        frame.tracked.discard(key.body_id)
-        frame.facing.discard(key.body_id)
-        frame.dirty = True
+        self._frames[key.frame_id].discard(key.body_id)
         changes.lost.append(key)
 
     def _frame_changes(self, frame_ids: Iterable[str]) -> list[FrameFacing]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import replace
 
@@ -14,7 +15,7 @@ from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.poses import Pose
 from facing_service.core.engagement import Level
-from facing_service.core.records import PoseSample
+from facing_service.core.records import Frame, PoseSample
 from facing_service.core.tracker import Tracker
 
 from poses import toward_origin_deg, yaw_quaternion
@@ -337,3 +338,21 @@ def test_a_transaction_that_raises_leaves_the_tracker_as_it_was(before, inside):
         _do(t, op, now + i * 0.7)
         _do(t2, op, now + i * 0.7)
     assert _everything(t) == _everything(t2)
+
+
+def test_keeping_a_frame_shares_its_lists_until_they_change():
+    """The journal keeps a frame per transaction: the copy shares its sets (copying 10 000
+    ids a pose cost 314 us), and the first change gives the live frame its own, so the kept
+    one still says what was before."""
+    frame = Frame({"a", "b"}, {"a"}, (1, 0), False)
+    kept = copy.copy(frame)
+    assert kept.tracked is frame.tracked and kept.facing is frame.facing
+    frame.update("a", True)  # nothing changes: still shared
+    assert kept.tracked is frame.tracked and not frame.dirty
+    frame.update("b", True)
+    assert (frame.facing, frame.dirty) == ({"a", "b"}, True)
+    assert (kept.tracked, kept.facing) == ({"a", "b"}, {"a"})
+    kept_again = copy.copy(frame)
+    frame.discard("a")
+    assert (frame.tracked, frame.facing) == ({"b"}, {"b"})
+    assert (kept_again.tracked, kept_again.facing) == ({"a", "b"}, {"a", "b"})
