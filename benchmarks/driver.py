@@ -1,9 +1,12 @@
-"""Drives a target (the bare relay or the service) through zenoh and measures it.
+"""Drives a target (a bare relay or the service) through zenoh and measures it.
 
-Two tracker styles (``STYLES``), since what a target costs depends on it (docs/
-performance.md): ``put``, a ``Session.put`` per sample (what a script does), and
-``publishers``, a declared publisher per key (how rmw_zenoh and most trackers publish:
-the ROS 2 mode always does, with its attachments).
+What a target costs depends on how the tracker and the consumers connect (docs/
+performance.md, the grid), so the driver is one tracker session of either mode (the
+caller opens it), with either publishing style (``STYLES``): ``put``, a ``Session.put``
+per sample (what a script does), or ``publishers``, a declared publisher per key (how
+rmw_zenoh and most trackers publish: the ROS 2 mode always does, with its attachments);
+and on the same session a consumer (``CONSUMERS``) of nothing, of the per-body results,
+or of everything under the namespace.
 
 The same code drives every target, from the same process, so the figures compare like
 with like:
@@ -11,6 +14,8 @@ with like:
 - burst: N poses over M bodies as fast as BLOCK puts go; results/s and loss;
 - soak: M bodies at a fixed rate (a tracker) for S seconds; the target's CPU % (whole
   and per thread group), p99 latency and resident memory at start and end.
+Without a consumer nothing comes back: the soak measures CPU only, and a burst is a
+flood whose end is when the target's CPU goes quiet.
 """
 
 from __future__ import annotations
@@ -101,8 +106,13 @@ class _Results:
 
     def on_sample(self, sample: zenoh.Sample) -> None:
         now = time.perf_counter()
-        if sample.kind != zenoh.SampleKind.PUT:
-            return
+        parts = str(sample.key_expr).rsplit("/", 4)  # NS/bodies/<id>/facing/<frame>
+        if (
+            sample.kind != zenoh.SampleKind.PUT
+            or len(parts) != 5
+            or parts[1::2] != ["bodies", "facing"]
+        ):
+            return  # a consumer of everything also gets poses, frames, engagement...
         with self.lock:
             self.count += 1
             self.last = now
@@ -121,6 +131,8 @@ def percentiles(values_s: list[float]) -> dict[str, float]:
 
 #: How a tracker publishes: a Session.put per sample, or a declared publisher per key.
 STYLES = ("put", "publishers")
+#: Who consumes, on the tracker's session: nobody, the per-body results, everything.
+CONSUMERS = ("none", "results", "everything")
 
 
 class Driver:
@@ -129,7 +141,12 @@ class Driver:
     rmw_zenoh keys with their attachment, through a declared publisher."""
 
     def __init__(
-        self, session: zenoh.Session, namespace: str = "hri", ros: bool = False, style: str = "put"
+        self,
+        session: zenoh.Session,
+        namespace: str = "hri",
+        ros: bool = False,
+        style: str = "put",
+        consumer: str = "results",
     ) -> None:
         self.session = session
         self.ns = namespace
@@ -140,15 +157,22 @@ class Driver:
         self._gid = os.urandom(GID_SIZE)
         self._sequence_number = 0
         self.results = _Results(body_prefix="body_" if ros else "")
-        self._subscriber = session.declare_subscriber(
-            keys.facing_key(namespace, "*", "*"), self.results.on_sample
-        )
+        self.consumes = consumer != "none"
+        wanted = {
+            "none": None,
+            "results": keys.facing_key(namespace, "*", "*"),
+            "everything": f"{namespace}/**",
+        }[consumer]
+        self._subscriber = None
+        if wanted is not None:
+            self._subscriber = session.declare_subscriber(wanted, self.results.on_sample)
         self._payloads: dict[tuple[int, int, int], bytes] = {}
 
     def close(self) -> None:
         for publisher in self._publishers.values():
             publisher.undeclare()
-        self._subscriber.undeclare()
+        if self._subscriber is not None:
+            self._subscriber.undeclare()
 
     def announce(self, bodies: int) -> None:
         """ROS 2 mode: the tracker's list of who exists (/humans/bodies/tracked)."""
@@ -203,13 +227,21 @@ class Driver:
             rtts.append(time.perf_counter() - started)
         return {**percentiles(rtts), "n": n}
 
-    def burst(self, n: int, bodies: int, first_sec: int, quiet_s: float = 2.0) -> dict[str, float]:
-        """n poses over ``bodies`` bodies as fast as possible; results/s and loss."""
+    def burst(
+        self, n: int, bodies: int, first_sec: int, pid: int, quiet_s: float = 2.0
+    ) -> dict[str, float | None]:
+        """n poses over ``bodies`` bodies as fast as possible; results/s and loss. With no
+        consumer it is a flood whose results nobody sees: it ends when the target's CPU
+        goes quiet (``_quiet``), and only the sending rate is known."""
         self.reset()
         started = time.perf_counter()
         for i in range(n):
             self._put(i % bodies, first_sec + i // bodies, off_deg=(i % 50) - 25.0)
         sent_s = time.perf_counter() - started
+        if not self.consumes:
+            return {"sent": n, "received": None, "lost": None, "sent_per_s": n / sent_s,
+                    "results_per_s": None, "drained_s": _quiet(pid) - started,
+                    **self.service_counters()}  # fmt: skip
         while True:  # until everything arrived, or nothing more for quiet_s
             seen = self.results.count
             if seen >= n:
@@ -263,16 +295,30 @@ class Driver:
         with self.results.lock:
             arrivals = dict(self.results.arrivals)
         latencies = [arrivals[k] - t for k, t in sent.items() if k in arrivals]
+        seen = self.consumes  # without a consumer: CPU and memory only
         return {
             "bodies": bodies,
             "hz": hz,
             "seconds": round(wall, 2),
             "sent": len(sent),
-            "received": len(latencies),
+            "received": len(latencies) if seen else None,
             "cpu_percent": 100 * cpu / wall,
+            "us_per_pose": cpu / len(sent) * 1e6,
             "cpu_by_thread": cpu_by_thread(threads_start, threads, wall),
             "rss_start_mb": rss_start,
             "rss_end_mb": rss_mb(pid),
-            **{k: v for k, v in percentiles(latencies).items() if k == "p99_ms"},
-            "p50_ms": statistics.median(latencies) * 1000 if latencies else float("nan"),
+            "p99_ms": percentiles(latencies)["p99_ms"] if latencies else None,
+            "p50_ms": statistics.median(latencies) * 1000 if latencies else None,
         }
+
+
+def _quiet(pid: int, window_s: float = 0.5, most: float = 0.04, limit_s: float = 30.0) -> float:
+    """When process ``pid`` spends less than ``most`` of a core over ``window_s`` (it
+    has worked through what it was sent), or after ``limit_s``: perf_counter time."""
+    deadline = time.perf_counter() + limit_s
+    while time.perf_counter() < deadline:
+        before = cpu_seconds(pid)
+        time.sleep(window_s)
+        if cpu_seconds(pid) - before < most * window_s:
+            return time.perf_counter() - window_s
+    return time.perf_counter()

@@ -1,112 +1,101 @@
-"""The grid of issue 36: how the tracker connects (peer, client), how it publishes
-(``Session.put``, declared publishers) and who consumes (nobody, the per-body results,
-everything under the namespace), each cell's service CPU (with each
-``--result-publishers``) against the cheapest bare relay for that same cell, measured in
-the same run.
-
-    python -m benchmarks.grid             # 100 bodies x 30 Hz for 6 s a cell (about 4 min)
-    python -m benchmarks.grid --quick     # two cells, small: what CI runs so this never rots
-
-The consumer runs on the tracker's own session (as the outside scripts in ../shared/bench
-do), so a client-mode tracker's results come back over its one link. Each target is its
-own process (``benchmarks.relay``, or the service through its CLI), CPU from /proc over
-the stream; every result must arrive when someone consumes them. Latency, bursts and the
-flood are ``python -m benchmarks``'s; this grid is the CPU its three outside scripts
-disagreed on.
+"""The grid (issue 36): what a target costs depends on how the tracker connects (peer,
+client), how it publishes (``Session.put``, declared publishers) and who consumes
+(nobody, the per-body results, everything under the namespace). Every cell measures each
+bare relay and the service, one after the other, each fed by one ``Driver`` whose
+session is the tracker and the consumer (as the outside scripts in ../shared/bench do):
+latency (one pose in flight), a soak, a BLOCK flood, and the same soak after it. Each
+service figure is a ratio to the cheapest relay *for that cell* (by the first soak's
+CPU), measured in the same run.
 """
 
 from __future__ import annotations
 
 import argparse
-import itertools
-import json
+import subprocess
 import time
-from pathlib import Path
+from contextlib import AbstractContextManager
+from dataclasses import dataclass
 from typing import Any
 
 import zenoh
 
 from facing_service.contract import keys
-from facing_service.testing import endpoint, free_port, loopback_config
+from facing_service.testing import (
+    LOOPBACK_FLAGS,
+    endpoint,
+    free_port,
+    loopback_config,
+    running_cli,
+    wait_until,
+)
 
-from .__main__ import start, wait_ready
-from .common import pose_payload
-from .driver import cpu_seconds
+from .driver import CONSUMERS, STYLES, Driver
 
 MODES = ("peer", "client")
-STYLES = ("put", "publishers")
-CONSUMERS = ("none", "results", "everything")
-TARGETS = ("relay_put", "relay_publishers", "service", "service-declared")
-SERVICES = TARGETS[2:]  # the service with each --result-publishers
-FRAME = "cam"
-BLOCK = zenoh.CongestionControl.BLOCK
-JSON = zenoh.Encoding.APPLICATION_JSON
+#: The bare relays (``benchmarks.relay --style``): Session.put on string keys, a
+#: publisher declared per output key, and both keys declared (the cheapest nearly always).
+RELAYS = ("relay_put", "relay_publishers", "relay_keys")
+TARGETS = (*RELAYS, "service")
 
 
-def stream(
-    target: str, mode: str, style: str, consumer: str, bodies: int, hz: float, seconds: float
-) -> dict[str, Any]:
-    """One target in one cell: the CPU it spent on ``bodies`` x ``hz`` for ``seconds``."""
-    port = free_port()
-    with start(target, port) as proc, _open(port, mode) as session:
-        wait_ready(session)
-        received = [0]
-        wanted = {
-            "none": None,
-            "results": keys.facing_key("hri", "*", FRAME),
-            "everything": "hri/**",
-        }[consumer]
-        subscriber = None
-        if wanted is not None:
+@dataclass(frozen=True)
+class Sizes:
+    warmup: int
+    latency_n: int
+    burst_n: int
+    bodies: int
+    hz: float
+    soak_s: float
 
-            def count(sample: zenoh.Sample) -> None:
-                if sample.kind == zenoh.SampleKind.PUT and "/facing/" in str(sample.key_expr):
-                    received[0] += 1
-
-            subscriber = session.declare_subscriber(wanted, count)
-        publishers: dict[str, zenoh.Publisher] = {}
-
-        def put(key: str, payload: bytes) -> None:
-            if style == "put":
-                session.put(key, payload, encoding=JSON, congestion_control=BLOCK)
-                return
-            if (publisher := publishers.get(key)) is None:
-                publisher = publishers[key] = session.declare_publisher(
-                    key, encoding=JSON, congestion_control=BLOCK
-                )
-            publisher.put(payload)
-
-        names = [f"b{i:04d}" for i in range(bodies)]
-        try:
-            for name in names:  # every key known (and declared) before the measure
-                put(keys.pose_key("hri", name, FRAME), pose_payload(name, FRAME, 2, 0.3, 171, 1))
-            time.sleep(1.0)
-            first = received[0]
-            before, start_s = cpu_seconds(proc.pid), time.perf_counter()
-            rounds = max(1, round(seconds * hz))
-            for r in range(rounds):
-                for name in names:
-                    payload = pose_payload(name, FRAME, 2, 0.3, 171, 10 + r)
-                    put(keys.pose_key("hri", name, FRAME), payload)
-                time.sleep(max(0.0, start_s + (r + 1) / hz - time.perf_counter()))
-            sent = rounds * bodies
-            deadline = time.monotonic() + 10
-            while wanted is not None and received[0] - first < sent:
-                if time.monotonic() > deadline:
-                    break
-                time.sleep(0.05)
-            time.sleep(0.5)  # the last results on their way out
-            cpu = cpu_seconds(proc.pid) - before
-        finally:
-            if subscriber is not None:
-                subscriber.undeclare()
-            for publisher in publishers.values():
-                publisher.undeclare()
-    lost = 0 if wanted is None else sent - (received[0] - first)
-    return {"cpu_s": cpu, "us_per_pose": cpu / sent * 1e6, "sent": sent, "lost": lost}
+    @classmethod
+    def of(cls, args: argparse.Namespace) -> Sizes:
+        return cls(args.warmup, args.latency_n, args.burst_n, args.soak_bodies, args.soak_hz,
+                   args.soak_s)  # fmt: skip
 
 
-def _open(port: int, mode: str) -> zenoh.Session:
+def cells(chosen: str | None) -> list[tuple[str, str, str]]:
+    """Every cell, or those named ``mode/style/consumer`` (comma-separated)."""
+    every = [(m, s, c) for m in MODES for s in STYLES for c in CONSUMERS]
+    if chosen is None:
+        return every
+    wanted = [tuple(cell.split("/")) for cell in chosen.split(",")]
+    unknown = [cell for cell in wanted if cell not in every]
+    if unknown:
+        raise SystemExit(f"--cells: no such cell {'/'.join(unknown[0])} (mode/style/consumer)")
+    return wanted  # type: ignore[return-value]
+
+
+def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]:
+    """A target as its own process: the service through its CLI, as users run it, or
+    a bare relay."""
+    if kind.startswith("service"):
+        ros = ("--input", "ros2", "--base-frame", "base_link") if kind == "service-ros" else ()
+        return running_cli(
+            "run",
+            "-l",
+            endpoint(port),
+            *LOOPBACK_FLAGS,
+            "--log-level",
+            "WARNING",
+            *ros,
+            capture=False,
+        )
+    style = kind.removeprefix("relay_")
+    return running_cli(
+        "-l", endpoint(port), "--style", style, module="benchmarks.relay", capture=False
+    )
+
+
+def wait_ready(session: zenoh.Session, timeout: float = 20.0) -> None:
+    selector = keys.status_key("hri", keys.ALL_FRAMES)
+    wait_until(lambda: any(r.ok for r in session.get(selector, timeout=0.5)), timeout, "the target")
+
+
+def cell_of(measured: dict[str, Any]) -> tuple[str, str, str]:
+    return measured["mode"], measured["style"], measured["consumer"]
+
+
+def open_tracker(port: int, mode: str) -> zenoh.Session:
     """The tracker's session; a client fails at once while its target is not listening
     yet (a peer would retry by itself), so it is opened again until it connects."""
     deadline = time.monotonic() + 20
@@ -119,60 +108,76 @@ def _open(port: int, mode: str) -> zenoh.Session:
             time.sleep(0.1)
 
 
-def run(cells: list[tuple[str, str, str]], bodies: int, hz: float, seconds: float) -> list[dict]:
+def measure(target: str, cell: tuple[str, str, str], sizes: Sizes) -> dict[str, Any]:
+    """One target in one cell: latency (when someone consumes), soak, flood, soak."""
+    mode, style, consumer = cell
+    port = free_port()
+    with start(target, port) as proc, open_tracker(port, mode) as session:
+        driver = Driver(session, ros=target == "service-ros", style=style, consumer=consumer)
+        try:
+            wait_ready(session)
+            driver.announce(sizes.bodies)  # the ROS 2 path: who is tracked
+            driver.soak(proc.pid, sizes.bodies, sizes.hz, 0.5, first_sec=1)  # keys known
+            result: dict[str, Any] = {}
+            if driver.consumes:
+                driver.latency(sizes.warmup, first_sec=1_000)
+                result["latency"] = driver.latency(sizes.latency_n, first_sec=1_000_000)
+            result["soak"] = driver.soak(
+                proc.pid, sizes.bodies, sizes.hz, sizes.soak_s, first_sec=2_000_000
+            )
+            result["burst"] = driver.burst(
+                sizes.burst_n, sizes.bodies, first_sec=3_000_000, pid=proc.pid
+            )
+            result["soak_after"] = driver.soak(
+                proc.pid, sizes.bodies, sizes.hz, sizes.soak_s, first_sec=4_000_000
+            )
+        finally:
+            driver.close()
+    return result
+
+
+def run(chosen: list[tuple[str, str, str]], sizes: Sizes) -> list[dict[str, Any]]:
     out = []
-    for mode, style, consumer in cells:
-        figures = {t: stream(t, mode, style, consumer, bodies, hz, seconds) for t in TARGETS}
-        cheapest = min(TARGETS[:2], key=lambda t: figures[t]["cpu_s"])
-        relay = figures[cheapest]["cpu_s"]
+    for cell in chosen:
+        figures = {target: measure(target, cell, sizes) for target in TARGETS}
+        cheapest = min(RELAYS, key=lambda t: figures[t]["soak"]["cpu_percent"])
         out.append(
             {
-                "mode": mode,
-                "style": style,
-                "consumer": consumer,
+                "mode": cell[0],
+                "style": cell[1],
+                "consumer": cell[2],
                 "targets": figures,
                 "cheapest_relay": cheapest,
-                "cpu_ratio": {  # None: below the clock's tick (--quick's sizes)
-                    s: figures[s]["cpu_s"] / relay if relay > 0 else None for s in SERVICES
-                },
+                "ratios": ratios(figures[cheapest], figures["service"]),
             }
         )
         print(line(out[-1]), flush=True)
     return out
 
 
-def line(cell: dict) -> str:
-    t = cell["targets"]
-    return (
-        f"{cell['mode']:6} {cell['style']:10} {cell['consumer']:10} "
-        f"relay put {t['relay_put']['us_per_pose']:6.1f}  relay publishers "
-        f"{t['relay_publishers']['us_per_pose']:6.1f}  service put "
-        f"{t['service']['us_per_pose']:6.1f} {_ratio(cell['cpu_ratio']['service'])}  declared "
-        f"{t['service-declared']['us_per_pose']:6.1f} "
-        f"{_ratio(cell['cpu_ratio']['service-declared'])} (us/pose, ratio to "
-        f"{cell['cheapest_relay']})  lost {sum(t[s]['lost'] for s in SERVICES)}"
-    )
+def ratios(relay: dict[str, Any], service: dict[str, Any]) -> dict[str, float | None]:
+    """The service over the relay; None where nothing could be measured (no consumer,
+    or a soak below the clock's tick at --quick sizes)."""
+
+    def r(a: float | None, b: float | None) -> float | None:
+        return None if a is None or not b else a / b
+
+    consumed = "latency" in service
+    return {
+        "soak_cpu": r(service["soak"]["cpu_percent"], relay["soak"]["cpu_percent"]),
+        "soak_cpu_after_flood": r(
+            service["soak_after"]["cpu_percent"], relay["soak_after"]["cpu_percent"]
+        ),
+        "latency_p50": r(service["latency"]["p50_ms"], relay["latency"]["p50_ms"])
+        if consumed
+        else None,
+        "burst_throughput": r(service["burst"]["results_per_s"], relay["burst"]["results_per_s"]),
+    }
 
 
-def _ratio(value: float | None) -> str:
-    return "  - " if value is None else f"{value:4.2f}"
-
-
-def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="two cells, small and short")
-    parser.add_argument("--out", type=Path, help="write the cells as JSON")
-    args = parser.parse_args(argv)
-    cells = list(itertools.product(MODES, STYLES, CONSUMERS))
-    if args.quick:
-        cells = [("peer", "put", "none"), ("client", "publishers", "results")]
-        results = run(cells, bodies=10, hz=30.0, seconds=1.0)
-    else:
-        print(f"{'mode':6} {'style':10} {'consumer':10} service CPU per pose against the relays")
-        results = run(cells, bodies=100, hz=30.0, seconds=6.0)
-    if args.out is not None:
-        args.out.write_text(json.dumps(results, indent=2) + "\n")
-
-
-if __name__ == "__main__":
-    main()
+def line(cell: dict[str, Any]) -> str:
+    t, r = cell["targets"], cell["ratios"]
+    us = "  ".join(f"{name.removeprefix('relay_')} {t[name]['soak']['us_per_pose']:5.1f}"
+                   for name in TARGETS)  # fmt: skip
+    said = "  ".join(f"{k} {'-' if v is None else f'{v:.2f}'}" for k, v in r.items())
+    return f"{cell['mode']:6} {cell['style']:10} {cell['consumer']:10} us/pose: {us} | {said}"

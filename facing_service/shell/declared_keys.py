@@ -7,7 +7,7 @@ grows with the resources under the same prefix. A client-mode tracker's declared
 publishers put one resource per body under ``NS/bodies/``: each undeclared result then
 cost ~35 us of matching; our own declared results did the same to every undeclared pose
 a ``Session.put`` tracker sent. With both keys declared here, both directions hit the
-cache whatever the tracker and the consumers do (``python -m benchmarks.grid``: the relay
+cache whatever the tracker and the consumers do (``python -m benchmarks``, the grid: the relay
 that declares its keys is the cheapest relay in every cell).
 
 Declaring costs once per body (5 us with 100 declared, ~130 us with 4 000: zenoh matches
