@@ -6,7 +6,7 @@ with BLOCK (no loss), so it does the least a zenoh service can do per sample, in
 three ways (``--style``): ``put``, ``Session.put`` on the key string; ``publishers``, a
 publisher declared once per output key; ``keys``, ``Session.put`` on key expressions
 declared once for both the output key and the input key (zenoh then routes both from its
-cache: the cheapest in every cell of the grid, docs/performance.md).
+cache: the cheapest in nearly every cell of the grid, docs/performance.md).
 
     python -m benchmarks.relay -l tcp/127.0.0.1:7447 [--namespace hri] [--style put]
 """
