@@ -1,19 +1,26 @@
-"""The key expressions the publisher declares to zenoh: each tracked body's result key
-and, on the JSON input, its pose key.
+"""The key expressions the publisher declares to zenoh: every per-body key it puts on
+(each tracked body's result and engagement keys) and, on the JSON input, the body's pose
+key.
 
 Why: zenoh caches a message's route on the *resource* of its key, and a key nobody
-declared is matched against the routing tables afresh for every message, at a cost that
-grows with the resources under the same prefix. A client-mode tracker's declared
-publishers put one resource per body under ``NS/bodies/``: each undeclared result then
-cost ~35 us of matching; our own declared results did the same to every undeclared pose
-a ``Session.put`` tracker sent. With both keys declared here, both directions hit the
-cache whatever the tracker and the consumers do (``python -m benchmarks``, the grid: the relay
-that declares its keys is the cheapest relay in 11 of 12 cells, the twelfth a tie).
+declared is matched against the routing tables afresh for every message, one test per
+resource under the same prefix (``NS/bodies/``). A client-mode tracker's declared
+publishers put one resource per body there: each undeclared result then cost ~35 us of
+matching with 100 bodies; our own declared keys do the same to any undeclared key beside
+them (a string put on an engagement key: 21 us with 100 bodies declared, 258 us with
+1 000, 1.4 ms with 4 000). With every per-body key we send, and the poses we receive,
+declared, both directions hit the cache whatever the tracker and the consumers do
+(``python -m benchmarks``, the grid: the relay that declares its keys is the cheapest
+relay in 11 of 12 cells, the twelfth a tie).
 
-Declaring costs once per body (5 us with 100 declared, ~130 us with 4 000: zenoh matches
-the new resource against the others), so a pair is kept while its body is tracked,
-undeclared when the body is lost, and the oldest pair goes past ``CAPACITY``: memory and
-routing tables stay bounded whatever ids a peer invents.
+Declaring costs once per key (5 us with 100 declared, ~130 us with 4 000: zenoh matches
+the new resource against the others); a key is undeclared with its DELETE (the body is
+lost). At most ``capacity`` keys of each kind, the tracker's own bound on bodies, so every
+tracked body has its keys; past it (never, while the tracker holds its bound) a key goes
+out as its string, uncached. Nothing is evicted to make room: a crowd larger than the
+room, each body in turn, would evict on every result (measured with eviction, 5 000
+bodies and room for 4 096: 1.4 ms a result against 2.8 us). Memory and routing tables stay
+bounded whatever ids a peer invents.
 """
 
 from __future__ import annotations
@@ -24,36 +31,36 @@ from ..contract import keys
 
 
 class DeclaredKeys:
-    """Used by the publisher thread alone. ``results`` maps a result key to its declared
-    key expression, read on the hot path; ``declare`` adds a body's pair."""
+    """Used by the publisher thread alone. ``exprs`` maps a per-body key to its declared
+    key expression, read on the hot path; ``declare`` adds one."""
 
-    CAPACITY = 4096
-
-    def __init__(self, session: zenoh.Session, namespace: str, inputs: bool) -> None:
+    def __init__(self, session: zenoh.Session, namespace: str, inputs: bool, capacity: int):
         self._session = session
         self._namespace = namespace
-        self._inputs = inputs  # also declare the pose key: poses come on our JSON keys
-        self.results: dict[str, zenoh.KeyExpr] = {}
+        self._inputs = inputs  # a result key's pose key too: poses come on our JSON keys
+        self._capacity = 2 * capacity  # result and engagement keys
+        self.exprs: dict[str, zenoh.KeyExpr] = {}
         self._poses: dict[str, zenoh.KeyExpr] = {}  # by result key
 
-    def declare(self, key: str) -> zenoh.KeyExpr:
-        """The declared key expression of the result key ``key``, declared (with its
-        pose key) now; the oldest pair is undeclared past ``CAPACITY``."""
-        if len(self.results) >= self.CAPACITY:
-            self.forget(next(iter(self.results)))
-        declared = self.results[key] = self._session.declare_keyexpr(key)
-        if self._inputs:
+    def declare(self, key: str, result: bool) -> zenoh.KeyExpr | str:
+        """What to put the per-body key ``key`` on (``result``: a result key, whose pose
+        key is declared with it): its key expression, declared now, or ``key`` itself
+        when there is no room."""
+        if len(self.exprs) >= self._capacity:
+            return key
+        declared = self.exprs[key] = self._session.declare_keyexpr(key)
+        if result and self._inputs:
             body = keys.body_of(key)
             pose = keys.pose_key(self._namespace, body.body_id, body.frame_id)
             self._poses[key] = self._session.declare_keyexpr(pose)
         return declared
 
     def forget(self, key: str) -> None:
-        """The body of the result key ``key`` is lost: undeclare its pair, if declared."""
-        for declared in (self.results.pop(key, None), self._poses.pop(key, None)):
+        """``key`` was deleted (its body is lost): undeclare it, with its pose key."""
+        for declared in (self.exprs.pop(key, None), self._poses.pop(key, None)):
             if declared is not None:
                 self._session.undeclare(declared)
 
     def close(self) -> None:
-        for key in list(self.results):
+        for key in list(self.exprs):
             self.forget(key)

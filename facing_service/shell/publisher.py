@@ -4,8 +4,9 @@ It is the only thread that waits on the network. A slow consumer slows it down; 
 stops reading blocks it (up to zenoh's ``wait_before_close``), while the worker keeps
 ingesting, deciding and answering (see ``outbox``).
 
-Per-body results go out through ``Session.put`` on key expressions declared per body
-(``declared_keys``: zenoh then routes them, and the poses they answer, from its cache).
+Per-body results and engagement go out through ``Session.put`` on key expressions
+declared per body (``declared_keys``: zenoh then routes them, and the poses they answer,
+from its cache).
 """
 
 from __future__ import annotations
@@ -55,12 +56,12 @@ class Publisher:
                 if not publications and self._outbox.closed:
                     return
                 put, result = self._session.put, Kind.RESULT
-                declared, declare = self._keys.results, self._keys.declare
+                declared, declare = self._keys.exprs, self._keys.declare
                 for p in publications:
                     try:
                         if p.kind is result:  # the hot path, inlined: most of what is sent
                             if (key := declared.get(p.key)) is None:
-                                key = declare(p.key)
+                                key = declare(p.key, True)
                             put(key, p.payload, encoding=JSON, congestion_control=BLOCK)
                         else:
                             self._send(p, ros)
@@ -80,8 +81,13 @@ class Publisher:
         if p.kind is Kind.ROS:  # the robot's own topics (--output ros2)
             assert ros is not None and p.typename is not None
             ros.send(RosMessage(p.key, p.typename, p.payload))
-        elif p.payload is None:  # Kind.DELETE: the body is lost
-            self._session.delete(p.key, congestion_control=BLOCK)
+        elif p.payload is None:  # Kind.DELETE: the body is lost (or a group dissolved)
+            key = self._keys.exprs.get(p.key, p.key)
+            self._session.delete(key, congestion_control=BLOCK)
             self._keys.forget(p.key)
+        elif p.kind is Kind.ENGAGEMENT:  # per body: on its declared key, as results
+            if (key := self._keys.exprs.get(p.key)) is None:
+                key = self._keys.declare(p.key, False)
+            self._session.put(key, p.payload, encoding=JSON, congestion_control=BLOCK)
         else:
             self._session.put(p.key, p.payload, encoding=JSON, congestion_control=BLOCK)

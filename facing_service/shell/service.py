@@ -138,7 +138,7 @@ class FacingService:
             if self._ros_out is not None:
                 robot = self._robot
                 ros = partial(RosPublishers, session, robot.wire, s.ros_node_name, robot.form)
-            declared = DeclaredKeys(session, ns, inputs=not self._ros_input)
+            declared = DeclaredKeys(session, ns, not self._ros_input, s.max_bodies)
             publisher = Publisher(session, self._outbox, self._ledger, self._closing, declared, ros)
             self._threads = [
                 daemon_thread(self._worker.run, "facing-worker"),

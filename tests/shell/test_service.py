@@ -264,30 +264,34 @@ def test_a_lost_body_that_comes_back_is_said_again_through_client_declared_publi
 
 
 def test_declared_keys_are_bounded_and_forgotten_with_their_body(net):
+    """Room for one body's result and engagement keys (and its pose key, declared with
+    the result's); a key beyond goes out as its string; a DELETE frees its key."""
     from facing_service.shell.declared_keys import DeclaredKeys
 
     _service, ep = net.service()
     session = net.client(ep)
     rec = net.recorder(session, "test/**")
-
-    class Small(DeclaredKeys):
-        CAPACITY = 2
-
-    declared = Small(session, "test", inputs=True)
-    results = [f"test/bodies/{b}/facing/cam" for b in ("a", "b", "c")]
+    declared = DeclaredKeys(session, "test", inputs=True, capacity=1)
+    result_a, engagement_a, result_b = (
+        "test/bodies/a/facing/cam",
+        "test/bodies/a/engagement/cam",
+        "test/bodies/b/facing/cam",
+    )
     try:
-        for key in results:
-            session.put(declared.results.get(key) or declared.declare(key), b"{}")
-        assert list(declared.results) == results[1:]  # a, the oldest, was undeclared
-        assert [str(k) for k in declared._poses.values()] == [
-            "test/bodies/b/pose/cam",
-            "test/bodies/c/pose/cam",
-        ]
-        declared.forget(results[1])
-        assert list(declared.results) == results[2:] and len(declared._poses) == 1
-        session.put(declared.results[results[2]], b"{}")
-        rec.wait_for(lambda i: True, count=4)  # every put on a declared key went out
-        assert [i.key for i in rec.items] == [*results, results[2]]
+        session.put(declared.declare(result_a, True), b"{}")
+        session.put(declared.declare(engagement_a, False), b"{}")
+        assert list(declared.exprs) == [result_a, engagement_a]
+        assert [str(k) for k in declared._poses.values()] == ["test/bodies/a/pose/cam"]
+        assert declared.declare(result_b, True) == result_b  # full: b goes out on its string
+        session.put(result_b, b"{}")
+        assert list(declared.exprs) == [result_a, engagement_a] and len(declared._poses) == 1
+        declared.forget(result_a)  # a is lost: its result key and pose key go, room is made
+        assert list(declared.exprs) == [engagement_a] and not declared._poses
+        session.put(declared.declare(result_b, True), b"{}")
+        assert list(declared.exprs) == [engagement_a, result_b]
+        assert str(declared._poses[result_b]) == "test/bodies/b/pose/cam"
+        rec.wait_for(lambda i: True, count=4)  # every put went out, declared or not
+        assert [i.key for i in rec.items] == [result_a, engagement_a, result_b, result_b]
     finally:
         declared.close()
-    assert not declared.results and not declared._poses
+    assert not declared.exprs and not declared._poses
