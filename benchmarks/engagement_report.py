@@ -18,6 +18,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from .pages import replace_section
 from .scoring import CEILING
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -166,14 +167,7 @@ PAGES: dict[str, tuple[str, Callable[[dict[str, Any]], list[str]]]] = {
 
 def render(page: str, text: str, results: dict[str, Any]) -> str:
     what, section = PAGES[page]
-    begin = _begin(what)
-    head, sep, rest = text.partition(begin)
-    if not sep:
-        raise SystemExit(f"docs/{page} has no '{begin}' line")
-    _, sep, tail = rest.partition(END)
-    if not sep:
-        raise SystemExit(f"docs/{page} has no '{END}' line after '{begin}'")
-    return "\n".join([head + begin, *section(results), END]) + tail
+    return replace_section(text, _begin(what), END, section(results))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -6,8 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from benchmarks.groups import SHARED, evalgroups, f1, load, run
-from facing_service.core.groups import GroupParams
+from benchmarks.groups import SHARED, evalgroups, f1, gcff_params, load, run
 
 G = frozenset
 
@@ -26,7 +25,13 @@ def test_evalgroups_is_gcffs_on_its_edge_cases():
 @pytest.mark.slow
 @pytest.mark.parametrize(
     ("sequence", "gcff"),
-    [("CoffeeBreak/Seq1", 0.77), ("CoffeeBreak/Seq2", 0.94), ("Synth", 0.97)],
+    [
+        ("CoffeeBreak/Seq1", 0.77),
+        ("CoffeeBreak/Seq2", 0.94),
+        ("Synth", 0.97),
+        ("GDet/S1", 0.93),
+        ("GDet/S2", 0.94),
+    ],
 )
 def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
     """GCFF's own per-scene parameters, read from the sequence's settings_gc.mat (stride
@@ -37,5 +42,5 @@ def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
     tuned = loadmat(SHARED / sequence / "settings_gc.mat")
     stride, mdl = float(tuned["stride"].item()) * 0.01, float(tuned["mdl"].item()) * 1e-4
     frames = load(sequence)
-    found = run(frames, GroupParams.gcff(stride, mdl))
+    found = run(frames, gcff_params(stride, mdl))
     assert f1(frames, found, 2 / 3) == pytest.approx(gcff, abs=0.02)

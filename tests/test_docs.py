@@ -90,6 +90,14 @@ def test_the_engagement_tables_are_the_committed_results():
     )
 
 
+def test_the_groups_tables_are_the_committed_results():
+    """docs/groups.md's held-out tables are generated from benchmarks/results/groups.json
+    (`python -m benchmarks.groups --live --out ...`): a figure copied by hand fails here."""
+    from benchmarks import groups
+
+    assert groups.main(["--page", "--check"]) == 0, "regenerate: python -m benchmarks.groups --page"
+
+
 @pytest.mark.slow
 def test_the_readmes_isolated_run_and_its_snippet_work_as_written():
     """The README shows the isolated way first: the service on loopback without

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ..core.engagement import EngagementParams
-from ..core.groups import GroupParams
+from ..core.groups import GroupParams, ScaleParams
 from ..core.records import Profile
 from ..core.scene import SceneParams
 from .settings import Settings
@@ -54,11 +54,12 @@ def head_profile(settings: Settings) -> Profile:
 
 def scene_params(settings: Settings) -> SceneParams:
     """Who faces whom is the facing rule (body cone and hysteresis) between people; the
-    groups' method keeps its one default set (chosen by leave-one-sequence-out,
-    docs/groups.md)."""
+    groups' method keeps its one default set, lengths in the room's unit learnt from its
+    people (chosen by leave-one-dataset-out, docs/groups.md)."""
     s = settings
     return SceneParams(
         GroupParams(),
+        ScaleParams(),
         threshold_deg=s.threshold_deg,
         hysteresis_deg=s.hysteresis_deg,
         hold_s=s.group_hold_s,

@@ -280,7 +280,9 @@ class ServiceStatus(BaseModel):
 
 
 class QueryError(BaseModel):
-    """Payload of an error reply to a query (a bad selector parameter)."""
+    """Payload of an error reply to a query: ``bad_parameter`` (a bad selector parameter),
+    ``unknown_frame`` (a frame this service does not know; the detail names those it
+    tracks), ``empty_frame`` (per-body keys of a frame with nobody in it now)."""
 
     error: str
     detail: str

@@ -3,18 +3,24 @@
 Pure numpy over positions and headings in one base frame, in metres and radians.
 
 The method is GCFF's (Setti, Russell, Bassetti, Cristani, PLOS ONE 2015; franzsetti/GCFF
-``gc.m``, MIT) with one change that lets one parameter set serve rooms of any spacing.
+``gc.m``, MIT) with two changes that let one parameter set serve rooms of any spacing.
 GCFF: each person votes for the centre of their o-space a fixed stride in front of them;
 people are assigned to groups minimising the squared distance of their vote to their
 group's centre plus a fixed cost per group (the minimum description length, ``mdl``)
 plus a penalty for a member hidden behind another member as seen from the centre;
 centres are refitted as their members' mean, and the assignment is solved again until
-it settles. Here the stride is each person's own: ``stride_k`` times the distance to the
-nearest person ahead of them (within ``cone_deg`` of their heading), kept within
-``[stride_min_m, stride_max_m]`` (nobody ahead: the least). Two people a metre apart
-have their o-space half a metre in front of each, six in a wide ring farther; GCFF's
-fixed stride fits one spacing (its own tuning differs per scene for that reason), and it
-is the case ``stride_min_m = stride_max_m``.
+it settles.
+
+1. **Lengths in the room's own unit.** GCFF's stride and cost are tuned per scene (its
+   own tuned costs span 0.6 to 9 m² across datasets), because people stand closer in one
+   room than in another. Here every length is a multiple of the room's spacing,
+   ``RoomScale``: the median distance from each person to their nearest neighbour over
+   the last ``window_s`` seconds (clipped to a plausible range). The method is run on
+   positions divided by that scale, so the same scene twice as wide gives the same groups.
+2. **Each person's stride is their own**: ``stride_k`` times the distance to the nearest
+   person ahead of them (within ``cone_deg`` of their heading), kept within
+   ``[stride_min, stride_max]`` (nobody ahead: the least). GCFF's fixed stride is the
+   case ``stride_min = stride_max``.
 
 The assignment is GCFF's energy (unary costs plus a cost per label) minimised by greedy
 label removal and reassignment rather than alpha-expansion: with no pairwise terms that
@@ -23,11 +29,12 @@ pass with a final reassignment reaches GCFF's solutions (``benchmarks/groups.py`
 
 GCFF's visibility penalty is kept, in its units: ``100 ** (cos * d_k / d_j)`` cm² when
 member k stands behind member j (cosine of the angle between them, from the centre,
-above 0.75), here converted to m² (the same penalty, 1e-4 times the number).
+above 0.75), converted to m² (1e-4 times the number), in the room's unit squared.
 """
 
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,31 +53,75 @@ MAX_EXPONENT = 6.0  # the penalty's exponent is capped (100**6 cm² = 1e8 m²: o
 
 @dataclass(frozen=True, slots=True)
 class GroupParams:
-    stride_k: float = 0.4  # a vote's stride: this times the distance to the nearest ahead
-    stride_min_m: float = 0.2  # ... no less (and this when nobody is ahead)
-    stride_max_m: float = 0.5  # ... no more (GCFF: min = max, its stride)
-    cone_deg: float = 70.0  # "ahead": within this of a person's heading
-    mdl_m2: float = 0.8  # the cost of one more group (GCFF's MDL, in m²)
+    """The method's parameters, lengths in the room's unit (``RoomScale``; metres where
+    the scale is fixed at 1 m). Defaults: chosen by leave-one-dataset-out on the shared
+    sequences (docs/groups.md, ``python -m benchmarks.groups``)."""
 
-    @classmethod
-    def gcff(cls, stride_m: float, mdl_m2: float) -> GroupParams:
-        """GCFF's own rule: one stride for everyone."""
-        return cls(0.0, stride_m, stride_m, 0.0, mdl_m2)
+    stride_k: float = 0.5  # a vote's stride: this times the distance to the nearest ahead
+    stride_min: float = 0.25  # ... no less (and this when nobody is ahead)
+    stride_max: float = 0.75  # ... no more (GCFF: min = max, its stride)
+    cone_deg: float = 70.0  # "ahead": within this of a person's heading
+    mdl: float = 1.5  # the cost of one more group (GCFF's MDL), in the unit squared
+
+
+@dataclass(frozen=True, slots=True)
+class ScaleParams:
+    """How the room's unit is learnt (``RoomScale``); ``min_m == max_m`` fixes it."""
+
+    window_s: float = 60.0  # the people of the last this long set the spacing
+    min_m: float = 0.5  # the spacing is kept within [min_m, max_m]: a room of loners
+    max_m: float = 2.0  # far apart is not one wide conversation
+    default_m: float = 1.0  # nobody near anybody yet
+
+
+class RoomScale:
+    """The spacing of a room, learnt from the people in it: the median of every person's
+    distance to their nearest neighbour, pooled over the frames seen in the last
+    ``window_s`` (the caller's clock), within ``[min_m, max_m]``. A frame of one person
+    says nothing about spacing; bounded to ``MAX_KEPT`` frames whatever the rate."""
+
+    MAX_KEPT = 1024
+
+    def __init__(self, params: ScaleParams) -> None:
+        self.params = params
+        self._seen: deque[tuple[float, FloatArray]] = deque(maxlen=self.MAX_KEPT)
+
+    def observe(self, positions: FloatArray, now: float) -> float:
+        """The room's unit (m), with the people of this frame (``(n, 2)``) seen at ``now``."""
+        p = self.params
+        if p.min_m == p.max_m:
+            return p.min_m
+        if len(positions) > 1:
+            self._seen.append((now, nearest_distances(positions)))
+        while self._seen and self._seen[0][0] < now - p.window_s:
+            self._seen.popleft()
+        if not self._seen:
+            return float(np.clip(p.default_m, p.min_m, p.max_m))
+        pooled = np.concatenate([d for _, d in self._seen])
+        return float(np.clip(np.median(pooled), p.min_m, p.max_m))
+
+
+def nearest_distances(positions: FloatArray) -> FloatArray:
+    """(n,): each person's distance to their nearest neighbour (n >= 2)."""
+    rel = positions[None, :, :] - positions[:, None, :]
+    dist = np.hypot(rel[..., 0], rel[..., 1])
+    np.fill_diagonal(dist, np.inf)
+    return dist.min(axis=1)
 
 
 def votes(positions: FloatArray, headings: FloatArray, p: GroupParams) -> FloatArray:
     """(n, 2): each person's vote for their o-space centre, their stride ahead of them."""
     facing = np.column_stack([np.cos(headings), np.sin(headings)])
-    if p.stride_min_m == p.stride_max_m:
-        return positions + p.stride_min_m * facing
+    if p.stride_min == p.stride_max:
+        return positions + p.stride_min * facing
     rel = positions[None, :, :] - positions[:, None, :]  # [i, j]: j seen from i
     dist = np.hypot(rel[..., 0], rel[..., 1])
     off = np.angle(np.exp(1j * (np.arctan2(rel[..., 1], rel[..., 0]) - headings[:, None])))
     ahead = (np.abs(off) < np.radians(p.cone_deg)) & (dist > 0)
     nearest = np.where(ahead, dist, np.inf).min(axis=1, initial=np.inf)
     stride = np.where(
-        np.isfinite(nearest), np.clip(p.stride_k * nearest, p.stride_min_m, p.stride_max_m),
-        p.stride_min_m,
+        np.isfinite(nearest), np.clip(p.stride_k * nearest, p.stride_min, p.stride_max),
+        p.stride_min,
     )  # fmt: skip
     return positions + stride[:, None] * facing
 
@@ -133,31 +184,35 @@ def centres(points: FloatArray, labels: IntArray) -> FloatArray:
     return np.column_stack(sums) / count
 
 
-def detect(positions: FloatArray, headings: FloatArray, p: GroupParams) -> IntArray:
+def detect(
+    positions: FloatArray, headings: FloatArray, p: GroupParams, scale_m: float = 1.0
+) -> IntArray:
     """A group label per person (0..G-1, in order of first member); a label held by one
-    person is a singleton, not a group (``groups`` leaves those out)."""
-    return detect_centres(positions, headings, p)[0]
+    person is a singleton, not a group (``groups`` leaves those out). ``scale_m``: the
+    room's unit (``RoomScale``), in which ``p``'s lengths are given."""
+    return detect_centres(positions, headings, p, scale_m)[0]
 
 
 def detect_centres(
-    positions: FloatArray, headings: FloatArray, p: GroupParams
+    positions: FloatArray, headings: FloatArray, p: GroupParams, scale_m: float = 1.0
 ) -> tuple[IntArray, FloatArray]:
-    """``detect``'s labels, and each label's o-space centre ((G, 2), by label)."""
+    """``detect``'s labels, and each label's o-space centre ((G, 2) in metres, by label)."""
     n = len(positions)
     if n == 0:
         return np.zeros(0, dtype=np.int64), np.zeros((0, 2))
+    positions = positions / scale_m  # the room's unit: every length below is in it
     points = votes(positions, headings, p)
     labels = np.arange(n, dtype=np.int64)
     centre = points
     for _ in range(MAX_ITERATIONS):
-        new = _assign(_unary(positions, points, centre, p.mdl_m2), p.mdl_m2)
+        new = _assign(_unary(positions, points, centre, p.mdl), p.mdl)
         _, new = np.unique(new, return_inverse=True)
         centre = centres(points, new)
         if np.array_equal(new, labels):
             break
         labels = new
     ordered = _in_order(labels)
-    return ordered, centres(points, ordered)
+    return ordered, centres(points, ordered) * scale_m
 
 
 def _in_order(labels: IntArray) -> IntArray:

@@ -10,13 +10,22 @@ stops facing (with the facing rule's hysteresis), a grouping that has held ``hol
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import detector
-from .groups import Group, GroupParams, GroupTracker, detect_centres, members
+from .groups import (
+    Group,
+    GroupParams,
+    GroupTracker,
+    RoomScale,
+    ScaleParams,
+    detect_centres,
+    members,
+)
 
 ROBOT = GroupTracker.ROBOT
 _ROBOT_POSE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
@@ -25,6 +34,7 @@ _ROBOT_POSE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
 @dataclass(frozen=True, slots=True)
 class SceneParams:
     groups: GroupParams
+    scale: ScaleParams  # the room's unit of length, learnt from its people
     threshold_deg: float  # who faces whom: the facing rule's cone, with a person for the robot
     hysteresis_deg: float
     hold_s: float  # a new grouping is said once it has held this long
@@ -86,6 +96,7 @@ class FrameScene:
     frame_id: str
     params: SceneParams
     tracker: GroupTracker = field(init=False)
+    room: RoomScale = field(init=False)
     gazing: frozenset[Pair] = frozenset()
     left_out: int = 0
     stamp: tuple[int, int] = (0, 0)
@@ -94,6 +105,7 @@ class FrameScene:
 
     def __post_init__(self) -> None:
         self.tracker = GroupTracker(self.params.hold_s)
+        self.room = RoomScale(self.params.scale)
 
     @property
     def pending(self) -> bool:
@@ -113,7 +125,8 @@ class FrameScene:
             gazing, found = self.gazing, self._worked.found  # nobody moved: nothing to redo
         else:
             gazing = self._who_faces_whom(ids, t, q)
-            labels, centre = detect_centres(t[:, :2], detector.headings(q), p.groups)
+            scale = self.room.observe(t[:-1, :2], now)  # the people's spacing, not the robot's
+            labels, centre = detect_centres(t[:, :2], detector.headings(q), p.groups, scale)
             found = [
                 (frozenset(ids[i] for i in m), (x, y))
                 for m, (x, y) in zip(members(labels), centre.tolist(), strict=True)
@@ -174,9 +187,14 @@ def nearest(people: Sequence[Person], most: int) -> tuple[list[Person], int]:
 
 
 class Scenes:
-    """Every base frame's scene: which are due to be worked out, and their updates."""
+    """Every base frame's scene: which are due to be worked out, and their updates; the
+    frames emptied lately are remembered (``PAST_FRAMES`` of them, with their last stamp),
+    so that a query on one is answered "nobody there", not "no such frame"."""
+
+    PAST_FRAMES = 256
 
     def __init__(self, params: SceneParams) -> None:
+        self._past: OrderedDict[str, tuple[int, int]] = OrderedDict()
         self.params = params
         self._frames: dict[str, FrameScene] = {}
         self._dirty: set[str] = set()  # frames whose people moved since last worked out
@@ -222,8 +240,30 @@ class Scenes:
             if not people and not scene.pending and not scene.tracker.groups:
                 del self._frames[frame_id]  # nobody left: forget the frame (memory bound)
                 self._due.pop(frame_id, None)
+                self._past[frame_id] = scene.stamp
+                self._past.move_to_end(frame_id)
+                if len(self._past) > self.PAST_FRAMES:
+                    self._past.popitem(last=False)
+            else:
+                self._past.pop(frame_id, None)
         return out
 
     def current(self) -> list[SceneUpdate]:
         """Every frame's scene as last said (for queries)."""
         return [scene.snapshot() for scene in self._frames.values() if scene.said_once]
+
+    def empty(self, frame_id: str) -> SceneUpdate | None:
+        """The scene of a frame known to this service with nobody in it now (no group, no
+        pair, at its last stamp); None for a frame never seen or forgotten."""
+        if frame_id in self._frames or frame_id in self._dirty:
+            stamp = self._frames[frame_id].stamp if frame_id in self._frames else (0, 0)
+        elif frame_id in self._past:
+            stamp = self._past[frame_id]
+        else:
+            return None
+        return nobody(frame_id, stamp)
+
+
+def nobody(frame_id: str, stamp: tuple[int, int]) -> SceneUpdate:
+    """A frame's scene with nobody in it: no group, no pair."""
+    return SceneUpdate(frame_id, stamp, (), (), (), frozenset(), False, False, 0)

@@ -9,11 +9,13 @@ from dataclasses import dataclass
 import zenoh
 
 from ..config.settings import Settings
+from ..contract import keys
 from ..contract.schemas import QueryError
-from ..core.scene import Scenes
+from ..core.records import frame_facing
+from ..core.scene import Scenes, nobody
 from ..core.tracker import Tracker
 from .ledger import Ledger
-from .publications import query_replies, threshold_parameter
+from .publications import frame_json, query_replies, threshold_parameter
 from .publisher import JSON
 
 
@@ -31,12 +33,12 @@ def answer(
     try:
         threshold = threshold_parameter(dict(query.parameters), item.space)
     except ValueError as error:
+        ledger.count("queries_refused")  # before the reply: a status read after it agrees
         query.reply_err(
             QueryError(error="bad_parameter", detail=str(error)).model_dump_json(),
             encoding=JSON,
         )
         query.drop()
-        ledger.count("queries_refused")
         return
     # The status then agrees with the answer (a client reading it next sees the same).
     ledger.tracked = tracker.tracked_per_frame()
@@ -46,9 +48,48 @@ def answer(
         states, frames = tracker.evaluate(threshold)
     engagements = tracker.engagements() if item.space == "engagement" else []
     ns, me = settings.namespace, settings.instance
-    replies = query_replies(item.space, ns, me, states, frames, engagements, scenes.current())
+    replies = [
+        (key, payload)
+        for key, payload in query_replies(
+            item.space, ns, me, states, frames, engagements, scenes.current()
+        )
+        if query.key_expr.intersects(zenoh.KeyExpr(key))
+    ]
+    if not replies:
+        replies, error = _nothing_matched(item.space, str(query.key_expr), ledger, scenes, settings)
+    else:
+        error = None
+    ledger.count("queries_answered")  # before the replies: a status read after them agrees
+    if error is not None:
+        query.reply_err(error.model_dump_json(), encoding=JSON)
     for key, payload in replies:
-        if query.key_expr.intersects(zenoh.KeyExpr(key)):
-            query.reply(key, payload, encoding=JSON)
+        query.reply(key, payload, encoding=JSON)
     query.drop()
-    ledger.count("queries_answered")
+
+
+def _nothing_matched(
+    space: str, selector: str, ledger: Ledger, scenes: Scenes, settings: Settings
+) -> tuple[list[tuple[str, bytes]], QueryError | None]:
+    """A query that names one frame (its last chunk) and matched nothing still gets an
+    answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
+    knows answers with its empty list (groups, who faces whom, the frame's facing list) or
+    ``empty_frame`` (per-body keys); any other ``unknown_frame``, naming the frames tracked.
+    A wildcard frame that matches nothing stays unanswered (a ``**`` query reaches every
+    queryable, and would collect one refusal from each)."""
+    frame = selector.rsplit("/", 1)[-1]
+    if "*" in frame or "$" in frame:
+        return [], None
+    ns, me = settings.namespace, settings.instance
+    empty = scenes.empty(frame)
+    if empty is None and frame not in ledger.tracked:
+        tracked = ", ".join(sorted(ledger.tracked)) or "none"
+        detail = f"no frame {frame!r} in this service; frames tracked: {tracked}"
+        return [], QueryError(error="unknown_frame", detail=detail)
+    scene = empty or nobody(frame, (0, 0))
+    if space in ("groups", "gazing"):
+        return query_replies(space, ns, me, (), (), (), [scene]), None
+    if space == "frame":
+        said = frame_json(frame_facing(frame, empty and empty.stamp, [], []), me)
+        return [(keys.frame_key(ns, frame), said)], None
+    detail = f"nobody is tracked in frame {frame!r} now"
+    return [], QueryError(error="empty_frame", detail=detail)

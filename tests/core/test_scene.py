@@ -5,11 +5,17 @@ from __future__ import annotations
 
 import math
 
-from facing_service.core.groups import GroupParams
+from facing_service.core.groups import GroupParams, ScaleParams
 from facing_service.core.scene import ROBOT, FrameScene, Person, SceneParams, Scenes
 
 PARAMS = SceneParams(
-    GroupParams(), threshold_deg=20.0, hysteresis_deg=5.0, hold_s=0.3, period_s=0.1, max_people=4
+    GroupParams(),
+    ScaleParams(),
+    threshold_deg=20.0,
+    hysteresis_deg=5.0,
+    hold_s=0.3,
+    period_s=0.1,
+    max_people=4,
 )
 
 

@@ -126,3 +126,37 @@ def test_the_client_says_groups_formed_changed_dissolved_and_the_robot_joining_a
         assert (name, frame, group.id) == ("group_dissolved", "cam", seeded.id)
         with pytest.raises(ValueError, match="unknown group event"):
             hri.on_group("group_merged", print)
+
+
+@pytest.mark.parametrize("base_frame", ["*", "cam"])
+def test_a_query_naming_a_frame_always_answers_even_after_the_room_emptied(net, base_frame):
+    """Issue 41: after everyone left and people came back, a query on the frame's groups
+    got no reply at all. A frame the service knows answers with its empty lists; a frame
+    it does not know answers with an error naming the frames tracked (where it serves every
+    frame); a wildcard that matches nothing stays unanswered (every queryable would refuse
+    it)."""
+    _, ep = net.service(group_hold_s=0.2, base_frame=base_frame)
+    client = net.client(ep)
+    wait_until_answered(client, f"{NS}/services/facing/*/status")
+    for sec in (1, 2):  # the room fills, and empties: twice
+        ann = pose_json("ann", "cam", x=3.0, y=2.0, yaw_deg=0.0, sec=sec)
+        send(client, pose_key("ann"), ann)
+        send(client, pose_key("bob"), pose_json("bob", "cam", x=4.2, y=2.0, yaw_deg=180.0, sec=sec))
+        wait_until(lambda: dict(get(client, GROUPS)).get(GROUPS, {}).get("groups"), 5, "a group")
+        send_delete(client, pose_key("ann"))
+        send_delete(client, pose_key("bob"))
+        wait_until(lambda: not get(client, f"{NS}/bodies/*/facing/*"), 5, "everyone gone")
+        # the group dissolves once held: till then the query says it, then says it is gone
+        wait_until(lambda: [(k, v["groups"]) for k, v in get(client, GROUPS)] == [(GROUPS, [])],
+                   5, "the empty groups answered")  # fmt: skip
+        assert [(k, v["pairs"]) for k, v in get(client, GAZING)] == [(GAZING, [])]
+        ((key, facing),) = get(client, f"{NS}/facing/cam")
+        assert key == f"{NS}/facing/cam" and facing["bodies_tracked"] == []
+        ((kind, error),) = get(client, f"{NS}/bodies/*/facing/cam")
+        assert (kind, error["error"]) == ("error", "empty_frame")
+    if base_frame == "*":  # it serves every frame: a wrong one is answered as such
+        ((kind, error),) = get(client, f"{NS}/groups/cma")
+        assert (kind, error["error"]) == ("error", "unknown_frame") and "'cma'" in error["detail"]
+    else:  # it serves "cam" alone: another frame is another service's (scale-out)
+        assert get(client, f"{NS}/groups/cma") == []
+    assert get(client, f"{NS}/bodies/*/facing/*") == []  # a wildcard: nothing to refuse

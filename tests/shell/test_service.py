@@ -99,7 +99,9 @@ def test_input_delete_loses_the_body(rig):
     send_delete(client, pose_key("a"))
     rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete")
     rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == [])
-    assert [r for r in get(client, f"{NS}/bodies/*/facing/cam")] == []
+    # nobody there now, said as such (not silence, which would mean "no service")
+    ((kind, error),) = get(client, f"{NS}/bodies/*/facing/cam")
+    assert (kind, error["error"]) == ("error", "empty_frame")
 
 
 def test_stale_body_is_deleted(rig):
