@@ -3,7 +3,8 @@
     python -m benchmarks.crossval            # every idea: in-sample and cross-validated
 
 A robot meets new people: a rule chosen on the people it is judged on says little. Each
-idea (``FAMILIES``: the head parameters it searches, the rest at their defaults) picks its
+idea (``FAMILIES``: the head parameters it searches, the rest at their defaults, sustained
+attention off unless searched: ``BEFORE``) picks its
 candidate on the training person-recordings by a criterion (``CRITERIA``) and is scored on
 the held-out ones:
 - **by person** (the main figures): leave one person out, five folds;
@@ -85,6 +86,35 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
         "head_steady_deg": (3.0, 5.0, 8.0, 12.0),
         "head_dwell_s": (0.5, 1.0, 1.5, 2.0),
     },
+    # Two speeds: ENGAGING as soon as the smoothed score crosses, ENGAGED once the face
+    # has stayed in the cone, every sample, this long (sustained attention, issue 42).
+    # First with the time fixed by the delay the issue allows ENGAGED (half the rule's
+    # 5.2 s: a person facing from the start is ENGAGED at 2.1 s), the cone alone chosen;
+    # then the time chosen too.
+    "cone, sustained attention 2 s": {
+        "head_threshold_deg": CONES,
+        "head_engaged_after_s": (2.0,),
+    },
+    "cone, sustained attention": {
+        "head_threshold_deg": CONES,
+        "head_engaged_after_s": (1.0, 1.5, 2.0, 2.5, 3.0),
+    },
+    # ... with a faster smoothed score: ENGAGING sooner, and ENGAGED left sooner.
+    "cone, sustained attention, smoothing": {
+        "head_threshold_deg": CONES,
+        "head_engaged_after_s": (1.5, 2.0, 2.5),
+        "head_engagement_tau_s": (0.5, 1.0, 2.0),
+    },
+    "cone, sustained attention, hysteresis": {
+        "head_threshold_deg": CONES,
+        "head_engaged_after_s": (1.5, 2.0, 2.5),
+        "head_falloff_deg": (10.0, 20.0, 30.0),
+    },
+    "cone, sustained attention, steadiness": {
+        "head_threshold_deg": CONES,
+        "head_engaged_after_s": (1.5, 2.0, 2.5),
+        "head_steady_deg": (0.0, 5.0, 8.0, 12.0),
+    },
     # Everything free: shows what fitting many parameters to five people does.
     "every head parameter": {
         "head_threshold_deg": (24.0, 28.0, 32.0),
@@ -94,6 +124,16 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
         "head_steady_deg": (0.0, 5.0),
     },
 }
+
+
+#: What a family that does not search it runs with: the rule before it was an idea (the
+#: defaults hold the preferred idea's choice, which would leak into every other family).
+BEFORE = {"head_engaged_after_s": (0.0,)}
+
+
+def grid_of(family: str) -> dict[str, tuple[Any, ...]]:
+    """A family's full grid: what it searches, and ``BEFORE`` where it does not."""
+    return {**BEFORE, **FAMILIES[family]}
 
 
 @dataclass(frozen=True)
@@ -192,8 +232,25 @@ def at_worst(scored: Sequence[Row]) -> tuple[float, ...]:
     return (round(min(map(scoring.objective, scored)), 6), *on_average(scored))
 
 
-#: How a family picks its candidate on the training person-recordings.
+#: The cap on the costlier error a choice keeps on its training people: the share of the
+#: worst DISENGAGED person-recording's time called ENGAGED (a robot greeting someone who
+#: is not engaging). Below the issue's 20 % for any person, so a new person has room;
+#: 10 % leaves no rule but a 22° cone that misses a third of the engaged (measured).
+FALSE_ENGAGED_CAP = 0.15
+
+
+def capped(scored: Sequence[Row]) -> tuple[float, ...]:
+    """Higher is better: within the cap on the worst person-recording's false ENGAGED
+    first (beyond it, the less the better), then the average criterion."""
+    worst = max((r.false_engaged for r in scored if r.false_engaged is not None), default=0.0)
+    return (-max(0.0, round(worst - FALSE_ENGAGED_CAP, 6)), *on_average(scored))
+
+
+#: How a family picks its candidate on the training person-recordings: the issue's rule
+#: (the costlier error capped) first, so that within a family it is the incumbent the
+#: others must beat beyond their interval.
 CRITERIA: dict[str, Callable[[Sequence[Row]], tuple[float, ...]]] = {
+    "false ENGAGED capped": capped,
     "on average": on_average,
     "at worst": at_worst,
 }
@@ -274,6 +331,7 @@ def judge(
 
     scorable = {key for key in keys if key != scoring.CEILING}
     judged = []
+    searched = sum(len(values) > 1 for values in grid.values())  # a fixed value is no choice
     for criterion, rank in CRITERIA.items():
         held: dict[str, list[Row]] = {}
         fold_notes = []
@@ -293,7 +351,7 @@ def judge(
             Judged(
                 family,
                 criterion,
-                len(grid),
+                searched,
                 len(options),
                 summaries(table[chosen]),
                 options[chosen],
@@ -310,12 +368,26 @@ def _scored(j: Judged) -> list[Row]:
     return [row for row in map(lambda r: Row(**r), j.rows) if not row.ceiling]
 
 
+def safe(j: Judged) -> bool:
+    """By person, the costlier error within bounds: a DISENGAGED person called ENGAGED at
+    most 10 % of their time on average (the target), and the worst person-recording
+    within the cap a choice keeps on its training people (``FALSE_ENGAGED_CAP``, below
+    the target's 20 %: the people kept outside the project were worse than ours)."""
+    cv = j.by_person["without_ceiling"]
+    return (
+        cv["false_engaged"] <= scoring.TARGETS["false_engaged"]
+        and cv["false_engaged_worst"] <= FALSE_ENGAGED_CAP
+    )
+
+
 def preferred(judged: Sequence[Judged]) -> tuple[Judged, list[dict[str, Any]]]:
-    """The issue's rule: from the simplest idea up, a more complex one replaces the
-    incumbent only when its by-person cross-validated advantage is above its interval
-    (paired bootstrap over person-recordings); the steps taken and refused, with their
-    intervals."""
-    order = sorted(judged, key=lambda j: (j.parameters, j.candidates))
+    """The issue's rule, the costlier error first: only ideas whose by-person figures keep
+    false ENGAGED within bounds (``safe``) compete, when any does; from the simplest
+    of those up, a more complex one replaces the incumbent only when its by-person
+    cross-validated advantage is above its interval (paired bootstrap over
+    person-recordings); the steps taken and refused, with their intervals."""
+    eligible = [j for j in judged if safe(j)] or list(judged)
+    order = sorted(eligible, key=lambda j: (j.parameters, j.candidates))
     incumbent, steps = order[0], []
     for challenger in order[1:]:
         mean, lo, hi = advantage(_scored(challenger), _scored(incumbent))
@@ -345,9 +417,9 @@ def load(folders: Sequence[Path] = FOLDERS) -> list[Recording]:
 
 def evaluate(folders: Sequence[Path] = FOLDERS) -> dict[str, Any]:
     recordings = load(folders)
-    every = [tuple(sorted(c.items())) for grid in FAMILIES.values() for c in candidates(grid)]
+    every = [tuple(sorted(c.items())) for name in FAMILIES for c in candidates(grid_of(name))]
     scored = score_all(every, recordings)
-    judged = [j for name, grid in FAMILIES.items() for j in judge(name, grid, scored)]
+    judged = [j for name in FAMILIES for j in judge(name, grid_of(name), scored)]
     best, steps = preferred(judged)
     return {
         "shipped_defaults": shipped(recordings),

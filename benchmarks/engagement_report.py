@@ -55,14 +55,25 @@ def _figures(s: dict[str, Any], intervals: bool = True) -> list[str]:
         _ci(s, "level", _pct),
         _ci(s, "engaged_or_not", _pct),
         _ci(s, "false_engaged", _pct),
+        _ci(s, "false_engaged_worst", _pct),
         _ci(s, "missed", _pct),
         f"{s['final']}/{s['of']}",
+        _ci(s, "first_engaging_s", _s),
         _ci(s, "first_engaged_s", _s),
         f"{s['changes_per_min']:.1f}",
     ]
 
 
-FIGURE_HEAD = ["level", "ENGAGED or not", "false ENGAGED", "missed", "final", "1st ENGAGED"]
+FIGURE_HEAD = [
+    "level",
+    "ENGAGED or not",
+    "false ENGAGED",
+    "worst false ENGAGED",
+    "missed",
+    "final",
+    "1st ENGAGING",
+    "1st ENGAGED",
+]
 
 
 def _table(head: list[str], rows: list[list[str]]) -> list[str]:
@@ -119,13 +130,17 @@ def crossval_section(cv: dict[str, Any]) -> list[str]:
             _pct(r["false_engaged"]),
             _pct(r["missed"]),
             "✓" if r["final_ok"] else "✗",
+            _s(r["first_engaging_s"]),
             _s(r["first_engaged_s"]),
             f"{r['changes_per_min']:.1f}",
             folds[r["person"]],
         ]
         for r in best["rows"]
     ]
-    head = ["held out", "person", "label", *FIGURE_HEAD, "changes/min", "chosen without them"]
+    head = [
+        "held out", "person", "label", "level", "ENGAGED or not", "false ENGAGED", "missed",
+        "final", "1st ENGAGING", "1st ENGAGED", "changes/min", "chosen without them",
+    ]  # fmt: skip
     out += ["", *_table(head, held)]
     said = zip([*FIGURE_HEAD, "changes/min"], _figures(best["by_person"]["all"]), strict=True)
     out += ["", "With the ceiling row, by person: " + ", ".join(f"{k} {v}" for k, v in said) + "."]

@@ -40,8 +40,17 @@ TICK_NS = 100_000_000  # hri_engagement's rate: 10 Hz
 WARM_UP_S = 2.0
 #: (recording, person) beyond any method: printed, left out of targets and choices.
 CEILING = ("2p_AA_FV_eng_1", "ghfbv")
-#: The issue's targets, by-person cross-validated, without the ceiling row.
-TARGETS = {"false_engaged": 0.10, "engaged_or_not": 0.90, "level": 0.80, "first_engaged_s": 1.5}
+#: The issue's targets (42), by-person cross-validated, without the ceiling row: the error
+#: a robot acts on (greeting someone who is not engaging) on average and at worst, the
+#: rest, and the two speeds.
+TARGETS = {
+    "false_engaged": 0.10,
+    "false_engaged_worst": 0.20,
+    "engaged_or_not": 0.90,
+    "level": 0.80,
+    "first_engaging_s": 1.5,
+    "first_engaged_s": 2.6,
+}
 BOOTSTRAP = 2000  # resamples; the seed is fixed so a table is reproducible
 
 Timeline = list[tuple[float, Level]]  # (seconds since the recording's start, level)
@@ -89,6 +98,7 @@ class Row:
     first_engaged_s: float | None
     changes: int
     changes_per_min: float  # after the warm-up: flicker, not the first decisions
+    first_engaging_s: float | None = None  # the quick signal: ENGAGING or ENGAGED first
 
     @property
     def ceiling(self) -> bool:
@@ -118,6 +128,7 @@ def score(recording: str, person: str, label: Level, timeline: Timeline) -> Row:
     engaged = label is Level.ENGAGED
     right = sum((level is Level.ENGAGED) == engaged for level in after) / len(after)
     first = next((t for t, level in timeline if level is Level.ENGAGED), None)
+    glance = next((t for t, level in timeline if level in (Level.ENGAGING, Level.ENGAGED)), None)
     previous, changes, flips = Level.UNKNOWN, 0, 0
     for t, level in timeline:
         changes += level is not previous
@@ -136,12 +147,19 @@ def score(recording: str, person: str, label: Level, timeline: Timeline) -> Row:
         None if first is None else round(first, 1),
         changes,
         round(flips / minutes, 2),
+        None if glance is None else round(glance, 1),
     )
 
 
 def _median_first(rows: Sequence[Row]) -> float:
     return statistics.median(
         math.inf if r.first_engaged_s is None else r.first_engaged_s for r in rows
+    )
+
+
+def _median_first_engaging(rows: Sequence[Row]) -> float:
+    return statistics.median(
+        math.inf if r.first_engaging_s is None else r.first_engaging_s for r in rows
     )
 
 
@@ -160,6 +178,11 @@ FIGURES: dict[str, tuple[Callable[[Row], bool], Callable[[Sequence[Row]], float]
         lambda r: r.missed is not None,
         lambda rows: statistics.mean(r.missed or 0.0 for r in rows),
     ),
+    "false_engaged_worst": (
+        lambda r: r.false_engaged is not None,
+        lambda rows: max(r.false_engaged or 0.0 for r in rows),
+    ),
+    "first_engaging_s": (lambda r: r.label == "ENGAGED", _median_first_engaging),
     "first_engaged_s": (lambda r: r.label == "ENGAGED", _median_first),
     "changes_per_min": (
         lambda r: True,
@@ -251,8 +274,10 @@ def figures_line(s: dict[str, Any]) -> str:
     """One summary, every figure with its interval."""
     return (
         f"level {_ci(s, 'level', _pct)}, ENGAGED or not {_ci(s, 'engaged_or_not', _pct)}, "
-        f"false ENGAGED {_ci(s, 'false_engaged', _pct)}, missed {_ci(s, 'missed', _pct)}, "
-        f"final {s['final']}/{s['of']}, first ENGAGED {_ci(s, 'first_engaged_s', _seconds)}, "
+        f"false ENGAGED {_ci(s, 'false_engaged', _pct)} (worst"
+        f" {_ci(s, 'false_engaged_worst', _pct)}), missed {_ci(s, 'missed', _pct)}, "
+        f"final {s['final']}/{s['of']}, first ENGAGING {_ci(s, 'first_engaging_s', _seconds)},"
+        f" first ENGAGED {_ci(s, 'first_engaged_s', _seconds)}, "
         f"{s['changes_per_min']:.1f} changes/min"
     )
 

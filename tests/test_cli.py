@@ -310,7 +310,7 @@ def test_help_log_and_status_say_the_same(net, tmp_path, caplog):
     config = service.status().config
     assert (config["mode"], config["no_multicast_scouting"]) == ("peer", True)
     (started,) = [r.getMessage() for r in caplog.records if "started" in r.getMessage()]
-    assert "faces facing within 26.0 deg (3d)" in started
+    assert "faces facing within 24.0 deg (3d)" in started
     topics = "engagement_status, facing lists, groups, gazing, markers"
     said = f"ROS 2 output on the robot's topics ({topics})"
     assert said in started

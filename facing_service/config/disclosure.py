@@ -37,6 +37,7 @@ PUBLIC_FIELDS = frozenset(
         "head_falloff_deg",
         "head_engagement_tau_s",
         "head_dwell_s",
+        "head_engaged_after_s",
         "head_steady_deg",
         "head_steady_tau_s",
         "group_hold_s",

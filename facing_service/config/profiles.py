@@ -48,6 +48,7 @@ def head_profile(settings: Settings) -> Profile:
         disengage_dwell_s=s.head_dwell_s,
         steady_deg=s.head_steady_deg or None,
         steady_tau_s=s.head_steady_tau_s,
+        sustain_s=s.head_engaged_after_s or None,
     )
     return Profile(s.head_threshold_deg, s.hysteresis_deg, s.head_cone == "3d", engagement)
 

@@ -141,7 +141,7 @@ class Settings(BaseModel):
         "3d", **_flag("how a face's angle to the robot is measured: `3d` or `planar`", HEADS)
     )
     head_threshold_deg: float = Field(
-        26.0,
+        24.0,
         gt=0.0,
         lt=180.0,
         **_flag(
@@ -163,6 +163,17 @@ class Settings(BaseModel):
         ge=0.0,
         allow_inf_nan=False,
         **_flag("a face's ENGAGING and DISENGAGING must hold this long", HEADS),
+    )
+    head_engaged_after_s: float = Field(
+        2.0,
+        ge=0.0,
+        le=60.0,
+        allow_inf_nan=False,
+        **_flag(
+            "a face becomes ENGAGED once it has stayed in its cone this long, every sample "
+            "(0: once ENGAGING has held --head-dwell-s)",
+            HEADS,
+        ),
     )
     head_steady_deg: float = Field(
         0.0,

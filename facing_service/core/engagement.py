@@ -23,6 +23,11 @@ thresholds plus dwell times keep tracker noise (several degrees of yaw jitter) f
 flickering the level, while the short time constant keeps reactions under a second (see
 benchmarks/engagement.py).
 
+**Two speeds** (heads, chosen on real recordings: docs/engagement.md): ENGAGING is the
+quick signal (the smoothed score crossing ``engage_above``: someone turning toward the
+robot); with ``sustain_s`` set, ENGAGED (what a robot greets on) needs every sample of the
+last ``sustain_s`` in the cone, so a glance, however often repeated, never engages.
+
 **Steadiness** (heads, chosen on real recordings: docs/engagement.md): a person who
 attends to the robot holds their head still toward it; one looking around sweeps through
 the cone. The machine keeps the recent mean direction of the robot in the frame (an
@@ -74,6 +79,9 @@ class EngagementParams:
     fresh_s: float = 0.2  # promotion to ENGAGED needs an observation at most this old
     steady_deg: float | None = None  # the score falls from this wander to 0 at twice it
     steady_tau_s: float = 0.5  # time constant of the recent mean direction
+    # ENGAGED only once every sample of the last this long scored at least engage_above
+    # (sustained attention); None: once ENGAGING has held engage_dwell_s.
+    sustain_s: float | None = None
 
 
 def facing_score(angle_deg: float | None, distance_m: float | None, p: EngagementParams) -> float:
@@ -129,6 +137,7 @@ class Engagement:
     since: float = 0.0
     last: float | None = None  # time of the last sample
     heading: Vector | None = None  # recent mean direction of the robot (with steadiness)
+    facing_since: float | None = None  # every sample since then scored >= engage_above
 
 
 def step(
@@ -154,8 +163,11 @@ def step(
         alpha = 1.0 - math.exp(-dt / p.tau_s)
         score = state.score + alpha * (raw_score - state.score)
         level, since = state.level, state.since
+    facing_since = None
+    if raw_score >= p.engage_above:
+        facing_since = t if state.facing_since is None else state.facing_since
     # the constructor, not dataclasses.replace: this runs for every sample
-    return advance(Engagement(level, score, raw_score, since, t, heading), t, p)
+    return advance(Engagement(level, score, raw_score, since, t, heading, facing_since), t, p)
 
 
 def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
@@ -176,7 +188,7 @@ def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
     elif level is Level.ENGAGING:
         if score < p.disengage_below:
             nxt = Level.DISENGAGED
-        elif now_facing and t - since >= p.engage_dwell_s:
+        elif now_facing and _held(state, t, p):
             nxt = Level.ENGAGED
     elif level is Level.ENGAGED and score < p.disengage_below:
         nxt = Level.DISENGAGING
@@ -187,7 +199,15 @@ def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
             nxt = Level.DISENGAGED
     if nxt is level:
         return state
-    return Engagement(nxt, state.score, state.raw, t, state.last, state.heading)
+    return Engagement(nxt, state.score, state.raw, t, state.last, state.heading, state.facing_since)
+
+
+def _held(state: Engagement, t: float, p: EngagementParams) -> bool:
+    """ENGAGING has lasted long enough to be ENGAGED: the face has stayed in the cone for
+    ``sustain_s`` (when set), else ENGAGING has held ``engage_dwell_s``."""
+    if p.sustain_s is None:
+        return t - state.since >= p.engage_dwell_s
+    return state.facing_since is not None and t - state.facing_since >= p.sustain_s
 
 
 class VoteWindow:

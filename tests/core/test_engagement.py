@@ -12,6 +12,7 @@ from facing_service.config.profiles import engagement_params, head_profile
 from facing_service.config.settings import Settings
 from facing_service.core.engagement import (
     Engagement,
+    EngagementParams,
     Level,
     VoteWindow,
     Zone,
@@ -165,10 +166,36 @@ def test_a_head_held_still_in_the_cone_engages_with_steadiness_as_without():
 
 def test_a_head_sweeping_through_the_cone_never_engages_with_steadiness():
     """Looking around: the head turns at 30 deg/s between -40 and +40 deg, so it spends
-    over a second at a time inside the cone. Without steadiness that engages; with it,
-    the head is always far from where it just was, and it never does."""
+    over a second at a time inside the cone. Without steadiness (nor sustained attention,
+    which alone would keep this sweep out) that engages; with it, the head is always far
+    from where it just was, and it never does."""
     sweep = [40.0 - abs((i * 1.0) % 160 - 80) for i in range(30 * 12)]
-    _, without = looking(sweep, replace(HEAD, steady_deg=None))
-    _, with_it = looking(sweep, HEAD)
+    _, without = looking(sweep, replace(HEAD, steady_deg=None, sustain_s=None))
+    _, with_it = looking(sweep, replace(HEAD, sustain_s=None))
     assert Level.ENGAGED in without
     assert Level.ENGAGED not in with_it and Level.ENGAGING not in with_it
+
+
+def test_two_speeds_engaging_at_once_engaged_only_after_sustained_attention():
+    """Issue 42: ENGAGING is the quick signal, ENGAGED (what a robot greets on) needs the
+    face in the cone for every sample of ``sustain_s``: a glance, or glances repeated with
+    gaps between them, make a body ENGAGING and never ENGAGED; steady attention does."""
+    two = replace(P, sustain_s=2.0, tau_s=0.25, engage_dwell_s=0.5)
+    glances = ([1.0] * 45 + [0.0] * 6) * 4  # 1.5 s in the cone, 0.2 s out, four times
+    trace = _trace(glances, two)
+    assert Level.ENGAGING in trace and Level.ENGAGED not in trace
+    steady = _trace([1.0] * 90, two)  # 3 s in the cone
+    engaged_at = steady[Level.ENGAGED]
+    assert steady[Level.ENGAGING] < 0.1 and engaged_at == pytest.approx(2.0 + 1 / 30, abs=0.04)
+    # the same glances engage without sustain_s: ENGAGING held its dwell
+    assert Level.ENGAGED in _trace(glances, replace(two, sustain_s=None))
+
+
+def _trace(scores: list[float], p: EngagementParams, dt: float = 1 / 30) -> dict[Level, float]:
+    """When each level was first reached, feeding ``scores`` every ``dt``."""
+    state, first, t = Engagement(), {}, 0.0
+    for score in scores:
+        t += dt
+        state = step(state, t, score, p)
+        first.setdefault(state.level, t)
+    return first
