@@ -8,14 +8,32 @@ except PackageNotFoundError:  # running from a source tree that was never instal
     __version__ = "0.0.0+unknown"
 
 from .client import FacingClient
-from .contract import BodyRef, EngagementEvent, EngagementState, FacingState, FrameFacing
+from .contract import (
+    BodyRef,
+    EngagementEvent,
+    EngagementState,
+    FacingState,
+    FrameFacing,
+    GazePair,
+    GroupState,
+    ServiceStatus,
+)
+from .errors import ClientNotOpen, FacingError, QueryRefused, SettingsError, UnknownFrame
 
 __all__ = [
     "BodyRef",
+    "ClientNotOpen",
     "EngagementEvent",
     "EngagementState",
     "FacingClient",
+    "FacingError",
     "FacingState",
     "FrameFacing",
+    "GazePair",
+    "GroupState",
+    "QueryRefused",
+    "ServiceStatus",
+    "SettingsError",
+    "UnknownFrame",
     "__version__",
 ]

@@ -169,8 +169,9 @@ def build_parser() -> _Parser:
     health = commands.add_parser(
         "health",
         help="exit 0 when a running service answers its status query, 1 otherwise",
-        description="Query NS/services/facing/<instance>/status and print each answer as "
-        "JSON. Reads the same FACING_* variables as 'run' (so a container's health check "
+        description="Query NS/services/facing/<instance>/status and print one line per "
+        "answer (the whole status as JSON with --json). Reads the same FACING_* variables "
+        "as 'run' (so a container's health check "
         "needs no flags); it never listens, and connects to the service's listen "
         "endpoints on loopback when no connect endpoint is set.",
     )
@@ -184,6 +185,9 @@ def build_parser() -> _Parser:
         type=POSITIVE,
         default=3.0,
         help="seconds to wait for a service to be discovered and answer (default 3)",
+    )
+    health.add_argument(
+        "--json", action="store_true", help="print each whole status as JSON, one a line"
     )
     health.add_argument(
         "--health-config",

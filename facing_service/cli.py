@@ -24,11 +24,11 @@ from .client.client import FacingClient
 from .client.sim import Scene, TrackerPublisher, simulate
 from .client.watch import Watcher, natural_order
 from .config.disclosure import zenoh_failure
-from .config.errors import SettingsError
 from .config.session import zenoh_config
 from .config.settings import Settings
 from .config.sources import load_settings
 from .contract import keys
+from .contract.errors import SettingsError
 from .contract.schemas import json_schemas
 from .ros2.record import replay_refusal
 from .shell.run import run_until
@@ -94,7 +94,9 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _health(args: argparse.Namespace) -> int:
-    return health.check(vars(args), os.environ, args.instance, args.health_config, args.timeout)
+    return health.check(
+        vars(args), os.environ, args.instance, args.health_config, args.timeout, args.json
+    )
 
 
 def _router(args: argparse.Namespace) -> int:

@@ -1,6 +1,6 @@
 """The layers of docs/architecture.md, kept true: every import inside the package goes to a
 lower layer or stays in its own subpackage (no climb, no sideways step between peers), and
-no module grows past 400 lines."""
+no module grows past 450 lines."""
 
 from __future__ import annotations
 
@@ -96,11 +96,13 @@ def test_the_rule_catches_a_climb(here, source, wrong):
     assert climbs(here, source) == wrong
 
 
-#: docs/architecture.md: one responsibility per module, none over this many lines.
-MAX_MODULE_LINES = 400
+#: docs/architecture.md: one responsibility per module, none over this many lines. (Issue
+#: 43: 400 split modules by size rather than by what they do; a cohesive 420 lines beats
+#: two halves that call each other.)
+MAX_MODULE_LINES = 450
 
 
 @pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PACKAGE)))
-def test_no_module_is_over_400_lines(path: Path):
+def test_no_module_is_over_450_lines(path: Path):
     lines = len(path.read_text().splitlines())
     assert lines <= MAX_MODULE_LINES, f"{path.relative_to(PACKAGE)}: {lines} lines"

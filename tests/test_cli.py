@@ -12,13 +12,23 @@ import time
 from pathlib import Path
 
 import pytest
+import zenoh
 
 from facing_service import __version__
 from facing_service.contract.schemas import json_schemas
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
-from loopback import endpoint, free_port, get, send, wait_until_answered
+from loopback import (
+    endpoint,
+    free_port,
+    get,
+    loopback_config,
+    send,
+    wait_until,
+    wait_until_answered,
+)
 from poses import pose_json
+from routers import Router
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -164,21 +174,50 @@ def test_simulate_says_what_it_publishes(net):
     assert last.startswith("published ") and " poses and " in last
 
 
-def test_run_warns_while_its_endpoints_stay_unreachable(monkeypatch, caplog):
+def test_a_peer_says_at_once_that_its_endpoints_are_unreachable(caplog):
+    """Issue 46: a peer told to connect to an endpoint nobody listens on was silent for
+    10 s; the service's link watch says so within about a second, and the status shows
+    how long it has had nobody."""
+    import logging
+
     from facing_service.config.settings import Settings
-    from facing_service.shell import run as shell
     from facing_service.shell.service import FacingService
 
-    monkeypatch.setattr(shell, "UNREACHABLE_WARNING_S", 0.2)
+    caplog.set_level(logging.WARNING, logger="facing_service")
     settings = Settings(
         connect=[endpoint(free_port())], no_multicast_scouting=True, cfg=["scouting/delay:0"]
     )
-    stop = threading.Event()
     with FacingService(settings) as service:
-        timer = threading.Timer(0.7, stop.set)
-        timer.start()
-        shell.warn_while_unreachable(service, settings, stop)
-    assert "no router or peer reachable at tcp/127.0.0.1:" in caplog.text
+        wait_until(lambda: "no router or peer reachable at tcp/127.0.0.1:" in caplog.text,
+                   5, "the warning")  # fmt: skip
+        assert service.status().outage_s is not None
+
+
+@pytest.mark.slow
+def test_run_in_client_mode_waits_for_its_router_and_says_so(tmp_path):
+    """Issue 46: `run -m client` exited at once when the router was not up yet, so a robot
+    booting in any order needed a restart. It now waits, says so within a second (and how
+    to exit instead), and answers once the router comes up."""
+    port = free_port()
+    ep = endpoint(port)
+    with running_cli("run", "-m", "client", "-e", ep, "--no-multicast-scouting") as proc:
+        time.sleep(2.0)
+        assert proc.poll() is None, proc.communicate()[0]
+        router = Router(str(loopback_config(listen=[ep], mode="router")), port).start()
+        try:
+            with zenoh.open(loopback_config(connect=[ep], mode="client")) as session:
+                wait_until(
+                    lambda: any(r.ok for r in session.get("hri/services/facing/*/status")),
+                    20, "the service's status through the router",
+                )  # fmt: skip
+        finally:
+            proc.send_signal(signal.SIGTERM)
+            output, _ = proc.communicate(timeout=10)
+            router.stop()
+    assert proc.returncode == 0, output
+    assert "still waiting for a router at " + ep in output
+    assert "--exit-without-router exits instead" in output
+    assert "the router answered after" in output
 
 
 @pytest.mark.slow
@@ -203,7 +242,7 @@ def test_below_debug_zenohs_warnings_stay_out_of_our_one_line(monkeypatch):
     the Rust source paths of zenoh's build; our own line is the one to read."""
     monkeypatch.delenv("RUST_LOG", raising=False)
     flags = ("-m", "client", "-e", endpoint(free_port()), "--no-multicast-scouting")
-    with running_cli("run", *flags) as proc:
+    with running_cli("run", *flags, "--exit-without-router") as proc:
         output, _ = proc.communicate(timeout=30)
     assert proc.returncode == 1, output
     assert " WARN" not in output and ".rs:" not in output, output
@@ -277,8 +316,9 @@ def test_no_router_is_one_line_naming_connect(command):
     """A client with no router fails at once: every command says so in one line that
     names --connect, never a traceback."""
     nobody = endpoint(free_port())
+    wait = ["--exit-without-router"] if command == ["run"] else []  # run waits by default
     proc = subprocess.run(
-        [sys.executable, "-m", "facing_service", *command, "-m", "client", "-e", nobody],
+        [sys.executable, "-m", "facing_service", *command, "-m", "client", "-e", nobody, *wait],
         capture_output=True,
         text=True,
         timeout=60,

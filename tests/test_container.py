@@ -83,7 +83,7 @@ def test_the_image_serves_answers_reports_health_and_stops_on_sigterm(container,
     (frame,) = get(client, "hri/facing/base_link?threshold_deg=5")
     assert frame[1]["bodies_facing"] == []  # a what-if query, answered by the container
 
-    health = docker("exec", name, "facing-service", "health", check=False)
+    health = docker("exec", name, "facing-service", "health", "--json", check=False)
     assert health.returncode == 0, health.stderr
     assert json.loads(health.stdout.splitlines()[0])["instance"] == "in-a-container"
 

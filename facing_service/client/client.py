@@ -30,6 +30,7 @@ import zenoh
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
+from ..contract.errors import ClientNotOpen, QueryRefused, UnknownFrame
 from ..contract.schemas import EngagementEvent, FacingState, GazePair, GroupState, QueryError
 from ..core.engagement import Level
 from .scene import SCENE_EVENTS, Event, SceneListener
@@ -168,7 +169,11 @@ class FacingClient:
     @property
     def session(self) -> zenoh.Session:
         """The client's zenoh session, for applications that need more than results."""
-        assert self._session is not None, "client not open"
+        return self._open_session()
+
+    def _open_session(self) -> zenoh.Session:
+        if self._session is None:
+            raise ClientNotOpen("the FacingClient is not open: call open(), or use `with`")
         return self._session
 
     # -- the cache -------------------------------------------------------------------
@@ -243,22 +248,26 @@ class FacingClient:
 
     def query(self, frame: str, threshold_deg: float | None = None) -> list[FacingState]:
         """The service's current results for ``frame``, optionally re-decided under
-        another cone (``threshold_deg``, without hysteresis). Raises ValueError when the
-        service refuses the parameter."""
+        another cone (``threshold_deg``, without hysteresis): ``[]`` when nobody is there.
+        Raises ``UnknownFrame`` for a frame the service does not know (a typo), and
+        ``QueryRefused`` when it refuses the parameter (both ``ValueError``s)."""
         return sorted(self._ask(frame, threshold_deg), key=lambda s: s.body_id)
 
     def _ask(self, frame: str | None, threshold_deg: float | None) -> list[FacingState]:
-        assert self._session is not None, "client not open"
+        session = self._open_session()
         selector = keys.facing_key(self.namespace, keys.ALL_FRAMES, frame or self.frame)
         if threshold_deg is not None:
             selector += f"?threshold_deg={threshold_deg}"
         states = []
-        for reply in self._session.get(selector, timeout=self.timeout_s):
+        for reply in session.get(selector, timeout=self.timeout_s):
             if reply.ok is not None:
                 states.append(FacingState.model_validate_json(reply.ok.payload.to_bytes()))
-            else:
-                error = QueryError.model_validate_json(reply.err.payload.to_bytes())
-                raise ValueError(f"{error.error}: {error.detail}")
+                continue
+            error = QueryError.model_validate_json(reply.err.payload.to_bytes())
+            if error.error == "empty_frame":  # the service knows the frame: nobody there
+                continue
+            refused = UnknownFrame if error.error == "unknown_frame" else QueryRefused
+            raise refused(error.error, error.detail)
         return states
 
     @property

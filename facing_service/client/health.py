@@ -17,11 +17,11 @@ from typing import Any
 import zenoh
 
 from ..config.disclosure import zenoh_failure
-from ..config.errors import SettingsError
 from ..config.session import probe_config
 from ..config.settings import Settings
 from ..config.sources import env_name, load_settings
 from ..contract import keys
+from ..contract.errors import SettingsError
 from ..contract.schemas import ServiceStatus
 
 
@@ -77,6 +77,22 @@ def _why_no_answer(
     return f"a facing service is alive, but no answer on {selector}{acl}"
 
 
+def summary(status: ServiceStatus) -> str:
+    """One line of a service's status: what an operator reads (``--json`` for all)."""
+    frames = ", ".join(f"{n} in {f}" for f, n in sorted(status.bodies_tracked.items()))
+    line = (
+        f"{status.status}: instance {status.instance} (facing-service {status.version}), up "
+        f"{status.uptime_s:.0f} s, {status.bodies_tracked_total} bodies tracked"
+        + (f" ({frames})" if frames else "")
+        + f", {sum(status.rejected.values())} samples refused"
+    )
+    if status.outage_s is not None:
+        line += f", no router or peer for {status.outage_s:.1f} s"
+    if status.ros2 is not None and status.ros2.findings:
+        line += f"; findings: {', '.join(sorted(status.ros2.findings))}"
+    return line
+
+
 #: A zenoh config file for the health check's own identity (``--health-config``).
 HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
 
@@ -87,6 +103,7 @@ def check(
     instance: str | None,
     health_config: str | None,
     timeout: float,
+    as_json: bool = False,
 ) -> int:
     """``facing-service health``: print every answering service's status; the exit code
     (0: one is ok, 1: none answers ok, 2: a bad setting). With its own identity
@@ -114,7 +131,7 @@ def check(
         print(zenoh_failure("health", error), file=sys.stderr)
         return 1
     for status in answers:
-        print(status.model_dump_json())
+        print(status.model_dump_json() if as_json else summary(status))
     if not answers:
         why = _why_no_answer(settings, instance, timeout, alive, identity)
         print(f"facing-service health: {why}", file=sys.stderr)

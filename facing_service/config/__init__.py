@@ -1,7 +1,7 @@
 """Settings (flags, ``FACING_*`` variables, defaults, and the zenoh session they make)
 and what of them may be disclosed in logs and status (``disclosure``)."""
 
-from .errors import SettingsError
+from ..contract.errors import SettingsError
 from .session import zenoh_config
 from .settings import Settings
 from .sources import load_settings

@@ -58,6 +58,8 @@ PUBLIC_FIELDS = frozenset(
         "log_level",
         "mode",
         "no_multicast_scouting",
+        "reconnect_s",
+        "exit_without_router",
     }
 )
 #: Fields that may hold secrets in part: shown through the functions below.

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import zenoh
 
-from .errors import SettingsError
+from ..contract.errors import SettingsError
 
 if TYPE_CHECKING:
     from .settings import Settings
@@ -103,6 +103,14 @@ def zenoh_config(settings: Settings) -> zenoh.Config:
         _insert(conf, "listen/endpoints", json.dumps(settings.listen), "--listen")
     if settings.no_multicast_scouting:
         _insert(conf, "scouting/multicast/enabled", "false", "--no-multicast-scouting")
+    if json.loads(conf.get_json("connect/retry")) is None:  # the config file's wins
+        first, most = settings.reconnect_s
+        retry = {
+            "period_init_ms": round(first * 1000),
+            "period_max_ms": round(most * 1000),
+            "period_increase_factor": 2,
+        }
+        _insert(conf, "connect/retry", json.dumps(retry), "--reconnect-s")
     for entry in settings.cfg:
         key, _, value = entry.partition(":")
         _insert(conf, key, value, f"--cfg {public_cfg_entry(entry)}")
@@ -145,3 +153,19 @@ def zenoh_error_reason(error: zenoh.ZError) -> str:
     if os_error := re.match(r"(.+?) \(os error \d+\)", text):
         return os_error[1]
     return f"invalid value{where}"
+
+
+def waiting_for_router(settings: Settings) -> Settings:
+    """``run``'s settings: in client mode, unless ``--exit-without-router`` or the config
+    says otherwise (``connect/timeout_ms``), the session waits for its router to come up
+    rather than failing at once: a robot's processes start in any order."""
+    conf = zenoh_config(settings)
+    mode, _ = mode_and_endpoints(conf, "connect")
+    if (
+        mode != "client"
+        or settings.exit_without_router
+        or json.loads(conf.get_json("connect/timeout_ms")) is not None
+    ):
+        return settings
+    wait = ["connect/timeout_ms:-1", "connect/exit_on_failure:false"]
+    return settings.model_copy(update={"cfg": [*wait, *settings.cfg]})

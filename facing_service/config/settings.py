@@ -310,6 +310,24 @@ class Settings(BaseModel):
         ),
     )
     no_multicast_scouting: bool = Field(False, **_flag("disable multicast discovery", ZENOH))
+    reconnect_s: list[float] = Field(
+        [0.25, 1.0],
+        **_flag(
+            "after a lost link, the first retry after FIRST seconds, doubling up to MOST "
+            "(zenoh's own 1,4 left results stopped 4 s after a router came back); a "
+            "`connect/retry` of the config file or --cfg wins",
+            ZENOH,
+            metavar="FIRST,MOST",
+        ),
+    )
+    exit_without_router: bool = Field(
+        False,
+        **_flag(
+            "`run` in client mode: exit at once when no router answers, rather than wait "
+            "for it (a robot boots in any order)",
+            ZENOH,
+        ),
+    )
     cfg: list[str] = Field(
         [],
         **_flag(
@@ -355,6 +373,13 @@ class Settings(BaseModel):
     @classmethod
     def _log_level(cls, value: Any) -> Any:
         return value.upper() if isinstance(value, str) else value
+
+    @field_validator("reconnect_s")
+    @classmethod
+    def _reconnect(cls, value: list[float]) -> list[float]:
+        if len(value) != 2 or not 0 < value[0] <= value[1] <= 60:
+            raise ValueError("reconnect_s is FIRST,MOST seconds, 0 < FIRST <= MOST <= 60")
+        return value
 
     @field_validator("zones_m")
     @classmethod

@@ -10,14 +10,16 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from ..contract.errors import SettingsError
 from .disclosure import public_value
-from .errors import SettingsError
 from .settings import Settings
 
 ENV_PREFIX = "FACING_"
 #: In environment variables, list settings are comma-separated, except ``FACING_CFG``
 #: whose JSON5 values may hold commas: its entries are separated by ``;``.
-_LIST_SEPARATORS = {"connect": ",", "listen": ",", "cfg": ";", "zones_m": ","}
+_LIST_SEPARATORS = {
+    "connect": ",", "listen": ",", "cfg": ";", "zones_m": ",", "reconnect_s": ",",
+}  # fmt: skip
 
 
 def env_name(field: str) -> str:

@@ -3,7 +3,15 @@ trackers, consumers and the service agree on. Pure; imports nothing of the packa
 
 from .keys import BodyRef
 from .poses import Rejection
-from .schemas import EngagementEvent, EngagementState, FacingState, FrameFacing, ServiceStatus
+from .schemas import (
+    EngagementEvent,
+    EngagementState,
+    FacingState,
+    FrameFacing,
+    GazePair,
+    GroupState,
+    ServiceStatus,
+)
 
 __all__ = [
     "BodyRef",
@@ -11,6 +19,8 @@ __all__ = [
     "EngagementState",
     "FacingState",
     "FrameFacing",
+    "GazePair",
+    "GroupState",
     "Rejection",
     "ServiceStatus",
 ]

@@ -67,10 +67,11 @@ def facing_state_json(
 
     Building and dumping a pydantic model per result cost ~5 us of ~10 us per sample.
     Safe to format by hand because ids and frames are validated names (no character needs
-    escaping) and every number is finite; a test checks it against ``FacingState``.
+    escaping) and every number is finite; a test checks it against ``FacingState``. A
+    negative zero (``-Rᵀt`` of a body at z = 0) is said as 0.0: ``+ 0.0`` makes it one.
     """
-    x, y, z = robot_in_body
-    px, py, pz = position
+    x, y, z = robot_in_body[0] + 0.0, robot_in_body[1] + 0.0, robot_in_body[2] + 0.0
+    px, py, pz = position[0] + 0.0, position[1] + 0.0, position[2] + 0.0
     return (
         f'{{"body_id":"{body_id}","frame_id":"{frame_id}",'
         f'"stamp":{{"sec":{stamp[0]},"nanosec":{stamp[1]}}},'
@@ -79,7 +80,7 @@ def facing_state_json(
         f'"distance_m":{"null" if distance_m is None else repr(distance_m)},'
         f'"robot_in_body":{{"x":{x!r},"y":{y!r},"z":{z!r}}},'
         f'"threshold_deg":{threshold_deg!r},'
-        f'"position":{{"x":{px!r},"y":{py!r},"z":{pz!r}}},"heading_deg":{heading_deg!r},'
+        f'"position":{{"x":{px!r},"y":{py!r},"z":{pz!r}}},"heading_deg":{heading_deg + 0.0!r},'
         f'"instance":{"null" if instance is None else chr(34) + instance + chr(34)}}}'
     ).encode()
 
@@ -240,8 +241,9 @@ class ServiceStatus(BaseModel):
 
     status: str = Field(
         description='"ok"; "degraded" while the worker\'s last batch raised (counted in '
-        'worker_errors, logged; back to "ok" when a batch succeeds); "failed" when an '
-        "internal thread died."
+        'worker_errors, logged; back to "ok" when a batch succeeds); "no router" while the '
+        "session has had no router or peer for over 5 s (a router restarting is shorter: "
+        'see outage_s); "failed" when an internal thread died.'
     )
     instance: str
     version: str
@@ -268,6 +270,11 @@ class ServiceStatus(BaseModel):
         default_factory=dict,
         description="zenoh ids of the routers and peers this service's session is "
         "connected to now: empty while its endpoints are unreachable.",
+    )
+    outage_s: float | None = Field(
+        None,
+        description="Seconds since the session, told where to connect, last had a router "
+        "or peer (lost, or never reached yet); null while it has one.",
     )
     inbox_depth: int = Field(
         description="Queries and a robot's side topics received, not yet handled (the input "

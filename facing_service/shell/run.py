@@ -14,6 +14,7 @@ import time
 import zenoh
 
 from ..config.disclosure import public_endpoint, zenoh_failure
+from ..config.session import waiting_for_router
 from ..config.settings import Settings
 from .service import FacingService
 from .threads import daemon_thread
@@ -23,6 +24,7 @@ log = logging.getLogger("facing_service")
 
 def run_until(settings: Settings, stop: threading.Event) -> int:
     """``facing-service run``: the service until ``stop``; the process's exit code."""
+    settings = waiting_for_router(settings)
     service = FacingService(settings)
     failure: list[zenoh.ZError] = []
     opened = threading.Event()
@@ -47,7 +49,7 @@ def run_until(settings: Settings, stop: threading.Event) -> int:
         print(zenoh_failure("run", failure[0]), file=sys.stderr)
         return 1
     try:
-        warn_while_unreachable(service, settings, stop)
+        stop.wait()  # the service's own threads work and say what happens to its links
     finally:
         service.close()
     log.info("stopped")
@@ -59,33 +61,25 @@ UNREACHABLE_WARNING_S = 10.0
 
 
 def wait_until_open(opened: threading.Event, settings: Settings, stop: threading.Event) -> bool:
-    """True once zenoh.open has returned, False if ``stop`` came first. A client told to
-    wait for its router (``connect/timeout_ms: -1``, as compose.yaml sets) waits inside
-    zenoh.open, where zenoh says nothing: this says it, every UNREACHABLE_WARNING_S."""
-    next_warning = time.monotonic() + UNREACHABLE_WARNING_S
+    """True once zenoh.open has returned, False if ``stop`` came first. A client waiting
+    for its router (``run``'s default in client mode, ``connect/timeout_ms: -1``) waits
+    inside zenoh.open, where zenoh says nothing: this says it within a second, then every
+    UNREACHABLE_WARNING_S, and says when the router answered."""
+    start = time.monotonic()
+    next_warning = start + min(1.0, UNREACHABLE_WARNING_S)
+    warned = False
     while not opened.wait(0.1):
         if stop.is_set():
             return False
         if time.monotonic() >= next_warning:
             next_warning += UNREACHABLE_WARNING_S
+            warned = True
             log.warning(
                 "still waiting for a router at %s before the session opens (zenoh keeps "
-                "trying); nothing is read or published meanwhile",
+                "trying; --exit-without-router exits instead); nothing is read or published "
+                "meanwhile",
                 ", ".join(public_endpoint(e) for e in settings.connect) or "any endpoint",
             )
+    if warned:
+        log.info("the router answered after %.1f s: the session is open", time.monotonic() - start)
     return True
-
-
-def warn_while_unreachable(
-    service: FacingService, settings: Settings, stop: threading.Event
-) -> None:
-    """Until ``stop``: zenoh retries unreachable endpoints forever and says nothing, so
-    ``run`` says it, every UNREACHABLE_WARNING_S while the session has nobody."""
-    while not stop.wait(UNREACHABLE_WARNING_S):
-        links = service.connected()
-        if settings.connect and not (links["routers"] or links["peers"]):
-            log.warning(
-                "no router or peer reachable at %s yet (zenoh keeps trying); results reach "
-                "nobody meanwhile",
-                ", ".join(public_endpoint(e) for e in settings.connect),
-            )

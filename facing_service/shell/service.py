@@ -51,6 +51,7 @@ from ..ros2.output import RosOutput, RosPublishers
 from .declared_keys import DeclaredKeys
 from .intake import Intake
 from .ledger import Ledger
+from .links import NO_ROUTER_AFTER_S, LinkWatch
 from .outbox import Outbox
 from .publisher import JSON, Publisher
 from .queries import QueryItem
@@ -122,6 +123,7 @@ class FacingService:
         self._entities: list[zenoh.Subscriber[None] | zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
         self._threads: list[threading.Thread] = []
+        self._link_watch: LinkWatch | None = None
         self._session_said: dict[str, object] = {}  # mode and scouting in force (status)
 
     # -- lifecycle -------------------------------------------------------------------
@@ -132,6 +134,8 @@ class FacingService:
         conf = zenoh_config(s)
         self._session_said = effective_session(s, conf)
         self._session = session = zenoh.open(conf)
+        _, endpoints = mode_and_endpoints(conf, "connect")
+        self._link_watch = LinkWatch(self.connected, endpoints, time.monotonic, self._closing)
         try:
             self._worker.first_aggregates()
             ros = None
@@ -143,6 +147,7 @@ class FacingService:
             self._threads = [
                 daemon_thread(self._worker.run, "facing-worker"),
                 daemon_thread(publisher.run, "facing-publish"),
+                daemon_thread(self._link_watch.run, "facing-links"),
             ]
             if self._ros_input:  # the hot topic is /tf; the others come by callbacks
                 hot = self._robot.hot_key()
@@ -269,6 +274,7 @@ class FacingService:
         """A consistent snapshot of health, counters and state sizes; thread-safe. Health
         is read after the counters: the worker says "degraded" before it counts an error,
         so a status that shows the error says degraded (unless a batch succeeded since)."""
+        outage = None if self._link_watch is None else self._link_watch.outage_s()
         snapshot = self._ledger.status(
             self._outbox,
             status="ok",
@@ -278,11 +284,14 @@ class FacingService:
             uptime_s=round(self._clock() - self._started_at, 3),
             config=public_settings(self.settings.model_dump(mode="json") | self._session_said),
             connected=self.connected(),
+            outage_s=None if outage is None else round(outage, 3),
             inbox_depth=len(self._intake) if self._intake is not None else 0,
             ros2=self._ros2_status(),
         )
         alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
         health = "failed" if not alive else "degraded" if self._worker.failing else "ok"
+        if health == "ok" and outage is not None and outage > NO_ROUTER_AFTER_S:
+            health = "no router"
         return snapshot.model_copy(update={"status": health})
 
     def _ros2_status(self) -> Ros2Status | None:

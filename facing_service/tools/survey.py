@@ -268,16 +268,22 @@ class Survey:
 
 
 def session_flags(settings: Settings) -> str:
-    """The session flags ``settings`` were given, as a command line says them (secrets
-    left out: endpoints as public_endpoint shows them)."""
+    """The session flags of the service ``inspect`` suggests, as a command line says them
+    (secrets left out: endpoints as public_endpoint shows them): the ones it was given,
+    and, where it was pointed at a router without saying more, the README's isolated way
+    to join it (a client without multicast scouting): a plain peer would find, and be
+    found by, every zenoh deployment around."""
     said = []
+    unsaid = settings.config is None and settings.mode is None and bool(settings.connect)
     if settings.mode is not None:
         said.append(f"-m {settings.mode}")
+    elif unsaid:
+        said.append("-m client")
     said += [f"-e {public_endpoint(e)}" for e in settings.connect]
     said += [f"-l {public_endpoint(e)}" for e in settings.listen]
     if settings.config is not None:
         said.append(f"-c {settings.config}")
-    if settings.no_multicast_scouting:
+    if settings.no_multicast_scouting or unsaid:
         said.append("--no-multicast-scouting")
     return " ".join(said)
 

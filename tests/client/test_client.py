@@ -10,7 +10,7 @@ import pytest
 from facing_service import FacingClient, FacingState
 from facing_service.testing import loopback_config
 
-from loopback import send, send_delete, wait_until_answered
+from loopback import send, send_delete, wait_until, wait_until_answered
 from poses import pose_json
 
 KEY = "hri/bodies/{}/pose/cam"
@@ -135,3 +135,24 @@ def test_a_slow_callback_does_not_stall_the_cache(deployment):
             assert time.monotonic() < deadline, "the cache stalled behind a callback"
             time.sleep(0.02)
         release.set()
+
+
+def test_query_tells_nobody_there_from_a_wrong_frame_and_a_closed_client(net):
+    """Issue 46: `query("base_lnk")` returned [] like an empty room. A frame the service
+    does not know raises UnknownFrame naming the frames tracked; a known frame with
+    nobody in it is []; a client not open says so by name (it was a bare assert)."""
+    from facing_service import ClientNotOpen, FacingError, UnknownFrame
+
+    _, ep = net.service(base_frame="*")
+    tracker = net.client(ep)
+    wait_until_answered(tracker, "hri/services/facing/*/status")
+    send(tracker, KEY.format("a"), pose_json("a", "cam", sec=1))
+    with client_for(ep) as client:
+        wait_until(lambda: client.query("cam"), 5, "a's result")
+        with pytest.raises(UnknownFrame, match="frames tracked: cam") as refused:
+            client.query("cma")
+        assert isinstance(refused.value, FacingError) and refused.value.reason == "unknown_frame"
+        send_delete(tracker, KEY.format("a"))
+        wait_until(lambda: client.query("cam") == [], 5, "nobody in cam")
+    with pytest.raises(ClientNotOpen):
+        client.query("cam")

@@ -87,7 +87,10 @@ def test_health_command_configured_like_a_container(net):
     }
     ok = health(env=env)
     assert ok.returncode == 0, ok.stderr
-    assert json.loads(ok.stdout.splitlines()[0])["instance"] == "robot-9"
+    (line,) = ok.stdout.splitlines()  # issue 46: one line on success, not the whole status
+    assert line.startswith("ok: instance robot-9 (facing-service ") and "bodies tracked" in line
+    whole = health("--json", env=env)
+    assert json.loads(whole.stdout.splitlines()[0])["instance"] == "robot-9"
     assert health(env={**env, "FACING_INSTANCE": "robot-9"}).returncode == 0
     other = health(env={**env, "FACING_INSTANCE": "someone-else"})
     assert other.returncode == 1

@@ -3,6 +3,7 @@ against a live service fed like a tracker, and reads what is drawn and written."
 
 from __future__ import annotations
 
+import json
 import os
 import threading
 from pathlib import Path
@@ -98,11 +99,16 @@ def test_the_page_draws_the_scene_and_says_when_the_service_is_lost(net, browser
         palette = {"ENGAGED": "#22aa22", "ENGAGING": "#e6a800", "DISENGAGING": "#e6a800",
                    "DISENGAGED": "#dd2222", "UNKNOWN": "#999999"}  # fmt: skip
         assert all(palette[level] == fill for level, fill in colours), colours
-        browser.wait_for("document.querySelectorAll('g.group').length === 1")
+        # two groups: ann and bob, and cat with the robot she faces 2.2 m away
+        browser.wait_for("document.querySelectorAll('g.group').length === 2")
+        assert (
+            browser.evaluate("document.querySelectorAll('g.group[data-robot=\"true\"]').length")
+            == 1
+        )
         text = browser.wait_for(
             "document.body.innerText.includes('group') && document.body.innerText"
         )
-        assert "ann, bob" in text and "connected" in text
+        assert "ann, bob" in text and "cat and the robot" in text and "connected" in text
         assert browser.evaluate("document.querySelectorAll('line.gaze').length") >= 2
         if SCREENSHOT:
             Path(SCREENSHOT).write_bytes(b"")  # the path is writable before the browser tries
@@ -154,5 +160,32 @@ def test_ids_are_shown_as_text_and_a_crowd_renders_bounded(browser):
             "window.pwned === undefined && !document.querySelector('#people img')"
         )
         assert "4801 more people not drawn" in browser.evaluate("document.body.innerText")
+    finally:
+        page.close()
+
+
+def test_labels_of_people_standing_close_do_not_overlap(browser):
+    """Issue 46: two people 10 cm apart had their names drawn over each other."""
+    person = {"x": 2.0, "y": 0.0, "heading_deg": 180.0, "facing": True, "angle_deg": 0.0,
+              "distance_m": 2.0, "threshold_deg": 20.0, "level": "ENGAGED"}  # fmt: skip
+    close = [dict(person, id=f"person_{i}", label=f"person_{i} = face_{i}", y=0.05 * i)
+             for i in range(3)]  # fmt: skip
+    model = {"frame": "cam", "service": "live", "people": close, "not_drawn": 0,
+             "groups": [], "gazing": [], "elsewhere": {}}  # fmt: skip
+    page = Page(serve, lambda: model, "127.0.0.1", free_port())
+    try:
+        browser.open(page.url)
+        browser.wait_for("document.querySelectorAll('text.label').length === 3")
+        boxes = browser.evaluate(
+            "JSON.stringify([...document.querySelectorAll('text.label')].map((t) => {"
+            " const b = t.getBBox(); return [b.x, b.y, b.width, b.height, t.textContent]; }))"
+        )
+        labels = json.loads(boxes)
+        assert sorted(b[4] for b in labels) == [f"person_{i} = face_{i}" for i in range(3)]
+        for i, a in enumerate(labels):
+            for b in labels[i + 1 :]:
+                apart = (a[0] + a[2] <= b[0] or b[0] + b[2] <= a[0]
+                         or a[1] + a[3] <= b[1] + 1e-6 or b[1] + b[3] <= a[1] + 1e-6)  # fmt: skip
+                assert apart, (a, b)
     finally:
         page.close()

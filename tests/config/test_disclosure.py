@@ -18,10 +18,10 @@ from facing_service.config.disclosure import (
     is_public_zenoh_key,
     public_settings,
 )
-from facing_service.config.errors import SettingsError
 from facing_service.config.session import zenoh_config
 from facing_service.config.settings import Settings
 from facing_service.config.sources import load_settings
+from facing_service.errors import SettingsError
 
 SECRETS = (
     "pw-in-file-7f3a",

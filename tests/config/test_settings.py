@@ -2,9 +2,9 @@ import json
 
 import pytest
 
-from facing_service.config.errors import SettingsError
 from facing_service.config.session import zenoh_config
 from facing_service.config.sources import load_settings
+from facing_service.errors import SettingsError
 
 
 def test_defaults():

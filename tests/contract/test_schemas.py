@@ -308,3 +308,12 @@ def test_fast_path_takes_the_common_valid_payloads(d):
     """Otherwise the fast path would silently never run and the model pay for every pose."""
     assert _plainly_valid(encode(d), "a", "cam") == _decode_with_model(encode(d), "a", "cam")
     assert isinstance(_plainly_valid(encode(d), "a", "cam"), Pose)
+
+
+def test_no_negative_zero_is_said():
+    """Issue 46: a body at z = 0 gave `"z": -0.0` (from -Rᵀt): correct, and confusing."""
+    fast = facing_state_json(
+        "a", "cam", (1, 0), True, 10.0, 2.0, (2.0, -0.0, -0.0), 20.0, (-0.0, 0.0, -0.0), -0.0
+    )
+    assert b"-0.0" not in fast
+    assert json.loads(fast)["robot_in_body"]["z"] == 0.0

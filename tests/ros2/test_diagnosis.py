@@ -362,3 +362,16 @@ def test_inspect_exits_0_on_a_robot_publishing_a_1500_link_chain(net, site, caps
     assert done == [0]
     out = capsys.readouterr().out.splitlines()
     assert len(out) < 300 and any("more frame(s)" in line for line in out)
+
+
+def test_inspect_pointed_at_a_router_suggests_the_isolated_way_to_join_it():
+    """Issue 46: `inspect -e tcp/localhost:7447` suggested a plain peer, which scouts by
+    multicast and listens everywhere, against the README's isolation advice."""
+    from facing_service.config.settings import Settings
+    from facing_service.tools.survey import session_flags
+
+    plain = Settings(connect=["tcp/localhost:7447"])
+    assert session_flags(plain) == "-m client -e tcp/localhost:7447 --no-multicast-scouting"
+    peer = Settings(mode="peer", connect=["tcp/localhost:7447"])
+    assert session_flags(peer) == "-m peer -e tcp/localhost:7447"  # as the user said it
+    assert session_flags(Settings()) == ""

@@ -406,7 +406,7 @@ def test_the_status_and_logs_disclose_no_credential(deployment, door):
 def _health(site: Deployment, **env: str) -> subprocess.CompletedProcess[str]:
     base = {"FACING_CONFIG": "service.json5", "FACING_CONNECT": site.endpoint}
     return subprocess.run(
-        [sys.executable, "-m", "facing_service", "health", "--timeout", "3"],
+        [sys.executable, "-m", "facing_service", "health", "--json", "--timeout", "3"],
         env={**os.environ, **base, **env},
         cwd=site.folder,
         capture_output=True,

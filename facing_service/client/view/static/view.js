@@ -17,6 +17,22 @@ function el(name, attrs, parent) {
 // Base frame (x ahead, y left) to the screen (up, left): sx = -y, sy = -x.
 const sx = (p) => -p.y, sy = (p) => -p.x;
 
+// Where a label goes: beside its person, else the first free line below it (a line is
+// 0.4 high at font size 0.3, a character about 0.17 wide), so that the names of people
+// standing close never overlap.
+function labelSpot(x, y, width, placed) {
+  for (let k = 0; k < 40; k++) {
+    const top = y + 0.4 * k;
+    const free = placed.every((b) => x >= b.x + b.w || b.x >= x + width ||
+                                      top - 0.4 >= b.y || b.y - 0.4 >= top);
+    if (free) {
+      placed.push({ x, y: top, w: width });
+      return [x, top];
+    }
+  }
+  return [x, y];
+}
+
 function draw(model) {
   document.getElementById("frame").textContent = "frame " + model.frame;
   const people = model.people;
@@ -48,6 +64,7 @@ function draw(model) {
   }
   el("polygon", { points: "0,-0.25 0.18,0.15 -0.18,0.15", fill: "#223", class: "robot" }, radar);
   el("text", { x: 0.25, y: 0.35, "font-size": 0.3, fill: "#223" }, radar).textContent = "robot";
+  const placed = [];  // label boxes drawn: people standing close get labels apart
   for (const p of people) {
     const colour = COLOUR[p.level] || COLOUR.UNKNOWN;
     const shape = el("g", { class: "person", "data-id": p.id, "data-level": p.level,
@@ -58,9 +75,11 @@ function draw(model) {
                  class: "cone" }, shape);
     el("line", { x1: 0, y1: 0, x2: 0.55, y2: 0, stroke: colour, "stroke-width": 0.06 }, shape);
     el("circle", { cx: 0, cy: 0, r: 0.14, fill: colour }, shape);
-    const label = el("text", { x: sx(p) + 0.2, y: sy(p) - 0.2, "font-size": 0.3, fill: "#222",
+    const name = p.label ?? p.id;
+    const [lx, ly] = labelSpot(sx(p) + 0.2, sy(p) - 0.2, 0.17 * name.length, placed);
+    const label = el("text", { x: lx, y: ly, "font-size": 0.3, fill: "#222",
                                class: "label" }, radar);
-    label.textContent = p.id;
+    label.textContent = name;
   }
   const rows = document.querySelector("#people tbody");
   rows.replaceChildren();
@@ -68,7 +87,7 @@ function draw(model) {
   for (const g of model.groups) for (const m of g.members) groupOf[m] = g.id + (g.robot ? " +robot" : "");
   for (const p of people) {
     const row = rows.insertRow();
-    const cells = [p.id, p.level, p.facing ? "yes" : "no",
+    const cells = [p.label ?? p.id, p.level, p.facing ? "yes" : "no",
                    p.angle_deg === null ? "-" : p.angle_deg.toFixed(1),
                    p.distance_m === null ? "-" : p.distance_m.toFixed(2), groupOf[p.id] || "-"];
     cells.forEach((text, i) => {

@@ -1,0 +1,32 @@
+"""The errors facing-service raises on purpose, under one base class: an application
+catches ``FacingError`` for all of them, or one by name (``facing_service.errors``)."""
+
+from __future__ import annotations
+
+
+class FacingError(Exception):
+    """Every error facing-service raises on purpose."""
+
+
+class SettingsError(FacingError, ValueError):
+    """A bad setting, as one line that names the flag or variable it came from and never
+    quotes a secret (see ``config.disclosure``)."""
+
+
+class QueryRefused(FacingError, ValueError):
+    """The service refused a query: ``reason`` is the reply's ``error`` (``bad_parameter``,
+    ``unknown_frame``), ``detail`` its explanation."""
+
+    def __init__(self, reason: str, detail: str) -> None:
+        super().__init__(f"{reason}: {detail}")
+        self.reason = reason
+        self.detail = detail
+
+
+class UnknownFrame(QueryRefused):
+    """A query named a frame the service does not know (the detail names those it tracks):
+    a typo in a frame name, not an empty room."""
+
+
+class ClientNotOpen(FacingError, RuntimeError):
+    """A client was used before ``open()`` or after ``close()``."""

@@ -1,0 +1,11 @@
+"""The errors facing-service raises on purpose: catch ``FacingError`` for all of them."""
+
+from .contract.errors import (
+    ClientNotOpen,
+    FacingError,
+    QueryRefused,
+    SettingsError,
+    UnknownFrame,
+)
+
+__all__ = ["ClientNotOpen", "FacingError", "QueryRefused", "SettingsError", "UnknownFrame"]
