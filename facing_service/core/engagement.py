@@ -111,7 +111,13 @@ def _wander(heading: Vector, direction: Vector, alpha: float) -> tuple[float, Ve
     mean moved toward ``direction`` by ``alpha``."""
     cos = heading[0] * direction[0] + heading[1] * direction[1] + heading[2] * direction[2]
     wander = math.degrees(math.acos(max(-1.0, min(1.0, cos))))
-    moved = _unit(tuple(h + alpha * (d - h) for h, d in zip(heading, direction, strict=True)))
+    moved = _unit(
+        (
+            heading[0] + alpha * (direction[0] - heading[0]),
+            heading[1] + alpha * (direction[1] - heading[1]),
+            heading[2] + alpha * (direction[2] - heading[2]),
+        )
+    )
     return wander, moved or direction
 
 

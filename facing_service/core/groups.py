@@ -312,9 +312,11 @@ class GroupTracker:
         for i, (members, centre) in enumerate(found):
             if len(members) < 2:
                 continue
-            gid = taken.get(i)
-            if gid is None:
+            known = taken.get(i)
+            if known is None:
                 gid, self._next_id = self._next_id, self._next_id + 1
+            else:
+                gid = known
             group = Group(gid, members, self.ROBOT in members, centre)
             new[gid] = group
             if gid not in old or old[gid].members != members:

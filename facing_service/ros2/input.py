@@ -218,6 +218,7 @@ class Ros2Subscriptions:
                     continue
                 key = wire.subscription(topic, typename, any_type=True)
                 self.keys.append(key)
+                entity: zenoh.Subscriber[None] | zenoh.ext.AdvancedSubscriber[None]
                 if transient_local:
                     history = zenoh.ext.HistoryConfig(detect_late_publishers=True)
                     entity = zenoh.ext.declare_advanced_subscriber(

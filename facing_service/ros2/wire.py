@@ -210,7 +210,7 @@ def attachment(
     by zenoh-ext, the serializer rmw_zenoh's own C++ uses."""
     if len(gid) != GID_SIZE:
         raise ValueError(f"a GID is {GID_SIZE} bytes, got {len(gid)}")
-    fields = (Int64(sequence_number), Int64(source_timestamp_ns), gid)
+    fields: tuple[object, ...] = (Int64(sequence_number), Int64(source_timestamp_ns), gid)
     if layout is Attachment.KEYED:
         fields = tuple(x for pair in zip(_KEYED_NAMES, fields, strict=True) for x in pair)
     return z_serialize(fields).to_bytes()
@@ -328,11 +328,12 @@ class FormLearner:
         self.forms = forms
         said = " and ".join(f.describe() for f in present)
         self.source = "--ros-distro" if self.forced else f"learned from {key}"
-        wrong = [f for f in present if self.forced is not None and f.distro is not self.forced]
-        if wrong:
+        forced = self.forced
+        wrong = [f for f in present if forced is not None and f.distro is not forced]
+        if wrong and forced is not None:
             return logging.WARNING, (
                 f"the robot publishes in rmw_zenoh's form for {wrong[0].distro.describe()} "
-                f"({key}), but --ros-distro {self.forced.value} forces the other: none of "
+                f"({key}), but --ros-distro {forced.value} forces the other: none of "
                 "its subscribers will hear our answers"
             )
         how = "as --ros-distro says" if self.forced is not None else f"learned from {key}"
