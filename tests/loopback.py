@@ -83,6 +83,12 @@ def get(session: zenoh.Session, selector: str, timeout: float = 5.0) -> list[tup
     return replies
 
 
+def results(replies: list[tuple[str, Any]]) -> list[tuple[str, Any]]:
+    """The data replies of ``get``'s: a query on a known frame with nobody (yet) gets an
+    error reply that says so, not silence."""
+    return [reply for reply in replies if reply[0] != "error"]
+
+
 def wait_until_answered(session: zenoh.Session, selector: str, timeout: float = 10.0) -> None:
     """Block until a queryable answers ``selector``: the service is connected and declared
     (its subscriber was declared before its queryables, on the same ordered link)."""

@@ -23,6 +23,7 @@ from loopback import (
     free_port,
     get,
     loopback_config,
+    results,
     send,
     wait_until,
     wait_until_answered,
@@ -43,7 +44,7 @@ def test_signal_stops_the_real_process_cleanly(net, signum):
         wait_until_answered(client, "hri/facing/cam")
         send(client, "hri/bodies/a/pose/cam", pose_json("a", "cam", off_deg=30.0))
         deadline = time.monotonic() + 5
-        while not (replies := get(client, "hri/bodies/a/facing/cam")):
+        while not (replies := results(get(client, "hri/bodies/a/facing/cam"))):
             assert time.monotonic() < deadline, "the CLI never published a result"
             time.sleep(0.05)
         assert replies[0][1]["facing"] and replies[0][1]["threshold_deg"] == 33.0  # env used

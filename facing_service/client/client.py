@@ -264,7 +264,7 @@ class FacingClient:
                 states.append(FacingState.model_validate_json(reply.ok.payload.to_bytes()))
                 continue
             error = QueryError.model_validate_json(reply.err.payload.to_bytes())
-            if error.error == "empty_frame":  # the service knows the frame: nobody there
+            if error.error in ("empty_frame", "not_tracked"):  # a known frame: nobody there
                 continue
             refused = UnknownFrame if error.error == "unknown_frame" else QueryRefused
             raise refused(error.error, error.detail)

@@ -289,7 +289,8 @@ class ServiceStatus(BaseModel):
 class QueryError(BaseModel):
     """Payload of an error reply to a query: ``bad_parameter`` (a bad selector parameter),
     ``unknown_frame`` (a frame this service does not know; the detail names those it
-    tracks), ``empty_frame`` (per-body keys of a frame with nobody in it now)."""
+    tracks), ``empty_frame`` (per-body keys of a frame with nobody in it now),
+    ``not_tracked`` (per-body keys of a body not in a frame where others are)."""
 
     error: str
     detail: str

@@ -221,6 +221,38 @@ def _in_order(labels: IntArray) -> IntArray:
     return np.array([first.setdefault(int(x), len(first)) for x in labels], dtype=np.int64)
 
 
+#: A participant known to stand apart (the robot) is in a group only on its ring: no
+#: farther from the people's o-space centre than this times the farthest of them.
+RING = 1.5
+
+
+def on_the_ring(
+    labels: IntArray,
+    positions: FloatArray,
+    headings: FloatArray,
+    p: GroupParams,
+    scale_m: float,
+    who: int,
+) -> IntArray:
+    """``labels`` with participant ``who`` (the robot) given a label of its own unless it
+    stands on its group's ring: within ``RING`` times the farthest other member's distance
+    of the o-space centre the others vote for. Kendon's F-formation is a ring around a
+    shared space; the method's cost, lenient enough for GDet's 90-degree headings, let a
+    robot that merely faces a conversation from 2 m into it (and one with a back turned
+    to it within 2.2 m). People's groups are unchanged."""
+    mates = np.flatnonzero((labels == labels[who]) & (np.arange(len(labels)) != who))
+    if len(mates) == 0:
+        return labels
+    unit = positions / scale_m
+    centre = votes(unit, headings, p)[mates].mean(axis=0)
+    spread = np.hypot(*(unit[mates] - centre).T).max()
+    if np.hypot(*(unit[who] - centre)) <= RING * spread:
+        return labels
+    apart = labels.copy()
+    apart[who] = labels.max() + 1
+    return _in_order(apart)
+
+
 def members(labels: IntArray) -> list[list[int]]:
     """Each label's members, as lists of indices, in label order (``detect``'s labels
     are numbered in order of first member), singletons included."""

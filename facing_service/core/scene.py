@@ -25,6 +25,7 @@ from .groups import (
     ScaleParams,
     detect_centres,
     members,
+    on_the_ring,
 )
 
 ROBOT = GroupTracker.ROBOT
@@ -126,7 +127,12 @@ class FrameScene:
         else:
             gazing = self._who_faces_whom(ids, t, q)
             scale = self.room.observe(t[:-1, :2], now)  # the people's spacing, not the robot's
-            labels, centre = detect_centres(t[:, :2], detector.headings(q), p.groups, scale)
+            heading = detector.headings(q)
+            labels, centre = detect_centres(t[:, :2], heading, p.groups, scale)
+            robot = len(ids) - 1
+            ringed = on_the_ring(labels, t[:, :2], heading, p.groups, scale, robot)
+            if not np.array_equal(ringed, labels):  # the robot left: its centre is its own
+                labels, centre = ringed, np.vstack([centre, t[robot, :2]])
             found = [
                 (frozenset(ids[i] for i in m), (x, y))
                 for m, (x, y) in zip(members(labels), centre.tolist(), strict=True)

@@ -72,8 +72,9 @@ def _nothing_matched(
 ) -> tuple[list[tuple[str, bytes]], QueryError | None]:
     """A query that names one frame (its last chunk) and matched nothing still gets an
     answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
-    knows answers with its empty list (groups, who faces whom, the frame's facing list) or
-    ``empty_frame`` (per-body keys); any other ``unknown_frame``, naming the frames tracked.
+    knows answers with its empty list (groups, who faces whom, the frame's facing list) or,
+    on per-body keys, ``empty_frame`` (nobody there) or ``not_tracked`` (others are); any
+    other ``unknown_frame``, naming the frames tracked.
     A wildcard frame that matches nothing stays unanswered (a ``**`` query reaches every
     queryable, and would collect one refusal from each)."""
     frame = selector.rsplit("/", 1)[-1]
@@ -91,5 +92,8 @@ def _nothing_matched(
     if space == "frame":
         said = frame_json(frame_facing(frame, empty and empty.stamp, [], []), me)
         return [(keys.frame_key(ns, frame), said)], None
+    if ledger.tracked.get(frame, 0):  # others are there: the body asked for is not
+        detail = f"no body matching {selector!r} is tracked in frame {frame!r} now"
+        return [], QueryError(error="not_tracked", detail=detail)
     detail = f"nobody is tracked in frame {frame!r} now"
     return [], QueryError(error="empty_frame", detail=detail)

@@ -16,6 +16,7 @@ from facing_service.core.groups import (
     detect,
     detect_centres,
     groups,
+    on_the_ring,
 )
 
 P = GroupParams()
@@ -49,10 +50,39 @@ def test_two_conversations_side_by_side_are_two_groups():
 def test_the_robot_is_a_participant_like_any_other():
     """The robot at the origin facing +x, a person 1 m ahead facing it: a group of two;
     turned away 2.5 m ahead, no group. (Within about 2.2 m, a back turned to the robot
-    joins its o-space: the method knows positions and headings, not who talks, and the
-    default that holds on GDet's 90-degree headings is lenient: docs/groups.md.)"""
+    joins its o-space in the method alone: it knows positions and headings, not who
+    talks, and the default that holds on GDet's 90-degree headings is lenient; the scene
+    keeps the robot to its ring, next test.)"""
     assert groups(detect(*scene((0, 0, 0), (1.0, 0, 180)), P)) == [[0, 1]]
     assert groups(detect(*scene((0, 0, 0), (2.5, 0, 0)), P)) == []
+
+
+@pytest.mark.parametrize(
+    ("people", "with_robot"),
+    [
+        ([(1.0, 0, 180)], True),  # 1 m ahead, facing the robot: a conversation
+        ([(2.2, -1.0, 155)], False),  # 2.4 m away, facing it: engaging, not a group
+        ([(1.5, 0, 0)], False),  # 1.5 m ahead, back turned
+        ([(2.0, 0.6, -90), (2.0, -0.6, 90)], False),  # a pair the robot merely watches
+        ([(0.8, 0.5, -150), (0.8, -0.5, 150)], True),  # two people facing the robot, close
+    ],
+)
+def test_the_robot_is_in_a_group_only_on_its_ring(people, with_robot):
+    """Issue 41's lenient default let the robot into a conversation it faced from 2 m
+    (tests/ros2/test_interactions.py), and into one with a back turned to it within 2.2 m:
+    a robot acting on "the robot joined" would interrupt. It stays in a group only within
+    RING times the farthest member's distance of the others' o-space centre."""
+    positions, headings = scene(*people, (0.0, 0.0, 0.0))
+    unit = RoomScale(ScaleParams()).observe(positions[:-1], 0.0)
+    labels = detect(positions, headings, P, unit)
+    robot = len(people)
+    ringed = on_the_ring(labels, positions, headings, P, unit, robot)
+    grouped_with_robot = any(robot in g and len(g) > 1 for g in groups(ringed))
+    assert grouped_with_robot is with_robot, (groups(labels), groups(ringed))
+    people_groups = [sorted(set(g) - {robot}) for g in groups(labels)]
+    assert [g for g in people_groups if len(g) > 1] == [
+        g for g in ([sorted(set(g) - {robot}) for g in groups(ringed)]) if len(g) > 1
+    ]  # people's groups are unchanged
 
 
 def test_empty_and_one_person():

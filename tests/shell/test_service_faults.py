@@ -192,3 +192,70 @@ def test_a_router_outage_is_said_when_it_starts_and_ends_and_results_resume(
     assert ep in back and lasted >= 2.9, back  # the router was away at least 3 s
     status = service.status()
     assert status.status == "ok" and status.outage_s is None
+
+
+def test_the_ros2_path_recovers_after_the_robots_router_restarts(net, caplog):
+    """Issue 45: rmw_zenohd restarted (killed, back after 3 s). /tf_static comes back from
+    the robot's transient-local cache, the tracked lists and /tf stream again, and the
+    service answers on the robot's topics: results for poses stamped after the restart."""
+    import logging
+    import threading as th
+
+    import zenoh
+
+    from facing_service.tools.loopback import loopback_config
+
+    import rmw_zenoh
+    from ros_messages import S, ids_list, tf_message, transform, type_of, yaw_q
+
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    router = net.router()
+    ep = endpoint(router.port)
+    net.robot_service(ep, base_frame="base_link")
+    conf = loopback_config(connect=[ep], mode="client")
+    conf.insert_json5("connect/retry", "{period_init_ms: 250, period_max_ms: 1000}")
+    robot_session = zenoh.open(conf)
+    net._closers.append(robot_session.close)
+    robot = rmw_zenoh.Robot(robot_session, rmw_zenoh.JAZZY_0_2_10)
+    consumer = fast_client(net, ep)
+    results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
+    static = transform("base_link", "camera", S, (0.0, 0.0, 1.0), yaw_q(0))
+    robot.publish("/tf_static", type_of("/tf_static"), tf_message(static), latched=True)
+    stop, clock = th.Event(), [S]
+
+    def stream() -> None:  # the robot's tracker at 30 Hz, outage or not
+        while not stop.wait(1 / 30):
+            clock[0] += S // 30
+            body = transform("camera", "body_a", clock[0], (2.0, 0.0, -1.0), yaw_q(180))
+            try:
+                robot.publish("/humans/bodies/tracked", type_of("/humans/bodies/tracked"),
+                              ids_list(["a"]))  # fmt: skip
+                robot.publish("/tf", type_of("/tf"), tf_message(body))
+            except zenoh.ZError:
+                pass  # no router: rmw_zenoh drops it too
+
+    streaming = th.Thread(target=stream, daemon=True)
+    streaming.start()
+    try:
+        results.wait_for(lambda i: i.kind == "put", timeout=15)
+        router.kill()
+        time.sleep(3.0)
+        router.start()
+        back = time.monotonic()
+        restarted_at = clock[0]
+        wait_until(
+            lambda: any(
+                i.kind == "put"
+                and i.value["stamp"]["sec"] * S + i.value["stamp"]["nanosec"] > restarted_at
+                for i in results.items
+            ),
+            30,
+            "a result for a pose stamped after the restart",
+        )
+        print(f"\nROS 2 path: results again {time.monotonic() - back:.2f} s after the "
+              "robot's router was back")  # fmt: skip
+    finally:
+        stop.set()
+        streaming.join(timeout=2)
+        robot.close()
+    assert "lost every router and peer" in caplog.text and "back in touch" in caplog.text

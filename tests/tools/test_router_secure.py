@@ -25,7 +25,7 @@ from facing_service import FacingClient
 from facing_service.contract import keys
 from facing_service.testing import free_port, running_cli
 
-from loopback import Recorder, get, send, send_delete, wait_until_answered
+from loopback import Recorder, get, results, send, send_delete, wait_until_answered
 from poses import pose_json
 from routers import wait_for_port
 
@@ -634,7 +634,7 @@ def test_the_recipe_runs_in_sh_and_makes_a_working_deployment(tmp_path):
             wait_until_answered(consumer, "hri/facing/cam", timeout=20)
             send(tracker, "hri/bodies/alice/pose/cam", pose_json("alice", "cam"))
             deadline = time.monotonic() + 5
-            while not get(consumer, "hri/bodies/alice/facing/cam"):
+            while not results(get(consumer, "hri/bodies/alice/facing/cam")):
                 assert time.monotonic() < deadline, "no result through the recipe's deployment"
                 time.sleep(0.05)
             healthy = _health(site, FACING_HEALTH_CONFIG="health.json5")
