@@ -258,4 +258,5 @@ def test_the_ros2_path_recovers_after_the_robots_router_restarts(net, caplog):
         stop.set()
         streaming.join(timeout=2)
         robot.close()
-    assert "lost every router and peer" in caplog.text and "back in touch" in caplog.text
+    assert "lost every router and peer" in caplog.text
+    wait_until(lambda: "back in touch" in caplog.text, 5, "the return said")
