@@ -57,7 +57,7 @@ def test_a_late_pose_never_resurrects_a_deleted_body(net):
     send(tracker, "hri/bodies/bob/pose/cam", pose_json("bob", "cam", sec=5))  # repeated
     wait_until_answered(tracker, "hri/facing/cam")  # the worker is past them
     ((kind, error),) = get(tracker, "hri/bodies/bob/facing/cam")  # no result: said so
-    assert (kind, error["error"]) == ("error", "not_tracked")
+    assert (kind, error["error"]) == ("error", "empty_frame")  # bob was the only one
     assert service.status().rejected["out_of_order"] == 2
     results.wait_for(lambda i: i.kind == "delete")  # sent by the publisher thread, after
     assert [i.kind for i in results.items] == ["put", "delete"]

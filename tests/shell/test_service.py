@@ -297,3 +297,13 @@ def test_declared_keys_are_bounded_and_forgotten_with_their_body(net):
     finally:
         declared.close()
     assert not declared.exprs and not declared._poses
+
+
+def test_a_query_on_a_body_not_tracked_beside_others_says_so(rig):
+    """A concrete body's key in a frame where others are: "not_tracked" (not silence,
+    which would read as "no service", and not "empty_frame", which would be false)."""
+    _, client, rec = rig()
+    send(client, pose_key("a"), pose_json("a", "cam"))
+    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == ["a"])
+    ((kind, error),) = get(client, f"{NS}/bodies/b/facing/cam")
+    assert (kind, error["error"]) == ("error", "not_tracked") and "'cam'" in error["detail"]
