@@ -33,14 +33,6 @@ from .records import (
 #: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
 #: from reordered or replayed traffic arrive within well under this.
 TOMBSTONE_S = 30.0
-#: A pose this much older than the body's last (or than its DELETE) is no late or
-#: reordered pose but the tracker's clock starting over (a restart that reuses its ids):
-#: the body starts a new life instead of being refused for TOMBSTONE_S or until stale.
-CLOCK_RESTART_S = 5.0
-
-
-def _behind_s(newer: tuple[int, int], older: tuple[int, int]) -> float:
-    return (newer[0] - older[0]) + (newer[1] - older[1]) * 1e-9
 
 
 class Tracker(Journaled):
@@ -117,17 +109,12 @@ class Tracker(Journaled):
             last = newest.get(key)
             if last is None and (track := self._tracks.get(key)) is not None:
                 last = track.pose.stamp
-                if _behind_s(last, sample.pose.stamp) > CLOCK_RESTART_S:
-                    self._forget(key)  # its tracker restarted: a new life, same key
-                    last = None
-                    room += 1
             if last is None and (tomb := self._tombstones.get(key)) is not None:
-                stamp = sample.pose.stamp
-                if stamp <= tomb[0] and _behind_s(tomb[0], stamp) <= CLOCK_RESTART_S:
-                    changes.out_of_order.append(sample)  # a late pose of a deleted body
+                if sample.pose.stamp <= tomb[0]:  # a late pose of a deleted body
+                    changes.out_of_order.append(sample)
                     continue
                 self._keep("_tombstones", key)
-                del self._tombstones[key]  # newer than the DELETE, or a new clock: back
+                del self._tombstones[key]  # newer than the DELETE: the body is back
             if last is None:  # a new body
                 if room <= 0:
                     changes.over_capacity.append(sample)
@@ -370,14 +357,6 @@ class Tracker(Journaled):
     def engagements(self) -> list[EngagementUpdate]:
         """The current engagement of every tracked body (for queries)."""
         return [track.engagement_update(None) for track in self._tracks.values()]
-
-    def _forget(self, key: BodyRef) -> None:
-        """Drop a body's track in place (it stays in its frame): its next sample starts
-        it anew, engagement and hysteresis included, and no DELETE goes out between."""
-        for store in ("_tracks", "_due"):
-            self._keep(store, key)
-        del self._tracks[key]
-        self._due.pop(key, None)
 
     def _remove(self, key: BodyRef, changes: Changes) -> None:
         for store, k in (("_tracks", key), ("_due", key), ("_frames", key.frame_id)):

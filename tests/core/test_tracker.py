@@ -356,25 +356,3 @@ def test_keeping_a_frame_shares_its_lists_until_they_change():
     frame.discard("a")
     assert (frame.tracked, frame.facing) == ({"b"}, {"b"})
     assert (kept_again.tracked, kept_again.facing) == ({"a", "b"}, {"a", "b"})
-
-
-def test_a_tracker_restarting_with_its_clock_starting_over_is_followed():
-    """Issue 45: a tracker restarts and reuses its ids, its stamps starting over. Poses
-    far older than the last (more than CLOCK_RESTART_S) are a new life, not late poses:
-    accepted at once, live or after a DELETE, without a DELETE in between; a late pose
-    within CLOCK_RESTART_S is still refused (reordered traffic)."""
-    from facing_service.core.tracker import CLOCK_RESTART_S
-
-    t = tracker()
-    t.ingest([sample(sec=1000, off_deg=10.0)], now=0.0)
-    late = t.ingest([sample(sec=998, off_deg=50.0)], now=0.1)
-    assert late.results == [] and len(late.out_of_order) == 1
-    restarted = t.ingest([sample(sec=1, off_deg=50.0)], now=0.2)  # crashed, restarted
-    assert len(restarted.results) == 1 and restarted.lost == [] and not restarted.out_of_order
-    assert not t.states()[0].facing and t.states()[0].stamp == (1, 0)
-    assert len(t) == 1
-    t.ingest([sample(sec=1000)], now=0.3)
-    t.lose([BodyRef(frame_id="cam", body_id="a")], now=0.4)  # a clean stop: DELETE
-    assert t.ingest([sample(sec=999)], now=0.5).out_of_order  # a late pose: refused
-    assert len(t.ingest([sample(sec=2)], now=0.6).results) == 1  # its clock started over
-    assert CLOCK_RESTART_S == 5.0
