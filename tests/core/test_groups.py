@@ -156,7 +156,7 @@ def test_one_parameter_set_groups_pairs_at_any_spacing_where_gcffs_stride_cannot
 
 def test_the_same_room_wider_or_tighter_gives_the_same_groups_in_the_rooms_unit():
     """Issue 41: rooms differ in spacing (GCFF's own tuned costs span 0.6 to 9 m²). In the
-    room's unit the method is scale-free: the same people 0.6x or 1.8x as far apart make
+    room's unit the method is scale-free: the same people 0.6x or 1.4x as far apart make
     the same groups, the centres scaled; in metres, one fixed cost cannot (the wide room's
     pairs fall apart)."""
     rng = np.random.default_rng(3)
@@ -165,30 +165,30 @@ def test_the_same_room_wider_or_tighter_gives_the_same_groups_in_the_rooms_unit(
     headings = headings + rng.normal(0, 0.1, len(headings))
     labels, centres = detect_centres(positions, headings, P, 1.0)
     assert groups(labels) == [[0, 1], [2, 3], [4, 5]]
-    for factor in (0.6, 1.8):
+    for factor in (0.6, 1.4):
         room = RoomScale(ScaleParams())
         unit = room.observe(positions * factor, 0.0)
         assert unit == pytest.approx(factor * 1.0)  # everyone's nearest is 1 m (x factor)
         scaled, scaled_centres = detect_centres(positions * factor, headings, P, unit)
         assert scaled.tolist() == labels.tolist()
         assert np.allclose(scaled_centres, centres * factor)
-    wide = positions * 3.0  # beyond the unit's range (2 m): still the same groups
+    wide = positions * 3.0  # beyond the unit's range (1.5 m): still the same groups
     unit = RoomScale(ScaleParams()).observe(wide, 0.0)
-    assert unit == 2.0 and groups(detect(wide, headings, P, unit)) == groups(labels)
+    assert unit == 1.5 and groups(detect(wide, headings, P, unit)) == groups(labels)
     assert groups(detect(wide, headings, P, 1.0)) == []  # in metres the pairs fall apart
 
 
 def test_the_rooms_unit_is_learnt_over_its_window_kept_in_range_and_bounded():
-    params = ScaleParams(window_s=10.0, min_m=0.5, max_m=2.0, default_m=1.0)
+    params = ScaleParams(window_s=10.0, min_m=0.5, max_m=1.5, default_m=1.0)
     room = RoomScale(params)
     alone = np.array([[1.0, 1.0]])
     assert room.observe(alone, 0.0) == 1.0  # one person says nothing: the default
-    assert room.observe(np.array([[0.0, 0.0], [1.5, 0.0]]), 1.0) == 1.5
-    assert room.observe(alone, 5.0) == 1.5  # still within the window
-    assert room.observe(np.array([[0.0, 0.0], [0.7, 0.0]]), 6.0) == pytest.approx(1.1)
-    assert room.observe(alone, 12.0) == pytest.approx(0.7)  # the 1.5 m frame left it
+    assert room.observe(np.array([[0.0, 0.0], [1.4, 0.0]]), 1.0) == 1.4
+    assert room.observe(alone, 5.0) == 1.4  # still within the window
+    assert room.observe(np.array([[0.0, 0.0], [0.7, 0.0]]), 6.0) == pytest.approx(1.05)
+    assert room.observe(alone, 12.0) == pytest.approx(0.7)  # the 1.4 m frame left it
     assert room.observe(alone, 30.0) == 1.0  # nobody near anybody lately
-    assert room.observe(np.array([[0.0, 0.0], [9.0, 0.0]]), 31.0) == 2.0  # loners: capped
+    assert room.observe(np.array([[0.0, 0.0], [9.0, 0.0]]), 31.0) == 1.5  # loners: capped
     assert room.observe(np.array([[0.0, 0.0], [0.1, 0.0]]), 50.0) == 0.5
     fixed = RoomScale(ScaleParams(min_m=1.0, max_m=1.0))
     assert fixed.observe(np.array([[0.0, 0.0], [3.0, 0.0]]), 0.0) == 1.0  # metres
