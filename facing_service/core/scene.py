@@ -142,11 +142,13 @@ class FrameScene:
         anew = not self.said_once or left_out != self.left_out
         groups_news = anew or bool(changed or dissolved)
         gazing_news = anew or gazing != self.gazing
+        # The newest stamp behind the scene, kept while nothing changes too: people who
+        # stood still and then left are said gone at their last pose's stamp, not at the
+        # stamp of the last change (issue 46). Never back: a person with the newest stamp
+        # leaving does not make the scene older than what was said.
+        self.stamp = max(self.stamp, stamp)
         if not (groups_news or gazing_news):
             return None
-        # The newest stamp behind anything said here: never back (a person with the
-        # newest stamp leaving does not make the scene older than what was said).
-        self.stamp = max(self.stamp, stamp)
         self.gazing, self.left_out, self.said_once = gazing, left_out, True
         return self.snapshot(changed, dissolved, groups_news, gazing_news)
 

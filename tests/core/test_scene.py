@@ -95,3 +95,19 @@ def test_scenes_work_a_frame_out_at_most_once_a_period_and_forget_it_when_empty(
     (gone,) = scenes.tick(0.9, people_of)
     assert gone.groups == () and gone.dissolved == (held.groups[0].id,)
     assert scenes.current() == [] and scenes.next_due() is None
+
+
+def test_a_group_dissolving_after_standing_still_is_said_at_its_last_pose_not_its_first():
+    """Issue 46: the `groups: []` said when people left carried the stamp of the last
+    change (their first poses), however long they had stood still since."""
+    scene = FrameScene("map", PARAMS)
+    people = [person("a", 3.0, 2.0, 0), person("b", 4.2, 2.0, 180)]
+    scene.update(people, (1, 0), 0.0)
+    formed = scene.update(people, (1, 500_000_000), 0.4)
+    assert formed is not None and formed.groups and formed.stamp == (1, 500_000_000)
+    for k in range(10):  # standing still for 5 s of pose time: nothing to say
+        assert scene.update(people, (2 + k // 2, (k % 2) * 500_000_000), 0.5 + 0.1 * k) is None
+    scene.update([], (0, 0), 2.0)  # both left (a DELETE carries no stamp)
+    gone = scene.update([], (0, 0), 2.4)
+    assert gone is not None and gone.groups == () and gone.dissolved
+    assert gone.stamp == (6, 500_000_000)  # the last pose seen, not (1, 5e8)
