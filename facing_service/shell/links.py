@@ -44,7 +44,6 @@ class LinkWatch:
         self._clock = clock
         self._closing = closing
         self._since: float | None = None  # nobody to talk to since then
-        self.outages = 0  # losses after a link, counted
 
     def outage_s(self) -> float | None:
         """How long the session has had nobody to talk to, or None while it has somebody
@@ -61,13 +60,10 @@ class LinkWatch:
         start = self._clock()
         had = False  # ever had a link
         next_say = start + FIRST_SAY_S
-        first = True
-        while first or not self._closing.wait(PERIOD_S):  # the first look at once
-            first = False
+        while True:  # the first look at once, then every PERIOD_S
             now = self._clock()
             links = self._links()
-            up = bool(links["routers"] or links["peers"])
-            if up:
+            if links["routers"] or links["peers"]:
                 if self._since is not None:
                     log.warning(
                         "%s %s after %.1f s: results flow again",
@@ -76,10 +72,8 @@ class LinkWatch:
                         now - self._since,
                     )
                 self._since, had = None, True
-                continue
-            if had and self._since is None:  # just lost
+            elif had and self._since is None:  # just lost
                 self._since, next_say = now, now + REMINDER_S
-                self.outages += 1
                 log.warning(
                     "lost every router and peer at %s (zenoh reconnects, --reconnect-s); "
                     "results reach nobody meanwhile",
@@ -100,3 +94,5 @@ class LinkWatch:
                     self._where,
                     now - self._since,
                 )
+            if self._closing.wait(PERIOD_S):
+                return
