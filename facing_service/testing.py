@@ -13,6 +13,7 @@ import subprocess
 import sys
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
+from typing import IO
 
 from .tools.loopback import endpoint, free_port, loopback_config, wait_until
 
@@ -36,16 +37,18 @@ def running_cli(
     capture: bool = True,
     module: str = "facing_service",
     cwd: str | os.PathLike[str] | None = None,
+    stdout: IO[str] | None = None,
 ) -> Iterator[subprocess.Popen[str]]:
     """``python -m <module> <args>`` as a real process (in ``cwd``); SIGTERM (then SIGKILL
     after 5 s) when the block ends. With ``capture``, stdout and stderr go to
-    ``proc.stdout``."""
+    ``proc.stdout``; with ``stdout`` (a file, for a run too long to hold in a pipe), there."""
+    into = subprocess.PIPE if capture else stdout
     proc = subprocess.Popen(
         [sys.executable, "-m", module, *args],
         env={**os.environ, **(env or {})},
         cwd=cwd,
-        stdout=subprocess.PIPE if capture else None,
-        stderr=subprocess.STDOUT if capture else None,
+        stdout=into,
+        stderr=subprocess.STDOUT if into is not None else None,
         text=True,
     )
     try:

@@ -1,0 +1,381 @@
+"""An hour of people: arrivals and departures, router restarts, a consumer coming and going.
+
+    python -m benchmarks.churn [--minutes 60] [--people 20] [--hz 10] [--restart-every-s 300]
+
+The real service runs in client mode on a router (``facing-service router``, its own
+process); a tracker and a consumer reach it through that router, as on a robot. People
+arrive (a new id each), stay 10-90 s and leave, half with a DELETE and half by falling
+silent (the service's staleness). Every ``--restart-every-s`` the router is killed
+(SIGKILL, a crash) and started again 3 s later on the same port. A consumer subscribes for
+30 s of every minute. Every 10 s the service's resident memory, threads and open file
+descriptors are read from /proc.
+
+Says: the curves (``--out`` JSON, ``--figure`` SVG), their drift after the first five
+minutes, poses sent and accepted outside the outages (nothing may be lost there), each
+outage's loss and return as the service logged them, and results out of order at the
+consumer. A benchmark, not a test: it takes ``--minutes``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import random
+import re
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import zenoh
+
+from facing_service.config.session import zenoh_config
+from facing_service.config.settings import Settings
+from facing_service.contract import keys
+from facing_service.contract.poses import pose_dict, yaw_rotation
+from facing_service.testing import LOOPBACK_FLAGS, endpoint, running_cli, wait_until
+
+from .common import free_port, rss_mb, status, wait_for_status
+from .figures import line_panels
+
+#: The router is down this long at each restart; poses sent from the kill until this long
+#: after the return (the issue's bound for results to flow again) may be lost.
+DOWN_S = 3.0
+SETTLE_S = 1.5
+SAMPLE_EVERY_S = 10.0
+WARM_UP_S = 300.0
+
+
+def proc_counts(pid: int) -> tuple[float, int, int]:
+    """Resident MB, threads, open descriptors of a process (Linux /proc)."""
+    threads = next(
+        int(line.split()[1])
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines()
+        if line.startswith("Threads:")
+    )
+    return rss_mb(pid), threads, len(list(Path(f"/proc/{pid}/fd").iterdir()))
+
+
+class RouterProcess:
+    """``facing-service router`` on a fixed port; ``kill()`` is SIGKILL (a crash)."""
+
+    def __init__(self, port: int) -> None:
+        self.port = port
+        self.proc: subprocess.Popen[bytes] | None = None
+
+    def start(self) -> None:
+        self.proc = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "facing_service",
+                "router",
+                "-l",
+                endpoint(self.port),
+                *LOOPBACK_FLAGS,
+                "--log-level",
+                "ERROR",
+            ],
+        )
+        wait_until(self.listens, 20.0, f"the router on port {self.port}", interval=0.02)
+
+    def listens(self) -> bool:
+        with socket.socket() as s:
+            return s.connect_ex(("127.0.0.1", self.port)) == 0
+
+    def kill(self) -> None:
+        if self.proc is not None:
+            self.proc.send_signal(signal.SIGKILL)
+            self.proc.wait()
+            self.proc = None
+
+
+@dataclass
+class Person:
+    body: str
+    leaves_at: float
+    x: float
+    y: float
+    yaw: float
+    delete: bool
+
+
+@dataclass
+class Consumer:
+    """Subscribes for part of every minute; counts results and any that go back in time."""
+
+    port: int
+    session: zenoh.Session | None = None
+    subscriber: zenoh.Subscriber[None] | None = None
+    received: int = 0
+    out_of_order: int = 0
+    joins: int = 0
+    last: dict[str, tuple[int, int]] = field(default_factory=dict)
+
+    def on_result(self, sample: zenoh.Sample) -> None:
+        if sample.kind != zenoh.SampleKind.PUT:
+            return
+        value = json.loads(sample.payload.to_bytes())
+        stamp = (value["stamp"]["sec"], value["stamp"]["nanosec"])
+        body = str(sample.key_expr)
+        if stamp < self.last.get(body, (0, 0)):
+            self.out_of_order += 1
+        self.last[body] = stamp
+        self.received += 1
+
+    def join(self) -> None:
+        self.session = zenoh.open(robot_side(self.port))
+        self.subscriber = self.session.declare_subscriber(
+            keys.facing_key("hri", "*", "map"), self.on_result
+        )
+        self.joins += 1
+
+    def leave(self) -> None:
+        if self.subscriber is not None and self.session is not None:
+            self.subscriber.undeclare()
+            self.session.close()
+        self.subscriber = self.session = None
+
+
+def robot_side(port: int) -> zenoh.Config:
+    """A tracker's or consumer's session on the router, reconnecting as the service's own
+    default (--reconnect-s) does: with zenoh's default backoff (up to 4 s) they, not the
+    service, would decide how long results stop."""
+    return zenoh_config(
+        Settings(
+            mode="client",
+            connect=[endpoint(port)],
+            no_multicast_scouting=True,
+            cfg=["scouting/delay:0"],
+        )
+    )
+
+
+def outages_said(log_text: str) -> tuple[int, int, list[float]]:
+    """Loss lines, return lines, and each return's stated outage length."""
+    lost = len(re.findall(r"lost every router and peer", log_text))
+    back = [float(s) for s in re.findall(r"back in touch with \S+ after ([0-9.]+) s", log_text)]
+    return lost, len(back), back
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--minutes", type=float, default=60.0)
+    parser.add_argument("--people", type=int, default=20, help="present at once, on average")
+    parser.add_argument("--hz", type=float, default=10.0)
+    parser.add_argument("--restart-every-s", type=float, default=300.0)
+    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/churn.json"))
+    parser.add_argument("--figure", type=Path, default=Path("docs/figures/churn.svg"))
+    args = parser.parse_args()
+
+    rng = random.Random(11)
+    port = free_port()
+    router = RouterProcess(port)
+    router.start()
+    flags = (
+        "-m",
+        "client",
+        "-e",
+        endpoint(port),
+        *LOOPBACK_FLAGS,
+        "--base-frame",
+        "map",
+        "--log-level",
+        "INFO",
+    )
+    samples: list[dict[str, float]] = []
+    restarts: list[float] = []
+    outages: list[tuple[float, float]] = []  # (kill, return + SETTLE_S), seconds from start
+    sent_total = sent_outside = 0
+    consumer = Consumer(port)
+    with (
+        tempfile.NamedTemporaryFile("w+", suffix=".log", prefix="churn-") as log_file,
+        running_cli("run", *flags, capture=False, stdout=log_file) as service,
+        zenoh.open(robot_side(port)) as tracker,
+    ):
+        wait_for_status(tracker, timeout=30)
+        start = time.monotonic()
+        end = start + args.minutes * 60
+        people: list[Person] = []
+        next_id = 0
+        next_sample = start
+        next_restart = start + args.restart_every_s
+        down_until: float | None = None
+        period = 1.0 / args.hz
+        tick = start
+        while (now := time.monotonic()) < end:
+            if down_until is None and now >= next_restart:
+                router.kill()
+                restarts.append(now - start)
+                down_until = now + DOWN_S
+            elif down_until is not None and now >= down_until:
+                router.start()
+                outages.append((restarts[-1], now - start + SETTLE_S))
+                down_until = None
+                next_restart = now + args.restart_every_s
+            minute_s = (now - start) % 60
+            if consumer.session is None and minute_s < 30:
+                consumer.join()
+            elif consumer.session is not None and minute_s >= 30:
+                consumer.leave()
+            # Poisson arrivals keeping about --people present; each stays 10-90 s.
+            if rng.random() < args.people / 50.0 * period:
+                people.append(
+                    Person(
+                        f"p{next_id}",
+                        now + rng.uniform(10, 90),
+                        rng.uniform(1, 6),
+                        rng.uniform(-3, 3),
+                        rng.uniform(-180, 180),
+                        rng.random() < 0.5,
+                    )
+                )
+                next_id += 1
+            wall = time.time_ns()
+            in_outage = down_until is not None or any(a <= now - start <= b for a, b in outages)
+            for person in list(people):
+                key = keys.pose_key("hri", person.body, "map")
+                if now >= person.leaves_at:
+                    people.remove(person)
+                    if person.delete:
+                        tracker.delete(key)
+                    continue
+                person.yaw += rng.uniform(-5, 5)
+                payload = pose_dict(
+                    person.body,
+                    "map",
+                    (wall // 10**9, wall % 10**9),
+                    (person.x, person.y, 0.0),
+                    yaw_rotation(person.yaw),
+                )
+                tracker.put(
+                    key,
+                    json.dumps(payload).encode(),
+                    congestion_control=zenoh.CongestionControl.BLOCK,
+                )
+                sent_total += 1
+                sent_outside += not in_outage
+            if now >= next_sample:
+                rss, threads, fds = proc_counts(service.pid)
+                samples.append(
+                    {
+                        "t_min": (now - start) / 60,
+                        "rss_mb": rss,
+                        "threads": threads,
+                        "fds": fds,
+                        "present": len(people),
+                    }
+                )
+                next_sample += SAMPLE_EVERY_S
+                print(
+                    f"{samples[-1]['t_min']:6.1f} min  RSS {rss:6.1f} MB  threads {threads:3d}"
+                    f"  fds {fds:3d}  present {len(people):3d}  ids {next_id}",
+                    flush=True,
+                )
+            tick += period
+            time.sleep(max(0.0, tick - time.monotonic()))
+        if down_until is not None:
+            router.start()
+        consumer.leave()
+        time.sleep(2.0)
+        final = status(tracker, timeout=5.0)
+        log_file.seek(0)
+        lost_said, back_said, back_lengths = outages_said(log_file.read())
+    router.kill()
+    assert final is not None, "the service stopped answering its status query"
+    report(
+        args,
+        samples,
+        restarts,
+        final.counters,
+        sent_total,
+        sent_outside,
+        (lost_said, back_said, back_lengths),
+        consumer,
+        next_id,
+    )
+
+
+def drift(samples: list[dict[str, float]], name: str) -> dict[str, float]:
+    """After the warm-up, the largest after it, the end; flat is max / after-warm-up <= 1.1."""
+    after = [s[name] for s in samples if s["t_min"] * 60 >= WARM_UP_S] or [s[name] for s in samples]
+    return {
+        "after_warm_up": after[0],
+        "max": max(after),
+        "end": after[-1],
+        "max_over_after_warm_up": max(after) / after[0],
+    }
+
+
+def report(
+    args: argparse.Namespace,
+    samples: list[dict[str, float]],
+    restarts: list[float],
+    counters: dict[str, int],
+    sent_total: int,
+    sent_outside: int,
+    said: tuple[int, int, list[float]],
+    consumer: Consumer,
+    ids: int,
+) -> None:
+    lost_said, back_said, back_lengths = said
+    result = {
+        "minutes": args.minutes,
+        "people": args.people,
+        "hz": args.hz,
+        "restart_every_s": args.restart_every_s,
+        "router_down_s": DOWN_S,
+        "unique_ids": ids,
+        "restarts": len(restarts),
+        "outages_said": {"lost": lost_said, "back": back_said, "lengths_s": back_lengths},
+        "sent": sent_total,
+        "sent_outside_outages": sent_outside,
+        "accepted": counters["samples_accepted"],
+        "counters": counters,
+        "consumer": {
+            "joins": consumer.joins,
+            "results": consumer.received,
+            "out_of_order": consumer.out_of_order,
+        },
+        "drift": {name: drift(samples, name) for name in ("rss_mb", "threads", "fds")},
+        "samples": samples,
+    }
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(result, indent=1) + "\n")
+    args.figure.parent.mkdir(parents=True, exist_ok=True)
+    args.figure.write_text(
+        line_panels(
+            [s["t_min"] for s in samples],
+            [
+                ("resident memory, MB", [s["rss_mb"] for s in samples]),
+                ("threads", [s["threads"] for s in samples]),
+                ("open file descriptors", [s["fds"] for s in samples]),
+                ("people present", [s["present"] for s in samples]),
+            ],
+            marks=[t / 60 for t in restarts],
+            x_label="minutes (dashed: router killed, back 3 s later)",
+        )
+    )
+    for name, d in result["drift"].items():
+        print(
+            f"{name:8} after warm-up {d['after_warm_up']:.1f}, max {d['max']:.1f}, end "
+            f"{d['end']:.1f}: max/after-warm-up {d['max_over_after_warm_up']:.3f}"
+        )
+    print(
+        f"router restarts {len(restarts)}; the service said: lost {lost_said}, back {back_said}"
+        f" (lengths {', '.join(f'{s:.1f}' for s in back_lengths)} s)"
+    )
+    print(
+        f"poses sent {sent_total}, outside outages {sent_outside}, accepted "
+        f"{counters['samples_accepted']}; consumer joined {consumer.joins} times, got "
+        f"{consumer.received} results, {consumer.out_of_order} out of order; {ids} people"
+    )
+    print(f"wrote {args.out} and {args.figure}")
+
+
+if __name__ == "__main__":
+    main()
