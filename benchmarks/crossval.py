@@ -42,8 +42,8 @@ from typing import Any
 
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
+from facing_service.contract.levels import Level
 from facing_service.contract.poses import Rejected
-from facing_service.core.engagement import Level
 from facing_service.core.records import Changes, PoseSample
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import RosSample, route

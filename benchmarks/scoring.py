@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from facing_service.core.engagement import Level
+from facing_service.contract.levels import Level
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "data"
 #: The shared real recordings, evaluated as one set.

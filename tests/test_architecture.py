@@ -5,6 +5,9 @@ no module grows past 450 lines."""
 from __future__ import annotations
 
 import ast
+import json
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -106,3 +109,68 @@ MAX_MODULE_LINES = 450
 def test_no_module_is_over_450_lines(path: Path):
     lines = len(path.read_text().splitlines())
     assert lines <= MAX_MODULE_LINES, f"{path.relative_to(PACKAGE)}: {lines} lines"
+
+
+def module_graph() -> dict[tuple[str, ...], set[tuple[str, ...]]]:
+    """Module -> the package modules it imports (``from pkg import name`` is the module
+    ``pkg.name`` when there is one, else ``pkg`` itself, its ``__init__``)."""
+    known = {p.relative_to(PACKAGE).with_suffix("").parts for p in PACKAGE.rglob("*.py")}
+    graph: dict[tuple[str, ...], set[tuple[str, ...]]] = {}
+    for path in PACKAGE.rglob("*.py"):
+        here = path.relative_to(PACKAGE).with_suffix("").parts
+        if here[-1] == "__init__":
+            here = here[:-1]
+        source_parts = path.relative_to(PACKAGE).with_suffix("").parts
+        edges = set()
+        for target, name in targets(source_parts, path.read_text()):
+            if (*target, name) in known:
+                edges.add((*target, name))
+            elif (*target,) in known or (*target, "__init__") in known:
+                edges.add(target)
+        graph[here] = edges - {here}
+    return graph
+
+
+def circles(graph: dict[tuple[str, ...], set[tuple[str, ...]]]) -> list[list[str]]:
+    """Every import circle (one path around each strongly connected set of modules)."""
+    found, done, path = [], set(), []
+
+    def visit(node: tuple[str, ...]) -> None:
+        if node in path:
+            found.append([".".join(n) for n in path[path.index(node) :]])
+            return
+        if node in done:
+            return
+        path.append(node)
+        for target in sorted(graph.get(node, ())):
+            visit(target)
+        path.pop()
+        done.add(node)
+
+    for node in sorted(graph):
+        visit(node)
+    return found
+
+
+def test_no_import_circles():
+    """Issue 43: config.session and config.settings imported each other."""
+    assert circles(module_graph()) == []
+
+
+def test_the_circle_finder_finds_one():
+    assert circles({("a",): {("b",)}, ("b",): {("a",)}}) == [["a", "b"]]
+
+
+def test_importing_the_client_loads_no_ros2_and_no_tf():
+    """An application that only reads results pays neither the ROS 2 adapter (rosbags'
+    type store) nor the TF buffer: ``from facing_service import FacingClient`` loads the
+    contract, the settings and the client alone."""
+    code = (
+        "import json, sys\nimport facing_service\nfrom facing_service import FacingClient\n"
+        "print(json.dumps(sorted(sys.modules)))"
+    )
+    loaded = json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True,
+                                       text=True, check=True).stdout)  # fmt: skip
+    ours = [m for m in loaded if m.startswith("facing_service.")]
+    assert [m for m in ours if m.split(".")[1] in ("ros2", "core", "shell", "tools")] == []
+    assert [m for m in loaded if m.split(".")[0] in ("rosbags", "numpy")] == []

@@ -9,7 +9,7 @@ import pytest
 
 from benchmarks import scoring
 from benchmarks.scoring import Row, advantage, score, summary
-from facing_service.core.engagement import Level
+from facing_service.contract.levels import Level
 
 
 def timeline(levels, dt=0.1):

@@ -31,8 +31,8 @@ from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
 from ..contract.errors import ClientNotOpen, QueryRefused, UnknownFrame
+from ..contract.levels import Level
 from ..contract.schemas import EngagementEvent, FacingState, GazePair, GroupState, QueryError
-from ..core.engagement import Level
 from .scene import SCENE_EVENTS, Event, SceneListener
 
 log = logging.getLogger("facing_service.client")

@@ -18,11 +18,9 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from ..contract import keys
 from ..contract.poses import DEFAULT_MAX_PAYLOAD_BYTES
-from ..core.tf_buffer import DEFAULT_MAX_FRAMES
-from ..ros2.input import DEFAULT_MAX_MESSAGE_BYTES
-from ..ros2.wire import Distro, RosFormat, Wire
+from ..contract.robot import DEFAULT_MAX_FRAMES, DEFAULT_MAX_MESSAGE_BYTES, Distro
 from .disclosure import public_endpoint
-from .session import endpoint_problem
+from .endpoints import endpoint_problem
 
 LogLevel = Literal["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"]
 
@@ -398,16 +396,6 @@ class Settings(BaseModel):
     def forced_distro(self) -> Distro | None:
         """``--ros-distro``, None when it is to be learned from the robot (``auto``)."""
         return None if self.ros_distro == "auto" else Distro(self.ros_distro)
-
-    def ros_wire(self) -> Wire:
-        """Where the robot's topics are on zenoh, and the form we write in before (or
-        instead of) learning the robot's."""
-        return Wire(
-            RosFormat(self.ros_format),
-            self.ros_domain_id,
-            self.ros_namespace,
-            self.forced_distro or Distro.JAZZY,
-        )
 
     @property
     def ros_base_frame(self) -> str:

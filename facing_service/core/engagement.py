@@ -40,15 +40,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import Enum, IntEnum
+from enum import Enum
 
-
-class Level(IntEnum):
-    UNKNOWN = 0
-    DISENGAGED = 1
-    ENGAGING = 2
-    ENGAGED = 3
-    DISENGAGING = 4
+from ..contract.levels import Level
 
 
 class Zone(str, Enum):

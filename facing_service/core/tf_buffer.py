@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 
+from ..contract.robot import DEFAULT_MAX_FRAMES
 from .tf_cache import DEFAULT_CACHE_TIME_NS, S_NS, StaticCache, Stored, TimeCache
 from .tf_errors import (
     ConnectivityError,
@@ -36,9 +37,6 @@ from .tf_math import IDENTITY, Quat, Transform, Vec, add, neg, qinv, qmul, rotat
 
 QUATERNION_NORMALIZATION_TOLERANCE = 10e-3
 MAX_GRAPH_DEPTH = 1000
-#: Most frames a buffer names (``--ros-max-frames``): tf2 never forgets a frame, so a
-#: robot naming new frames without end (400 000 took 517 MB) would grow it without bound.
-DEFAULT_MAX_FRAMES = 10_000
 
 
 # -- tf2's LinearMath, as it computes (no renormalization anywhere) ---------------------

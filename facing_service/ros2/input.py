@@ -34,6 +34,7 @@ import zenoh
 import zenoh.ext
 
 from ..contract.poses import Rejected, Rejection, stamp_ns
+from ..contract.robot import DEFAULT_MAX_MESSAGE_BYTES
 from ..core.tf_math import Transform
 from . import types as ros2_types
 from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
@@ -49,10 +50,6 @@ TOPICS = (
     ("/humans/persons/*/face_id", ros2_types.STRING, True),
     ("/humans/persons/*/body_id", ros2_types.STRING, True),
 )
-
-
-#: A robot's message larger than this is refused undecoded (``--ros-max-message-bytes``).
-DEFAULT_MAX_MESSAGE_BYTES = 1 << 20
 
 
 @dataclass(frozen=True, slots=True)

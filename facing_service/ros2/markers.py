@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core.engagement import Level
+from ..contract.levels import Level
 from ..core.groups import Group
 from ..core.scene import ROBOT
 from . import types as ros2_types

@@ -35,8 +35,8 @@ from typing import Any
 
 import zenoh
 
+from ..contract.levels import Level
 from ..contract.schemas import FrameFacing
-from ..core.engagement import Level
 from ..core.records import Changes, EngagementUpdate
 from ..core.scene import SceneUpdate
 from . import types as ros2_types

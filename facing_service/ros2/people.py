@@ -46,8 +46,9 @@ from dataclasses import dataclass, field
 
 from ..contract import keys
 from ..contract.poses import MAX_TRANSLATION_M, Pose
+from ..contract.robot import DEFAULT_MAX_FRAMES
 from ..core.records import PoseSample
-from ..core.tf_buffer import DEFAULT_MAX_FRAMES, TfBuffer
+from ..core.tf_buffer import TfBuffer
 from ..core.tf_errors import TfError
 from ..core.tf_math import Transform
 

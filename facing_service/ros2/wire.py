@@ -39,26 +39,12 @@ from functools import lru_cache
 from zenoh import ZBytes
 from zenoh.ext import Int64, ZDeserializeError, z_deserialize, z_serialize
 
+from ..contract.robot import Distro, RosFormat
 from . import types as ros2_types
 
+__all__ = ["Distro", "RosFormat"]  # with the wire's own names below; see contract.robot
+
 HASH_NOT_SUPPORTED = "TypeHashNotSupported"
-
-
-class RosFormat(str, Enum):
-    RMW_ZENOH = "rmw_zenoh"
-    BRIDGE = "bridge"
-
-
-class Distro(str, Enum):
-    """Which form of rmw_zenoh's keys a robot uses: what its type hash chunk says."""
-
-    HUMBLE = "humble"  # TypeHashNotSupported
-    JAZZY = "jazzy"  # RIHS01_<sha256>: Jazzy, Kilted, Rolling
-
-    def describe(self) -> str:
-        if self is Distro.HUMBLE:
-            return "Humble (keys carry TypeHashNotSupported)"
-        return "Jazzy or later (keys carry RIHS01 type hashes)"
 
 
 @lru_cache(maxsize=4096)

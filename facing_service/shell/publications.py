@@ -10,6 +10,7 @@ from collections.abc import Iterable, Mapping
 from typing import Any
 
 from ..contract import keys
+from ..contract.levels import Level
 from ..contract.poses import Stamp
 from ..contract.schemas import (
     Centre,
@@ -21,7 +22,6 @@ from ..contract.schemas import (
     GazePair,
     GroupState,
 )
-from ..core.engagement import Level
 from ..core.groups import Group
 from ..core.records import BodyState, Changes, EngagementUpdate
 from ..core.scene import ROBOT, SceneUpdate

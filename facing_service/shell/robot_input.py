@@ -18,12 +18,13 @@ import zenoh
 from ..config.profiles import head_profile
 from ..config.settings import Settings
 from ..contract.poses import Rejected
+from ..contract.robot import Distro, RosFormat
 from ..contract.schemas import Ros2Status
 from ..ros2.diagnosis import RobotWatch, names
 from ..ros2.input import Ros2Subscriptions, RosSample, reading, route
 from ..ros2.people import People, Update
 from ..ros2.types import TF_MESSAGE
-from ..ros2.wire import FormLearner, read_attachment
+from ..ros2.wire import FormLearner, Wire, read_attachment
 
 log = logging.getLogger("facing_service")
 
@@ -46,13 +47,24 @@ FLAPS_SHOWN_S = 10.0
 EVENTS_KEPT = 1024
 
 
+def robot_wire(settings: Settings) -> Wire:
+    """Where the robot's topics are on zenoh, and the form we write in before (or instead
+    of) learning the robot's."""
+    return Wire(
+        RosFormat(settings.ros_format),
+        settings.ros_domain_id,
+        settings.ros_namespace,
+        settings.forced_distro or Distro.JAZZY,
+    )
+
+
 class RobotInput:
     """The robot as the worker knows it. ``clock``: the service's monotonic clock."""
 
     def __init__(self, settings: Settings, clock: Callable[[], float]) -> None:
         self.settings = settings
         self._clock = clock
-        self.wire = settings.ros_wire()
+        self.wire = robot_wire(settings)
         self.form = FormLearner(settings.forced_distro, answering=settings.output == "ros2")
         self.people = People(
             settings.ros_base_frame,

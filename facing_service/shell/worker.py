@@ -23,8 +23,8 @@ from ..config.profiles import scene_params
 from ..config.settings import Settings
 from ..contract import keys
 from ..contract.keys import BodyRef
+from ..contract.levels import Level
 from ..contract.poses import Rejected, Rejection, decode_pose
-from ..core.engagement import Level
 from ..core.records import Changes, PoseSample
 from ..core.scene import Person, Scenes
 from ..core.tracker import Tracker

@@ -32,6 +32,7 @@ from ..ros2 import types as ros2_types
 from ..ros2.output import CDR, TopicWriter
 from ..ros2.record import Recording
 from ..ros2.wire import GID_SIZE, RosFormat, Wire
+from ..shell.robot_input import robot_wire
 
 
 @dataclass
@@ -122,7 +123,7 @@ def replay(
 ) -> int:
     """``facing-service replay``: play ``bag`` until it ends or ``stop``; with ``record``,
     also record what the service answers. Returns the exit code."""
-    wire = settings.ros_wire()
+    wire = robot_wire(settings)
     where = f"domain {wire.domain_id}, " if wire.format is RosFormat.RMW_ZENOH else ""
     namespace = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
     form = f", {wire.distro.describe()}" if wire.format is RosFormat.RMW_ZENOH else ""

@@ -13,8 +13,8 @@ from hypothesis import strategies as st
 from facing_service.config.profiles import engagement_params
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
+from facing_service.contract.levels import Level
 from facing_service.contract.poses import Pose
-from facing_service.core.engagement import Level
 from facing_service.core.records import Frame, PoseSample
 from facing_service.core.tracker import Tracker
 

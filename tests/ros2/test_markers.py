@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from facing_service.core.engagement import Level
+from facing_service.contract.levels import Level
 from facing_service.core.groups import Group
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.markers import COLOURS, MARKER_ARRAY, Drawn, MarkerDrawer

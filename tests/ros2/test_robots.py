@@ -12,7 +12,7 @@ import time
 import pytest
 from zenoh_ros2_sdk.qos import QosDurability, QosHistoryKind, QosProfile, QosReliability
 
-from facing_service.core.engagement import Level
+from facing_service.contract.levels import Level
 from facing_service.ros2 import types as ros2_types
 
 import rmw_zenoh

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import pytest
 from oracles import BAGS
 
-from facing_service.core.engagement import Level
+from facing_service.contract.levels import Level
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.wire import Wire, attachment
 
