@@ -30,9 +30,9 @@ from .config.sources import load_settings
 from .contract import keys
 from .contract.errors import SettingsError
 from .contract.schemas import json_schemas
-from .ros2.record import replay_refusal
 from .shell.run import run_until
 from .tools.demo import run_demo
+from .tools.record import replay_refusal
 from .tools.router import router_config, serve
 
 log = logging.getLogger("facing_service")

@@ -1,5 +1,5 @@
-"""A ROS 2 robot's people, read straight off zenoh: subscriptions (thin shell) and the
-routing of each sample, decoded with rosbags, into ``People`` (pure).
+"""A ROS 2 robot's people, read straight off zenoh: the routing of each sample, decoded
+with rosbags, into ``People`` (pure; the subscriptions are the shell's, ``shell.ros_bus``).
 
 Topics read (under ``--ros-namespace``, in ``--ros-format``):
 
@@ -15,23 +15,18 @@ after the robot gets them from the publishers' caches, of either generation:
   and late-publisher detection;
 - ``PublicationCache`` queryables (rmw_zenoh Humble 0.1.0-0.1.1 and Jazzy 0.2.0-0.2.1 on
   ``<zenoh id>/<key>``; the bridge up to 1.5.0 on ``<key>/@ros2_pub_cache/<zenoh id>``):
-  queried once at start and once more after ``CACHE_QUERY_AGAIN_S`` (a peer discovers
-  the others in a moment), as those releases' own late joiners did, accepting replies on
-  any key (they come on the sample's own key).
+  queried once at start and once more after ``shell.ros_bus.CACHE_QUERY_AGAIN_S`` (a
+  peer discovers the others in a moment), as those releases' own late joiners did,
+  accepting replies on any key (they come on the sample's own key).
 
 ``/tf`` and the body and face lists stream: plain subscribers.
 """
 
 from __future__ import annotations
 
-import threading
-from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
-
-import zenoh
-import zenoh.ext
 
 from ..contract.poses import Rejected, Rejection, stamp_ns
 from ..contract.robot import DEFAULT_MAX_MESSAGE_BYTES
@@ -60,14 +55,6 @@ class RosSample:
     payload: bytes
     attachment: bytes | None = None  # rmw_zenoh's: its form is learned from it
     size: int = 0  # of a payload too large to be copied (then ``payload`` is empty)
-
-    @classmethod
-    def of(cls, sample: zenoh.Sample, max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES) -> RosSample:
-        """The sample as plain bytes; a payload over ``max_bytes`` is not even copied."""
-        extra = None if sample.attachment is None else sample.attachment.to_bytes()
-        if (size := len(sample.payload)) > max_bytes:
-            return cls(str(sample.key_expr), b"", extra, size)
-        return cls(str(sample.key_expr), sample.payload.to_bytes(), extra)
 
 
 def route(
@@ -148,105 +135,8 @@ def tf_inputs(message: Any) -> list[TfInput]:
     return inputs
 
 
-#: The second query of the older generation's publication caches, after the first at start.
-CACHE_QUERY_AGAIN_S = 2.0
-
-
 def publication_cache_selector(wire: Wire, key: str) -> str:
     """Where the older generation's publication caches of a subscription key answer."""
     if wire.format is RosFormat.BRIDGE:
         return f"{key}/@ros2_pub_cache/*"
     return f"*/{key}"
-
-
-def query_publication_caches(
-    session: zenoh.Session,
-    selectors: Iterable[str],
-    on_sample: Callable[[zenoh.Sample], None],
-) -> None:
-    """Query publication caches as their generation's late joiners did: every replier
-    (target ALL), every reply (no consolidation: /tf_static has many publishers), on any
-    key (they answer on the sample's own). Quietly nothing once the session is closed."""
-
-    def on_reply(reply: zenoh.Reply) -> None:
-        if (sample := reply.ok) is not None:
-            on_sample(sample)
-
-    for selector in selectors:
-        try:
-            session.get(
-                selector,
-                on_reply,
-                target=zenoh.QueryTarget.ALL,
-                consolidation=zenoh.ConsolidationMode.NONE,
-                accept_replies=zenoh.ReplyKeyExpr.ANY,
-            )
-        except zenoh.ZError:
-            return
-
-
-class Ros2Subscriptions:
-    """The robot's topics on a zenoh session, but ``skip`` (a topic the caller reads
-    itself); each sample goes to ``hand_off`` as a RosSample (the service's intake).
-    Close it to undeclare everything."""
-
-    def __init__(
-        self,
-        session: zenoh.Session,
-        wire: Wire,
-        hand_off: Callable[[RosSample], None],
-        skip: tuple[str, str] | None = None,
-        max_bytes: int = DEFAULT_MAX_MESSAGE_BYTES,
-    ) -> None:
-        def on_sample(sample: zenoh.Sample) -> None:
-            if sample.kind == zenoh.SampleKind.PUT:
-                hand_off(RosSample.of(sample, max_bytes))
-
-        self.keys: list[str] = []
-        self._entities: list[Any] = []
-        self._session = session
-        self._hand_off = hand_off
-        self._max_bytes = max_bytes
-        self._cached: list[str] = []  # publication cache selectors (older generation)
-        self._timer: threading.Timer | None = None
-        try:
-            for topic, typename, transient_local in TOPICS:
-                if (topic, typename) == skip:
-                    continue
-                key = wire.subscription(topic, typename, any_type=True)
-                self.keys.append(key)
-                entity: zenoh.Subscriber[None] | zenoh.ext.AdvancedSubscriber[None]
-                if transient_local:
-                    history = zenoh.ext.HistoryConfig(detect_late_publishers=True)
-                    entity = zenoh.ext.declare_advanced_subscriber(
-                        session, key, on_sample, history=history
-                    )
-                    self._cached.append(publication_cache_selector(wire, key))
-                else:
-                    entity = session.declare_subscriber(key, on_sample)
-                self._entities.append(entity)
-            self.query_publication_caches()
-            self._timer = threading.Timer(CACHE_QUERY_AGAIN_S, self.query_publication_caches)
-            self._timer.daemon = True
-            self._timer.start()
-        except BaseException:
-            self.close()
-            raise
-
-    def query_publication_caches(self) -> None:
-        """Ask the older generation's publication caches for what they hold; replies go
-        to ``hand_off`` like samples (a reply also held by a newer cache is a duplicate
-        the topics' rules absorb: a static transform or a list said twice)."""
-        query_publication_caches(
-            self._session,
-            self._cached,
-            lambda sample: self._hand_off(RosSample.of(sample, self._max_bytes)),
-        )
-
-    def close(self) -> None:
-        if self._timer is not None:
-            self._timer.cancel()
-            self._timer = None
-        for entity in self._entities:
-            entity.undeclare()
-        self._entities = []

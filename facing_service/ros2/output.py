@@ -18,22 +18,19 @@ Topics (under ``--ros-namespace``; messages from the upstream ``.msg`` files in 
     /humans/interactions/gazing              hri_msgs/msg/Gaze
         each pair (sender faces receiver; "" is the robot) when it starts facing.
 
-The pure part (``RosOutput``) turns the tracker's changes into messages; ``RosPublishers``
-(the publisher thread's) sends them in the robot's format: in rmw_zenoh's, every sample
-carries the attachment its subscriptions require, and the node and each publisher hold
-the liveliness tokens ``ros2 node list`` / ``ros2 topic list`` read.
+This pure part (``RosOutput``) turns the tracker's changes into messages;
+``shell.ros_bus.RobotPublishers`` (the publisher thread's) sends them in the robot's
+format: in rmw_zenoh's, every sample carries the attachment its subscriptions require,
+and the node and each publisher hold the liveliness tokens ``ros2 node list`` /
+``ros2 topic list`` read.
 """
 
 from __future__ import annotations
 
-import hashlib
 import json
-import time
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
-
-import zenoh
 
 from ..contract.levels import Level
 from ..contract.schemas import FrameFacing
@@ -41,14 +38,6 @@ from ..core.records import Changes, EngagementUpdate
 from ..core.scene import SceneUpdate
 from . import types as ros2_types
 from .markers import MARKER_ARRAY, MARKERS_TOPIC, Drawn, MarkerDrawer
-from .wire import (
-    QOS_RELIABLE_VOLATILE,
-    Form,
-    FormLearner,
-    RosFormat,
-    Wire,
-    attachment,
-)
 
 ENGAGEMENT_LEVEL = "hri_msgs/msg/EngagementLevel"
 INTENT = "hri_actions_msgs/msg/Intent"
@@ -69,7 +58,6 @@ FACING_TOPICS = {
     "person_": "/humans/persons/facing",
 }
 PERSON = "person_"
-CDR = zenoh.Encoding("application/cdr")
 
 
 @dataclass(frozen=True, slots=True)
@@ -257,121 +245,3 @@ class RosOutput:
             if frame not in people:
                 del self._drawers[frame]
         return out
-
-
-class RosPublishers:
-    """The publisher thread's ROS 2 publishers, in the robot's format and in each form it
-    is answered in (``form``: the worker learns them from the robot's samples; two robots
-    of different distros on one router are each answered in their own).
-
-    Congestion control is rmw_zenoh's for the QoS we advertise (reliable, keep last 10):
-    DROP, as its ``rmw_publisher_data.cpp`` chooses for every keep-last publisher, so a
-    subscriber that stops reading costs it samples, never the service a stall."""
-
-    def __init__(
-        self, session: zenoh.Session, wire: Wire, node_name: str, form: FormLearner
-    ) -> None:
-        self.session = session
-        self.wire = wire
-        self.node_name = node_name
-        self.form = form
-        self._publishers: dict[tuple[str, Form], TopicWriter] = {}  # (topic, form)
-        self._next_entity_id = 1  # 0 is the node's
-        self._node_token = None
-        if wire.format is RosFormat.RMW_ZENOH:
-            self._node_token = session.liveliness().declare_token(self.node_token_key())
-
-    def _prefix(self, entity_id: int, kind: str) -> str:
-        ns = _mangle("/" + self.wire.namespace) if self.wire.namespace else "%"
-        return (
-            f"@ros2_lv/{self.wire.domain_id}/{self.session.zid()}/0/{entity_id}/{kind}/%/{ns}/"
-            f"{_mangle(self.node_name)}"
-        )
-
-    def node_token_key(self) -> str:
-        return self._prefix(0, "NN")
-
-    def publisher_token_key(
-        self, entity_id: int, topic: str, typename: str, wire: Wire | None = None
-    ) -> str:
-        wire = wire or self.wire
-        full_topic = f"/{wire.namespace}{topic}" if wire.namespace else topic
-        return (
-            f"{self._prefix(entity_id, 'MP')}/{_mangle(full_topic)}/"
-            f"{ros2_types.dds_type_name(typename)}/{wire.type_hash(typename)}/"
-            f"{QOS_RELIABLE_VOLATILE}"
-        )
-
-    def send(self, message: RosMessage) -> None:
-        """Put the message on its topic in every form the robot is answered in; the
-        publishers of a form no longer answered in, or of a subject gone, are undeclared."""
-        forms = self.form.forms
-        for key in [k for k in self._publishers if k[0] == message.topic]:
-            if message.payload is None or key[1] not in forms:
-                self._publishers.pop(key).undeclare()
-        if message.payload is None:
-            return
-        for form in forms:
-            publisher = self._publishers.get((message.topic, form))
-            if publisher is None:
-                publisher = self._publishers[(message.topic, form)] = self._declare(message, form)
-            publisher.put(message.payload)
-
-    def _declare(self, message: RosMessage, form: Form) -> TopicWriter:
-        wire = replace(self.wire, distro=form.distro)
-        token = None
-        if wire.format is RosFormat.RMW_ZENOH:
-            key = self.publisher_token_key(
-                self._next_entity_id, message.topic, message.typename, wire
-            )
-            token = self.session.liveliness().declare_token(key)
-        self._next_entity_id += 1
-        data_key = wire.key(message.topic, message.typename)
-        entity = self.session.declare_publisher(
-            data_key, encoding=CDR, congestion_control=zenoh.CongestionControl.DROP
-        )
-        # rmw_zenoh hashes the liveliness key into the GID (XXH3-128); a SHA-256 prefix
-        # of the data key and entity number is as unique, which is all a GID must be.
-        gid = hashlib.sha256(f"{data_key}#{self._next_entity_id}".encode()).digest()[:16]
-        return TopicWriter(entity, wire, gid, token, form)
-
-    def close(self) -> None:
-        for publisher in self._publishers.values():
-            publisher.undeclare()
-        self._publishers.clear()
-        if self._node_token is not None:
-            self._node_token.undeclare()
-            self._node_token = None
-
-
-def _mangle(name: str) -> str:
-    """rmw_zenoh's liveliness names: '/' becomes '%'."""
-    return name.replace("/", "%")
-
-
-class TopicWriter:
-    """Puts samples on one topic's declared publisher (plain or zenoh-ext advanced) as the
-    robot's format wants them: in rmw_zenoh's, each with its attachment in the robot's
-    layout, numbered from 1."""
-
-    def __init__(
-        self, entity: Any, wire: Wire, gid: bytes, token: Any = None, form: Form | None = None
-    ) -> None:
-        self._entity = entity
-        self._rmw = wire.format is RosFormat.RMW_ZENOH
-        self.gid = gid
-        self.form = form or Form(wire.distro)
-        self._token = token  # the publisher's liveliness token, if it holds one
-        self.sequence_number = 0
-
-    def put(self, payload: bytes) -> None:
-        self.sequence_number += 1
-        extra = None
-        if self._rmw:
-            extra = attachment(self.sequence_number, time.time_ns(), self.gid, self.form.attachment)
-        self._entity.put(payload, attachment=extra)
-
-    def undeclare(self) -> None:
-        self._entity.undeclare()
-        if self._token is not None:
-            self._token.undeclare()

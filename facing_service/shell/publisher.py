@@ -17,10 +17,11 @@ from collections.abc import Callable
 
 import zenoh
 
-from ..ros2.output import RosMessage, RosPublishers
+from ..ros2.output import RosMessage
 from .declared_keys import DeclaredKeys
 from .ledger import Ledger
 from .outbox import Kind, Outbox, Publication
+from .ros_bus import RobotPublishers
 
 log = logging.getLogger("facing_service")
 
@@ -39,7 +40,7 @@ class Publisher:
         ledger: Ledger,
         closing: threading.Event,
         keys: DeclaredKeys,
-        ros: Callable[[], RosPublishers] | None = None,
+        ros: Callable[[], RobotPublishers] | None = None,
     ) -> None:
         self._session = session
         self._outbox = outbox
@@ -77,7 +78,7 @@ class Publisher:
             if ros is not None:
                 ros.close()
 
-    def _send(self, p: Publication, ros: RosPublishers | None) -> None:
+    def _send(self, p: Publication, ros: RobotPublishers | None) -> None:
         if p.kind is Kind.ROS:  # the robot's own topics (--output ros2)
             assert ros is not None and p.typename is not None
             ros.send(RosMessage(p.key, p.typename, p.payload))

@@ -21,10 +21,11 @@ from ..contract.poses import Rejected
 from ..contract.robot import Distro, RosFormat
 from ..contract.schemas import Ros2Status
 from ..ros2.diagnosis import RobotWatch, names
-from ..ros2.input import Ros2Subscriptions, RosSample, reading, route
+from ..ros2.input import RosSample, reading, route
 from ..ros2.people import People, Update
 from ..ros2.types import TF_MESSAGE
 from ..ros2.wire import FormLearner, Wire, read_attachment
+from .ros_bus import RobotSubscriptions
 
 log = logging.getLogger("facing_service")
 
@@ -81,7 +82,7 @@ class RobotInput:
         self.flaps = 0  # people who left a tracked list and came back within FLAP_S
         self._sniffers: list[zenoh.Subscriber[None]] = []
         self._token_watch: zenoh.Subscriber[None] | None = None
-        self._subscriptions: Ros2Subscriptions | None = None
+        self._subscriptions: RobotSubscriptions | None = None
 
     def hot_key(self) -> str:
         """The key of the topic the worker reads from zenoh's channel (/tf, any type)."""
@@ -91,7 +92,7 @@ class RobotInput:
         """The robot's side topics to ``hand_off`` (the intake), and the stray /tf keys;
         what is read, as the start line says it."""
         s = self.settings
-        self._subscriptions = Ros2Subscriptions(
+        self._subscriptions = RobotSubscriptions(
             session, self.wire, hand_off, HOT_ROS_TOPIC, s.ros_max_message_bytes
         )
         self._sniffers = [

@@ -47,7 +47,7 @@ from ..config.settings import Settings
 from ..contract import keys
 from ..contract.schemas import Ros2Status, ServiceStatus
 from ..core.tracker import Tracker
-from ..ros2.output import RosOutput, RosPublishers
+from ..ros2.output import RosOutput
 from .declared_keys import DeclaredKeys
 from .intake import Intake
 from .ledger import Ledger
@@ -56,6 +56,7 @@ from .outbox import Outbox
 from .publisher import JSON, Publisher
 from .queries import QueryItem
 from .robot_input import RobotInput
+from .ros_bus import RobotPublishers
 from .threads import daemon_thread
 from .worker import Worker
 
@@ -141,7 +142,7 @@ class FacingService:
             ros = None
             if self._ros_out is not None:
                 robot = self._robot
-                ros = partial(RosPublishers, session, robot.wire, s.ros_node_name, robot.form)
+                ros = partial(RobotPublishers, session, robot.wire, s.ros_node_name, robot.form)
             declared = DeclaredKeys(session, ns, not self._ros_input, s.max_bodies)
             publisher = Publisher(session, self._outbox, self._ledger, self._closing, declared, ros)
             self._threads = [

@@ -37,6 +37,7 @@ from .outbox import Outbox, Publication
 from .publications import publications, ros_publications, scene_publications
 from .queries import QueryItem, answer
 from .robot_input import RobotInput
+from .ros_bus import received
 
 log = logging.getLogger("facing_service")
 
@@ -234,7 +235,7 @@ class Worker:
         if isinstance(item, zenoh.Sample):
             if self._ros_input:  # the robot's /tf, from the intake's channel
                 if item.kind == zenoh.SampleKind.PUT:
-                    self._on_ros(RosSample.of(item, self.settings.ros_max_message_bytes), poses)
+                    self._on_ros(received(item, self.settings.ros_max_message_bytes), poses)
             elif item.kind == zenoh.SampleKind.PUT:
                 pose = self._decode(item)
                 if pose is not None:

@@ -29,10 +29,10 @@ from ..config.disclosure import zenoh_failure
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..ros2 import types as ros2_types
-from ..ros2.output import CDR, TopicWriter
-from ..ros2.record import Recording
 from ..ros2.wire import GID_SIZE, RosFormat, Wire
 from ..shell.robot_input import robot_wire
+from ..shell.ros_bus import CDR, TopicWriter
+from .record import Recording
 
 
 @dataclass

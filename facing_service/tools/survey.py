@@ -28,7 +28,7 @@ from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract.keys import cut
 from ..ros2 import types as ros2_types
-from ..ros2.input import publication_cache_selector, query_publication_caches
+from ..ros2.input import publication_cache_selector
 from ..ros2.people import MAX_FRAME_NAME
 from ..ros2.wire import (
     HASH_NOT_SUPPORTED,
@@ -39,6 +39,7 @@ from ..ros2.wire import (
     attachment_layout,
     where,
 )
+from ..shell.ros_bus import query_publication_caches
 
 #: The topics surveyed (without their leading slash), and their types.
 TOPICS = {

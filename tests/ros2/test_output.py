@@ -263,7 +263,7 @@ def test_replay_records_what_the_service_published(net, tmp_path):
 def test_a_recording_written_as_mcap_replays(net, tmp_path):
     """--record OUT.mcap writes an mcap bag; replay reads it back (both storage formats
     rosbag2 uses: the shared recordings are sqlite3)."""
-    from facing_service.ros2.record import Recording
+    from facing_service.tools.record import Recording
 
     router = net.router()
     ep = endpoint(router.port)

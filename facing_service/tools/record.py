@@ -16,9 +16,9 @@ from pathlib import Path
 
 import zenoh
 
-from . import types as ros2_types
-from .output import ENGAGEMENT_LEVEL, INTENT
-from .wire import Wire
+from ..ros2 import types as ros2_types
+from ..ros2.output import ENGAGEMENT_LEVEL, INTENT
+from ..ros2.wire import Wire
 
 #: The service's ROS 2 output topics (patterns) and their types.
 OUTPUT_TOPICS = (
