@@ -128,7 +128,10 @@ class Consumer:
         self.received += 1
 
     def join(self) -> None:
-        self.session = zenoh.open(robot_side(self.port))
+        try:
+            self.session = zenoh.open(robot_side(self.port))
+        except zenoh.ZError:  # the router just back, not listening yet: the next tick
+            return
         self.subscriber = self.session.declare_subscriber(
             keys.facing_key("hri", "*", "map"), self.on_result
         )
@@ -218,8 +221,8 @@ def main() -> None:
                 down_until = None
                 next_restart = now + args.restart_every_s
             minute_s = (now - start) % 60
-            if consumer.session is None and minute_s < 30:
-                consumer.join()
+            if consumer.session is None and minute_s < 30 and down_until is None:
+                consumer.join()  # (a client with no router fails at once: not while down)
             elif consumer.session is not None and minute_s >= 30:
                 consumer.leave()
             # Poisson arrivals keeping about --people present; each stays 10-90 s.
