@@ -11,8 +11,9 @@ stops facing (with the facing rule's hysteresis), a grouping that has held ``hol
 from __future__ import annotations
 
 from collections import OrderedDict
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
@@ -48,6 +49,12 @@ class Person:
     id: str
     translation: tuple[float, float, float]
     rotation: tuple[float, float, float, float]  # (x, y, z, w): x is where the person faces
+
+
+class PeopleOf(Protocol):
+    """Where a frame's people are read from (the worker's turn view)."""
+
+    def people(self, frame_id: str) -> tuple[list[Person], tuple[int, int]]: ...
 
 
 Pair = tuple[str, str]  # (sender, receiver): the sender faces the receiver
@@ -220,13 +227,10 @@ class Scenes:
             return None
         return min(self._due.get(f, float("-inf")) for f in self._dirty | self._pending)
 
-    def tick(
-        self,
-        now: float,
-        people_of: Callable[[str], tuple[list[Person], tuple[int, int]]],
-    ) -> list[SceneUpdate]:
+    def tick(self, now: float, view: PeopleOf) -> list[SceneUpdate]:
         """Work out every frame that is due; the updates of those that changed.
-        ``people_of(frame)`` gives a frame's people and their newest stamp."""
+        ``view.people(frame)`` gives a frame's people and their newest stamp (the
+        worker's ``view.TurnView``)."""
         if not (self._dirty or self._pending):
             return []
         out = []
@@ -235,7 +239,7 @@ class Scenes:
                 continue
             self._dirty.discard(frame_id)
             self._due[frame_id] = now + self.params.period_s
-            people, stamp = people_of(frame_id)
+            people, stamp = view.people(frame_id)
             scene = self._frames.get(frame_id) or FrameScene(frame_id, self.params)
             self._frames[frame_id] = scene
             update = scene.update(people, stamp, now)

@@ -21,8 +21,10 @@ from typing import Any
 import numpy as np
 
 from ..contract.levels import Level
+from ..contract.poses import Pose
 from ..core.groups import Group
 from ..core.scene import ROBOT
+from ..core.view import TurnView
 from . import types as ros2_types
 
 MARKER_ARRAY = "visualization_msgs/msg/MarkerArray"
@@ -53,6 +55,23 @@ class Drawn:
     threshold_deg: float
     angle_deg: float | None
     distance_m: float | None
+
+
+def drawn(view: TurnView) -> dict[str, list[Drawn]]:
+    """Every tracked person as the markers draw them, by frame."""
+    levels = view.levels
+    poses: dict[str, dict[str, Pose]] = {}
+    out: dict[str, list[Drawn]] = {}
+    for s in view.states:
+        if s.frame_id not in poses:
+            poses[s.frame_id] = dict(view.poses(s.frame_id))
+        pose = poses[s.frame_id][s.body_id]
+        out.setdefault(s.frame_id, []).append(
+            Drawn(s.body_id, pose.translation, pose.rotation,
+                  levels.get(s.body, Level.UNKNOWN), s.threshold_deg, s.angle_deg,
+                  s.distance_m)
+        )  # fmt: skip
+    return out
 
 
 def _t(name: str) -> Any:

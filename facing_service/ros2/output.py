@@ -28,7 +28,6 @@ and the node and each publisher hold the liveliness tokens ``ros2 node list`` /
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,8 +35,9 @@ from ..contract.levels import Level
 from ..contract.schemas import FrameFacing
 from ..core.records import Changes, EngagementUpdate
 from ..core.scene import SceneUpdate
+from ..core.view import TurnView
 from . import types as ros2_types
-from .markers import MARKER_ARRAY, MARKERS_TOPIC, Drawn, MarkerDrawer
+from .markers import MARKER_ARRAY, MARKERS_TOPIC, Drawn, MarkerDrawer, drawn
 
 ENGAGEMENT_LEVEL = "hri_msgs/msg/EngagementLevel"
 INTENT = "hri_actions_msgs/msg/Intent"
@@ -204,22 +204,15 @@ class RosOutput:
             self._said_gazing.pop(update.frame_id, None)  # bounded: frames come and go
         return scene_messages(update, said)
 
-    def tick(
-        self,
-        engagements: Callable[[], list[EngagementUpdate]],
-        now: float,
-        scenes: Callable[[], list[SceneUpdate]] = list,
-        drawn: Callable[[], dict[str, list[Drawn]]] = dict,
-    ) -> list[RosMessage]:
+    def tick(self, now: float, view: TurnView, scenes: list[SceneUpdate]) -> list[RosMessage]:
         """Every period: each tracked person's current level, as hri_engagement does,
-        each current group, and the markers (``drawn``: the people by frame). The
-        callables are called only when the period is due: the worker calls ``tick``
-        every loop turn, and listing every body's level each time was wasted work."""
+        each current group, and the markers (every tracked person, by frame). ``view``
+        is read only when the period is due: the worker calls ``tick`` every turn."""
         if self.next_tick is not None and now < self.next_tick:
             return []
         self.next_tick = now + self.period_s
-        out = [engagement_status(e) for e in engagements() if e.body_id.startswith(PERSON)]
-        by_frame = {scene.frame_id: scene for scene in scenes()}
+        out = [engagement_status(e) for e in view.engagements if e.body_id.startswith(PERSON)]
+        by_frame = {scene.frame_id: scene for scene in scenes}
         for scene in by_frame.values():
             out += [
                 group_message(scene.frame_id, scene.stamp, g.id, g.members) for g in scene.groups
@@ -227,7 +220,7 @@ class RosOutput:
         if now < self._next_markers:
             return out
         self._next_markers = now + MARKER_PERIOD_S
-        return out + self._markers(drawn(), by_frame)
+        return out + self._markers(drawn(view), by_frame)
 
     def _markers(
         self, people: dict[str, list[Drawn]], scenes: dict[str, SceneUpdate]

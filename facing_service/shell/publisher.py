@@ -13,15 +13,14 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Callable
+from collections.abc import Sequence
 
 import zenoh
 
-from ..ros2.output import RosMessage
 from .declared_keys import DeclaredKeys
 from .ledger import Ledger
 from .outbox import Kind, Outbox, Publication
-from .ros_bus import RobotPublishers
+from .outputs import Output, Sender
 
 log = logging.getLogger("facing_service")
 
@@ -40,17 +39,17 @@ class Publisher:
         ledger: Ledger,
         closing: threading.Event,
         keys: DeclaredKeys,
-        ros: Callable[[], RobotPublishers] | None = None,
+        outputs: Sequence[Output] = (),
     ) -> None:
         self._session = session
         self._outbox = outbox
         self._ledger = ledger
         self._closing = closing
-        self._make_ros = ros  # declared on this thread, when it starts
+        self._outputs = outputs  # their senders are declared on this thread, when it starts
         self._keys = keys
 
     def run(self) -> None:
-        ros = self._make_ros() if self._make_ros is not None else None
+        senders = {s.kind: s for o in self._outputs if (s := o.sender(self._session)) is not None}
         try:
             while True:
                 publications = self._outbox.take()
@@ -65,7 +64,7 @@ class Publisher:
                                 key = declare(p.key, True)
                             put(key, p.payload, encoding=JSON, congestion_control=BLOCK)
                         else:
-                            self._send(p, ros)
+                            self._send(p, senders)
                         self._ledger.count_sent(p.kind)
                     except zenoh.ZError:
                         if self._closing.is_set():
@@ -75,13 +74,12 @@ class Publisher:
                     self._outbox.sent()  # after counting: depth 0 means every count is in
         finally:
             self._keys.close()
-            if ros is not None:
-                ros.close()
+            for sender in senders.values():
+                sender.close()
 
-    def _send(self, p: Publication, ros: RobotPublishers | None) -> None:
-        if p.kind is Kind.ROS:  # the robot's own topics (--output ros2)
-            assert ros is not None and p.typename is not None
-            ros.send(RosMessage(p.key, p.typename, p.payload))
+    def _send(self, p: Publication, senders: dict[Kind, Sender]) -> None:
+        if (sender := senders.get(p.kind)) is not None:  # an output form's own (ROS 2)
+            sender.send(p)
         elif p.payload is None:  # Kind.DELETE: the body is lost (or a group dissolved)
             key = self._keys.exprs.get(p.key, p.key)
             self._session.delete(key, congestion_control=BLOCK)

@@ -1,6 +1,7 @@
 """The zenoh shell: subscribe to poses, run the core, publish results, answer queries.
 ``FacingService`` owns the session, its entities and threads, and the status; each job is
-a collaborator's (the worker's loop in ``worker``, the robot's side in ``robot_input``).
+a collaborator's (the worker's loop in ``worker``; the input and output forms, made by
+``forms``, in ``inputs``, ``ros_input`` and ``outputs``).
 
 Threads, and why:
 - the worker (``worker``): owns the tracker and the robot's state. Pulls input samples
@@ -35,7 +36,6 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from functools import partial
 
 import zenoh
 
@@ -45,18 +45,16 @@ from ..config.profiles import engagement_params, head_profile
 from ..config.session import effective_session, mode_and_endpoints, zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
-from ..contract.schemas import Ros2Status, ServiceStatus
+from ..contract.schemas import ServiceStatus
 from ..core.tracker import Tracker
-from ..ros2.output import RosOutput
 from .declared_keys import DeclaredKeys
+from .forms import forms_for
 from .intake import Intake
 from .ledger import Ledger
 from .links import NO_ROUTER_AFTER_S, LinkWatch
 from .outbox import Outbox
 from .publisher import JSON, Publisher
 from .queries import QueryItem
-from .robot_input import RobotInput
-from .ros_bus import RobotPublishers
 from .threads import daemon_thread
 from .worker import Worker
 
@@ -97,29 +95,12 @@ class FacingService:
         self._clock = clock
         self._started_at = clock()
         self._tracker = tracker_for(settings)
-        # The robot's wire form, people and side topics (read with --input ros2; its wire
-        # and learned form are also what --output ros2 answers in).
-        self._robot = RobotInput(settings, clock)
-        self._ros_input = settings.input == "ros2"
-        self._ros_out = (
-            RosOutput(settings.ros_engagement_rate_hz, settings.ros_intents)
-            if settings.output == "ros2"
-            else None
-        )
-        self._intake: Intake | None = None
         self._outbox = Outbox()
         self._closing = threading.Event()
         self._ledger = Ledger(clock)
-        self._worker = Worker(
-            settings,
-            clock,
-            self._tracker,
-            self._robot,
-            self._ros_out,
-            self._ledger,
-            self._outbox,
-            self._closing,
-        )
+        self._input, self._outputs = forms_for(settings, self._ledger, clock)
+        self._intake: Intake | None = None
+        self._worker: Worker | None = None  # made once the session is open
         self._session: zenoh.Session | None = None
         self._entities: list[zenoh.Subscriber[None] | zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
@@ -138,26 +119,31 @@ class FacingService:
         _, endpoints = mode_and_endpoints(conf, "connect")
         self._link_watch = LinkWatch(self.connected, endpoints, time.monotonic, self._closing)
         try:
-            self._worker.first_aggregates()
-            ros = None
-            if self._ros_out is not None:
-                robot = self._robot
-                ros = partial(RobotPublishers, session, robot.wire, s.ros_node_name, robot.form)
-            declared = DeclaredKeys(session, ns, not self._ros_input, s.max_bodies)
-            publisher = Publisher(session, self._outbox, self._ledger, self._closing, declared, ros)
+            self._intake = Intake(
+                session, self._input.hot_key(), INBOX_SIZE, self._closing, self._clock
+            )
+            subscription = self._input.open(session, self._enqueue)
+            self._worker = worker = Worker(
+                s,
+                self._clock,
+                self._tracker,
+                self._input,
+                self._outputs,
+                self._ledger,
+                self._outbox,
+                self._intake,
+                self._closing,
+            )
+            worker.first_aggregates()
+            declared = DeclaredKeys(session, ns, self._input.declares_pose_keys, s.max_bodies)
+            publisher = Publisher(
+                session, self._outbox, self._ledger, self._closing, declared, self._outputs
+            )
             self._threads = [
-                daemon_thread(self._worker.run, "facing-worker"),
+                daemon_thread(worker.run, "facing-worker"),
                 daemon_thread(publisher.run, "facing-publish"),
                 daemon_thread(self._link_watch.run, "facing-links"),
             ]
-            if self._ros_input:  # the hot topic is /tf; the others come by callbacks
-                hot = self._robot.hot_key()
-                self._intake = Intake(session, hot, INBOX_SIZE, self._closing, self._clock)
-                subscription = self._robot.subscribe(session, self._enqueue)
-            else:
-                subscription = keys.pose_subscription(ns, frame)
-                self._intake = Intake(session, subscription, INBOX_SIZE, self._closing, self._clock)
-            self._worker.intake = self._intake
             for thread in self._threads:
                 thread.start()
             body_space, frame_space = keys.result_queryables(ns, frame)
@@ -200,21 +186,9 @@ class FacingService:
             s.hysteresis_deg,
             s.stale_after_s,
             s.max_bodies,
-            self._ros_said(),
+            self._input.said() + "".join(output.said() for output in self._outputs),
         )
         return self
-
-    def _ros_said(self) -> str:
-        """The ROS 2 part of the start line: what is read, how faces are judged, what is
-        answered on the robot's topics."""
-        s = self.settings
-        said = self._robot.said() if self._ros_input else ""
-        if s.output == "ros2":
-            topics = "engagement_status, facing lists, groups, gazing, markers" + (
-                ", /intents" if s.ros_intents else ""
-            )
-            said += f"; ROS 2 output on the robot's topics ({topics})"
-        return said
 
     def _links(self) -> str:
         """Mode and endpoints, as the start line says them (no secret: see disclosure)."""
@@ -239,7 +213,7 @@ class FacingService:
         for entity in self._entities:
             entity.undeclare()
         self._entities = []
-        self._robot.close()
+        self._input.close()
         if self._intake is not None:  # a waiting worker wakes; a busy one sees the flag
             self._intake.close()
         self._outbox.close()
@@ -287,16 +261,14 @@ class FacingService:
             connected=self.connected(),
             outage_s=None if outage is None else round(outage, 3),
             inbox_depth=len(self._intake) if self._intake is not None else 0,
-            ros2=self._ros2_status(),
+            ros2=self._input.status(),
         )
         alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
-        health = "failed" if not alive else "degraded" if self._worker.failing else "ok"
+        failing = self._worker is not None and self._worker.failing
+        health = "failed" if not alive else "degraded" if failing else "ok"
         if health == "ok" and outage is not None and outage > NO_ROUTER_AFTER_S:
             health = "no router"
         return snapshot.model_copy(update={"status": health})
-
-    def _ros2_status(self) -> Ros2Status | None:
-        return self._robot.status() if self._ros_input else None
 
     # -- zenoh callbacks: hand off, nothing else ---------------------------------------
 

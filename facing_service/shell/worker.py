@@ -15,29 +15,23 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import zenoh
 
 from ..config.profiles import scene_params
 from ..config.settings import Settings
-from ..contract import keys
-from ..contract.keys import BodyRef
-from ..contract.levels import Level
-from ..contract.poses import Rejected, Rejection, decode_pose
+from ..contract.poses import Rejection
 from ..core.records import Changes, PoseSample
-from ..core.scene import Person, Scenes
+from ..core.scene import Scenes
 from ..core.tracker import Tracker
-from ..ros2.input import RosSample
-from ..ros2.markers import Drawn
-from ..ros2.output import RosOutput
+from ..core.view import TurnView
+from .inputs import Input
 from .intake import Intake
 from .ledger import Ledger
 from .outbox import Outbox, Publication
-from .publications import publications, ros_publications, scene_publications
+from .outputs import Output
 from .queries import QueryItem, answer
-from .robot_input import RobotInput
-from .ros_bus import received
 
 log = logging.getLogger("facing_service")
 
@@ -60,23 +54,22 @@ class Worker:
         settings: Settings,
         clock: Callable[[], float],
         tracker: Tracker,
-        robot: RobotInput,
-        ros_out: RosOutput | None,
+        source: Input,
+        outputs: Sequence[Output],
         ledger: Ledger,
         outbox: Outbox,
+        intake: Intake,
         closing: threading.Event,
     ) -> None:
-        self.settings = settings
         self._clock = clock
         self._tracker = tracker
-        self._robot = robot
-        self._ros_input = settings.input == "ros2"
-        self._ros_out = ros_out
+        self._input = source
+        self._outputs = outputs
         self._ledger = ledger
         self._outbox = outbox
+        self._intake = intake
         self._closing = closing
-        self.intake: Intake | None = None
-        self._pose_key = keys.PoseKeyParser(settings.namespace, 2 * settings.max_bodies)
+        self._settings = settings  # for the queries' answers and the capacity's reason
         self._said: list[Publication] = []  # decided this turn of the loop
         self._accepted = 0  # samples whose results are in _said
         self._ledger.tracked = self._tracker.tracked_per_frame()
@@ -104,9 +97,8 @@ class Worker:
             try:
                 self._handle(batch)
                 self._expire()
-                self._ros_tick()
-                self._scene_tick()
-                self._robot.diagnose()
+                self._time_tick(TurnView(self._tracker))
+                self._input.diagnose()
                 self._ledger.rejection_log.maybe_log()
                 self._ledger.tracked = self._tracker.tracked_per_frame()
                 self._hand_over()
@@ -131,13 +123,12 @@ class Worker:
         (worked out only when the last take emptied the intake: otherwise there is no
         wait, and it is the loop's dearest step). The rest of a batch over its budget
         comes first, at the time it was taken (``_horizon``)."""
-        assert self.intake is not None
         if self._carried:
             batch, self._carried = self._carried, []
             return batch
         if self._drained:
-            self.intake.set_alarm(self._next_deadline())
-        batch, self._drained = self.intake.take(MAX_BATCH)
+            self._intake.set_alarm(self._next_deadline())
+        batch, self._drained = self._intake.take(MAX_BATCH)
         self._horizon = self._clock()
         return batch
 
@@ -150,9 +141,9 @@ class Worker:
                     self._tracker.next_expiry(),
                     self._tracker.next_due(),
                     self._ledger.rejection_log.next_due(),
-                    self._ros_out.next_tick if self._ros_out is not None else None,
-                    self._robot.next_diagnosis,
+                    self._input.next_due(),
                     self._scenes.next_due(),
+                    *(output.next_due() for output in self._outputs),
                 )
                 if d is not None
             ),
@@ -172,46 +163,18 @@ class Worker:
         for call in self._tracker.timed(self._horizon):
             self._apply(call)
 
-    def _ros_tick(self) -> None:
-        """--output ros2: every tracked person's level at hri_engagement's rate."""
-        if self._ros_out is not None:
-            messages = self._ros_out.tick(
-                self._tracker.engagements, self._clock(), self._scenes.current, self._drawn
-            )
-            self._said += ros_publications(messages)
-
-    def _scene_tick(self) -> None:
-        """Each frame whose people changed, at most ``--group-rate-hz``: who faces whom
-        and its groups, said when they changed."""
-        for update in self._scenes.tick(self._clock(), self._people):
-            self._said += scene_publications(
-                update, self.settings.namespace, self.settings.instance
-            )
+    def _time_tick(self, view: TurnView) -> None:
+        """What time alone makes due, read from the turn's view: each frame whose people
+        changed (at most ``--group-rate-hz``: who faces whom and its groups, said when
+        they changed), then each output's periodic messages."""
+        for update in self._scenes.tick(self._clock(), view):
+            for output in self._outputs:
+                self._said += output.on_scene(update)
             if update.left_out:
                 self._ledger.count("scene_people_left_out", update.left_out)
-            if self._ros_out is not None:
-                self._said += ros_publications(self._ros_out.on_scene(update))
-
-    def _drawn(self) -> dict[str, list[Drawn]]:
-        """Every tracked person as the markers draw them, by frame."""
-        levels = {e.body: e.level for e in self._tracker.engagements()}
-        poses: dict[str, dict] = {}
-        out: dict[str, list[Drawn]] = {}
-        for s in self._tracker.states():
-            if s.frame_id not in poses:
-                poses[s.frame_id] = dict(self._tracker.poses(s.frame_id))
-            pose = poses[s.frame_id][s.body_id]
-            out.setdefault(s.frame_id, []).append(
-                Drawn(s.body_id, pose.translation, pose.rotation,
-                      levels.get(s.body, Level.UNKNOWN), s.threshold_deg, s.angle_deg,
-                      s.distance_m)
-            )  # fmt: skip
-        return out
-
-    def _people(self, frame_id: str) -> tuple[list[Person], tuple[int, int]]:
-        poses = self._tracker.poses(frame_id)
-        people = [Person(body, p.translation, p.rotation) for body, p in poses]
-        return people, max((p.stamp for _, p in poses), default=(0, 0))
+        now, current = self._clock(), self._scenes.current()
+        for output in self._outputs:
+            self._said += output.tick(now, view, current)
 
     def _handle(self, batch: list[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together. An item
@@ -232,60 +195,18 @@ class Worker:
         self._flush(poses)
 
     def _handle_one(self, item: object, poses: list[PoseSample]) -> None:
-        if isinstance(item, zenoh.Sample):
-            if self._ros_input:  # the robot's /tf, from the intake's channel
-                if item.kind == zenoh.SampleKind.PUT:
-                    self._on_ros(received(item, self.settings.ros_max_message_bytes), poses)
-            elif item.kind == zenoh.SampleKind.PUT:
-                pose = self._decode(item)
-                if pose is not None:
-                    poses.append(pose)
-            else:
-                self._flush(poses)
-                self._on_delete(str(item.key_expr))
-        elif isinstance(item, RosSample):
-            self._on_ros(item, poses)
-        elif isinstance(item, QueryItem):
+        if isinstance(item, QueryItem):
             self._flush(poses)
             # What was decided before the query goes out (and is counted) first: a status
             # read after the answer agrees with it, as a result sent before it does.
             self._hand_over()
-            answer(item, self._tracker, self._scenes, self._ledger, self.settings)
-
-    def _on_ros(self, sample: RosSample, poses: list[PoseSample]) -> None:
-        """A sample of the robot's topics: poses join the batch; losses are published
-        after the poses before them, in order."""
-        update = self._robot.route(sample)
-        if isinstance(update, Rejected):
-            self._reject(update.reason, sample.key, update.detail)
-            return
-        topic = self._robot.topic(sample.key)  # decoded: named as the robot names it
-        for reason, what in update.refused:
-            self._reject(Rejection(reason), topic, what)
-        if update.unresolved:
-            self._ledger.count("tf_lookups_unresolved", update.unresolved)
-        poses.extend(update.poses)
-        if update.lost:
-            self._flush(poses)
-            base, back = self._robot.people.base_frame, update.time_back_ns > 0
-            bodies = [BodyRef(frame_id=base, body_id=subject) for subject in update.lost]
-            self._apply(lambda: self._tracker.lose(bodies, self._horizon, time_went_back=back))
-
-    def _decode(self, sample: zenoh.Sample) -> PoseSample | None:
-        key = str(sample.key_expr)
-        parsed = self._pose_key(key)
-        if parsed is None:
-            self._reject(Rejection.INVALID_KEY, key, "not NS/bodies/<id>/pose/<frame>")
-            return None
-        limit = self.settings.max_payload_bytes
-        if len(sample.payload) > limit:  # refuse before copying a huge payload
-            self._reject(Rejection.PAYLOAD_TOO_LARGE, key, f"{len(sample.payload)} bytes > {limit}")
-            return None
-        decoded = decode_pose(sample.payload.to_bytes(), parsed.body_id, parsed.frame_id, limit)
-        if isinstance(decoded, Rejected):
-            self._reject(decoded.reason, key, decoded.detail)
-            return None
-        return PoseSample(parsed, decoded)
+            answer(item, self._tracker, self._scenes, self._ledger, self._settings)
+        elif (loss := self._input.read(item, poses)) is not None:
+            self._flush(poses)  # the poses before it first, in order
+            self._apply(
+                lambda: self._tracker.lose(loss.bodies, self._horizon,
+                                           time_went_back=loss.time_went_back)
+            )  # fmt: skip
 
     def _flush(self, poses: list[PoseSample]) -> None:
         """Run the pending poses through the tracker, publish, and empty the list. When
@@ -313,30 +234,23 @@ class Worker:
     def _refuse(self, sample: PoseSample, error: Exception) -> None:
         """A pose whose handling met a bug: refused alone, as internal_error."""
         detail = f"{type(error).__name__}: {error}"
-        self._reject(Rejection.INTERNAL_ERROR, self._input_of(sample), detail)
+        self._reject(Rejection.INTERNAL_ERROR, self._input.origin(sample), detail)
 
     def _ingest(self, poses: list[PoseSample]) -> None:
         changes = self._apply(lambda: self._tracker.ingest(poses, self._horizon))
         for sample in changes.out_of_order:
             self._reject(
                 Rejection.OUT_OF_ORDER,
-                self._input_of(sample),
+                self._input.origin(sample),
                 f"stamp {sample.pose.stamp} older than the latest accepted",
             )
         for sample in changes.over_capacity:
             self._reject(
                 Rejection.CAPACITY,
-                self._input_of(sample),
-                f"already tracking max_bodies={self.settings.max_bodies}",
+                self._input.origin(sample),
+                f"already tracking max_bodies={self._settings.max_bodies}",
             )
         self._accepted += len(changes.results)
-
-    def _input_of(self, sample: PoseSample) -> str:
-        """Where a pose came from, as its sender names it: the pose key of the JSON input,
-        the TF lookup on the ROS 2 input (whose wire has no pose keys)."""
-        if not self._ros_input:
-            return keys.pose_key(self.settings.namespace, sample.body_id, sample.frame_id)
-        return self._robot.input_of(sample.body_id, sample.frame_id)
 
     def _apply(self, change: Callable[[], Changes]) -> Changes:
         """One tracker call and the publications it calls for, whole or not at all: when
@@ -351,26 +265,18 @@ class Worker:
             raise
         return changes
 
-    def _on_delete(self, key: str) -> None:
-        parsed = self._pose_key(key)
-        if parsed is None:
-            self._reject(Rejection.INVALID_KEY, key, "DELETE on an invalid key")
-            return
-        self._apply(lambda: self._tracker.lose(parsed, self._horizon))
-
     def _reject(self, reason: Rejection, key: str, detail: str) -> None:
         self._ledger.reject(reason, key, detail)
 
     def _publish(self, changes: Changes) -> None:
         """What the changes call for, in the order it must be sent (handed over at the end
         of the loop's turn, see ``_hand_over``)."""
-        self._said += publications(changes, self.settings.namespace, self.settings.instance)
+        for output in self._outputs:
+            self._said += output.on_changes(changes)
         if changes.results or changes.lost:
             self._scenes.touch(
                 {s.frame_id for s in changes.results} | {b.frame_id for b in changes.lost}
             )
-        if self._ros_out is not None:
-            self._said += ros_publications(self._ros_out.on_changes(changes))
 
     def _hand_over(self) -> None:
         """Give the publisher all this turn decided, in one go, as the worker is about to

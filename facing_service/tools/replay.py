@@ -30,7 +30,7 @@ from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..ros2 import types as ros2_types
 from ..ros2.wire import GID_SIZE, RosFormat, Wire
-from ..shell.robot_input import robot_wire
+from ..shell.robot import robot_wire
 from ..shell.ros_bus import CDR, TopicWriter
 from .record import Recording
 

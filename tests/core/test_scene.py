@@ -75,9 +75,12 @@ def test_scenes_work_a_frame_out_at_most_once_a_period_and_forget_it_when_empty(
     people = {"map": [person("a", 3.0, 2.0, 0), person("b", 4.2, 2.0, 180)]}
     calls = []
 
-    def people_of(frame: str):
-        calls.append(frame)
-        return people.get(frame, []), (1, 0)
+    class View:  # the worker's TurnView, as the scenes read it
+        def people(self, frame: str):
+            calls.append(frame)
+            return people.get(frame, []), (1, 0)
+
+    people_of = View()
 
     assert scenes.next_due() is None
     scenes.touch({"map"})

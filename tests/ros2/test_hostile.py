@@ -130,7 +130,7 @@ def test_an_oversized_message_is_refused_undecoded(net, robot_and_service):
     # (the big message travels in fragments: the person's later ones may overtake it)
     _wait(lambda: service.status().rejected["payload_too_large"] == 1)
     assert service.status().status == "ok"
-    assert not service._robot.people.tf.has_frame("f0")
+    assert not service._input.people.tf.has_frame("f0")
 
 
 def _puts(recorder) -> list:
@@ -149,7 +149,7 @@ def test_an_error_while_saying_a_loss_leaves_no_ghost(net, monkeypatch):
     the person was gone from the tracker, their DELETE never said (a ghost for every
     consumer). Now the change is undone with its publications, and the person goes stale
     like any other: the DELETE comes, the aggregate empties, the status said degraded."""
-    from facing_service.shell import worker as service_module
+    from facing_service.shell import outputs as service_module
 
     _, service, robot, consumer = start(net, stale_after_s=1.0)
     results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
@@ -180,14 +180,14 @@ def test_a_slow_batch_makes_nobody_stale(net, robot_and_service, monkeypatch):
     updated (a DELETE, then back): expiry now uses the time the batch was taken."""
     _, service, robot, consumer = robot_and_service
     results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
-    on_tf = service._robot.people.on_tf
+    on_tf = service._input.people.on_tf
 
     def slow_on_a_frame_named_slow(transforms, **kwargs):
         if any(t.child == "slow" for t in transforms):
             time.sleep(2.5)
         return on_tf(transforms, **kwargs)
 
-    monkeypatch.setattr(service._robot.people, "on_tf", slow_on_a_frame_named_slow)
+    monkeypatch.setattr(service._input.people, "on_tf", slow_on_a_frame_named_slow)
     person_then(robot, tf_message(transform("base_link", "slow", 10 * S, (1.0, 0, 0))), 1.0)
     _wait(lambda: len(_puts(results)) == 30, what="the person's results stopped")
     assert not [i for i in results.items if i.kind == "delete"]
@@ -199,7 +199,7 @@ def test_a_dear_batch_hands_over_what_came_before_it(net, robot_and_service, mon
     of work the rest of a batch waits for the next turn, after a hand-over."""
     _, service, robot, consumer = robot_and_service
     results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
-    on_tf, dear_done = service._robot.people.on_tf, []
+    on_tf, dear_done = service._input.people.on_tf, []
 
     def dear(transforms, **kwargs):
         if any(t.child == "dear" for t in transforms):
@@ -207,7 +207,7 @@ def test_a_dear_batch_hands_over_what_came_before_it(net, robot_and_service, mon
             dear_done.append(True)
         return on_tf(transforms, **kwargs)
 
-    monkeypatch.setattr(service._robot.people, "on_tf", dear)
+    monkeypatch.setattr(service._input.people, "on_tf", dear)
     robot.publish("/humans/bodies/tracked", IDS, ids_list(["a"]))
     time.sleep(0.2)
     dear_message = tf_message(transform("base_link", "dear", 10 * S, (1.0, 0.0, 0.0)))
@@ -286,7 +286,7 @@ def test_a_flood_of_new_frames_stays_under_its_bound(net):
             return False
 
         _wait(refused, what="the flood of frames counted")
-        assert len(service._robot.people.tf.frames()) <= 500
+        assert len(service._input.people.tf.frames()) <= 500
         status = service.status()
         assert status.rejected["tf_too_many_frames"] >= 1_500 and status.status == "ok"
     finally:

@@ -574,13 +574,16 @@ def test_300_000_invented_person_ids_cost_under_15_mb():
 
     from facing_service.config.settings import Settings
     from facing_service.ros2.input import RosSample
-    from facing_service.shell.robot_input import RobotInput
+    from facing_service.shell.ledger import Ledger
+    from facing_service.shell.robot import Robot
+    from facing_service.shell.ros_input import RosInput
 
     def rss_mb() -> float:
         with open("/proc/self/statm") as statm:
             return int(statm.read().split()[1]) * 4096 / 1e6
 
-    robot = RobotInput(Settings(input="ros2", base_frame="base_link"), time.monotonic)
+    settings = Settings(input="ros2", base_frame="base_link")
+    robot = RosInput(settings, Robot.of(settings, False), Ledger(time.monotonic), time.monotonic)
     wire, payload = Wire(), string("f1")
     keys = [wire.key(f"/humans/persons/p{i}/body_id", ros2_types.STRING) for i in range(300_000)]
     before = rss_mb()

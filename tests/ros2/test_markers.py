@@ -129,14 +129,24 @@ def test_humble_and_jazzy_marker_arrays_hash_as_the_type_we_send(release):
 
 
 def test_markers_go_out_at_most_ten_times_a_second_whatever_the_rate():
+    from facing_service.config.settings import Settings
+    from facing_service.contract.keys import BodyRef
+    from facing_service.contract.poses import decode_pose
+    from facing_service.core.records import PoseSample
+    from facing_service.core.view import TurnView
     from facing_service.ros2.markers import MARKERS_TOPIC
     from facing_service.ros2.output import RosOutput
+    from facing_service.shell.service import tracker_for
 
+    from poses import pose_json
+
+    tracker = tracker_for(Settings(base_frame="base_link"))
+    pose = decode_pose(pose_json("ann", "base_link"), "ann", "base_link", 1 << 16)
+    tracker.ingest([PoseSample(BodyRef(frame_id="base_link", body_id="ann"), pose)], 0.0)
     out = RosOutput(rate_hz=40.0, intents=False)
-    people = {"base_link": [ANN]}
     said = [
         m.topic
         for i in range(40)  # one second of ticks at 40 Hz
-        for m in out.tick(list, i / 40, list, lambda: people)
+        for m in out.tick(i / 40, TurnView(tracker), [])
     ]
     assert said.count(MARKERS_TOPIC) == 10

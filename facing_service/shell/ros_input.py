@@ -1,10 +1,11 @@
-"""The service's ROS 2 input (``--input ros2``): what it keeps of the robot, and how each
-of its samples becomes poses and losses for the tracker.
+"""The service's ROS 2 input (``--input ros2``), one ``inputs.Input``: what it keeps of the
+robot, and how each of its samples becomes poses and losses for the tracker.
 
-One collaborator of ``FacingService``, owned by its worker: the robot's wire form (learned
-from its keys and attachments), its people (``ros2.people``: tracked lists and the TF
-tree), the subscriptions to its side topics, and the watch that says why people may give
-no results (``ros2.diagnosis``), checked every ``DIAGNOSIS_PERIOD_S``.
+Owned by the worker: the robot's people (``ros2.people``: tracked lists and the TF tree),
+the subscriptions to its topics (/tf is the hot key; the others come through the intake),
+the form it shows (learned into ``robot.Robot``, which the ROS 2 output answers in), and
+the watch that says why people may give no results (``ros2.diagnosis``), checked every
+``DIAGNOSIS_PERIOD_S``.
 """
 
 from __future__ import annotations
@@ -17,15 +18,19 @@ import zenoh
 
 from ..config.profiles import head_profile
 from ..config.settings import Settings
-from ..contract.poses import Rejected
-from ..contract.robot import Distro, RosFormat
+from ..contract.keys import BodyRef
+from ..contract.poses import Rejected, Rejection
 from ..contract.schemas import Ros2Status
+from ..core.records import PoseSample
 from ..ros2.diagnosis import RobotWatch, names
 from ..ros2.input import RosSample, reading, route
 from ..ros2.people import People, Update
 from ..ros2.types import TF_MESSAGE
-from ..ros2.wire import FormLearner, Wire, read_attachment
-from .ros_bus import RobotSubscriptions
+from ..ros2.wire import read_attachment
+from .inputs import Loss
+from .ledger import Ledger
+from .robot import Robot
+from .ros_bus import RobotSubscriptions, received
 
 log = logging.getLogger("facing_service")
 
@@ -48,25 +53,19 @@ FLAPS_SHOWN_S = 10.0
 EVENTS_KEPT = 1024
 
 
-def robot_wire(settings: Settings) -> Wire:
-    """Where the robot's topics are on zenoh, and the form we write in before (or instead
-    of) learning the robot's."""
-    return Wire(
-        RosFormat(settings.ros_format),
-        settings.ros_domain_id,
-        settings.ros_namespace,
-        settings.forced_distro or Distro.JAZZY,
-    )
-
-
-class RobotInput:
+class RosInput:
     """The robot as the worker knows it. ``clock``: the service's monotonic clock."""
 
-    def __init__(self, settings: Settings, clock: Callable[[], float]) -> None:
+    declares_pose_keys = False  # the robot's wire has no pose keys
+
+    def __init__(
+        self, settings: Settings, robot: Robot, ledger: Ledger, clock: Callable[[], float]
+    ) -> None:
         self.settings = settings
         self._clock = clock
-        self.wire = robot_wire(settings)
-        self.form = FormLearner(settings.forced_distro, answering=settings.output == "ros2")
+        self._ledger = ledger
+        self.wire = robot.wire
+        self.form = robot.form
         self.people = People(
             settings.ros_base_frame,
             max_ids=settings.max_bodies,
@@ -88,7 +87,7 @@ class RobotInput:
         """The key of the topic the worker reads from zenoh's channel (/tf, any type)."""
         return self.wire.subscription(*HOT_ROS_TOPIC, any_type=True)
 
-    def subscribe(self, session: zenoh.Session, hand_off: Callable[[RosSample], None]) -> str:
+    def open(self, session: zenoh.Session, hand_off: Callable[[object], None]) -> str:
         """The robot's side topics to ``hand_off`` (the intake), and the stray /tf keys;
         what is read, as the start line says it."""
         s = self.settings
@@ -122,6 +121,30 @@ class RobotInput:
             self._token_watch.undeclare()
             self._token_watch = None
         self._stop_sniffing()
+
+    def read(self, item: object, poses: list[PoseSample]) -> Loss | None:
+        """A sample of the robot's topics (/tf from the channel, the others as RosSamples):
+        poses join the batch; losses come back to be applied after the poses before them."""
+        if isinstance(item, zenoh.Sample):
+            if item.kind != zenoh.SampleKind.PUT:
+                return None
+            item = received(item, self.settings.ros_max_message_bytes)
+        assert isinstance(item, RosSample)
+        update = self.route(item)
+        if isinstance(update, Rejected):
+            self._ledger.reject(update.reason, item.key, update.detail)
+            return None
+        topic = self.topic(item.key)  # decoded: named as the robot names it
+        for reason, what in update.refused:
+            self._ledger.reject(Rejection(reason), topic, what)
+        if update.unresolved:
+            self._ledger.count("tf_lookups_unresolved", update.unresolved)
+        poses.extend(update.poses)
+        if not update.lost:
+            return None
+        base = self.people.base_frame
+        bodies = [BodyRef(frame_id=base, body_id=subject) for subject in update.lost]
+        return Loss(bodies, time_went_back=update.time_back_ns > 0)
 
     def route(self, sample: RosSample) -> Update | Rejected:
         """One sample of the robot's topics, through ``ros2.input.route`` into its people:
@@ -243,7 +266,10 @@ class RobotInput:
             f"deg ({s.head_cone})"
         )
 
-    def input_of(self, subject: str, base_frame: str) -> str:
+    def origin(self, sample: PoseSample) -> str:
         """Where a pose came from, as the robot names it (its wire has no pose keys)."""
-        frame = self.people.frame_of(subject) or "?"
-        return f"/tf {base_frame} -> {frame} ({subject})"
+        frame = self.people.frame_of(sample.body_id) or "?"
+        return f"/tf {sample.frame_id} -> {frame} ({sample.body_id})"
+
+    def next_due(self) -> float | None:
+        return self.next_diagnosis

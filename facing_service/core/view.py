@@ -1,0 +1,51 @@
+"""The tracker as one turn of the worker leaves it, read-only: what the scenes, the ROS 2
+output and its markers read, instead of being handed the worker's methods to call back
+up. Each part is worked out once, when first asked for, and not at all on a turn that
+needs none (most turns: the scenes and the ROS tick are due a few times a second)."""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+from ..contract.keys import BodyRef
+from ..contract.levels import Level
+from ..contract.poses import Pose
+from .records import BodyState, EngagementUpdate
+from .scene import Person
+from .tracker import Tracker
+
+
+class TurnView:
+    """Made by the worker after a turn's input and expiry, before anything reads it; the
+    tracker does not change while it is read (one thread owns both)."""
+
+    def __init__(self, tracker: Tracker) -> None:
+        self._tracker = tracker
+        self._poses: dict[str, list[tuple[str, Pose]]] = {}
+
+    @cached_property
+    def engagements(self) -> list[EngagementUpdate]:
+        """Every tracked body's engagement, as it stands."""
+        return self._tracker.engagements()
+
+    @cached_property
+    def levels(self) -> dict[BodyRef, Level]:
+        """Each tracked body's engagement level."""
+        return {e.body: e.level for e in self.engagements}
+
+    @cached_property
+    def states(self) -> list[BodyState]:
+        """Every tracked body's latest decision."""
+        return self._tracker.states()
+
+    def poses(self, frame_id: str) -> list[tuple[str, Pose]]:
+        """The latest pose of every body tracked in a frame, by body id."""
+        if (poses := self._poses.get(frame_id)) is None:
+            poses = self._poses[frame_id] = self._tracker.poses(frame_id)
+        return poses
+
+    def people(self, frame_id: str) -> tuple[list[Person], tuple[int, int]]:
+        """A frame's people, as the scene sees them, and their newest stamp."""
+        poses = self.poses(frame_id)
+        people = [Person(body, p.translation, p.rotation) for body, p in poses]
+        return people, max((p.stamp for _, p in poses), default=(0, 0))

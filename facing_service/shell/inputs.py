@@ -1,0 +1,138 @@
+"""The service's input forms, as types: one ``Input`` protocol, one class per form.
+
+Each form owns its zenoh keys (the hot key the worker pulls from zenoh's channel, and any
+side subscriptions, whose samples reach the worker through the intake), turns what
+arrives into poses for the tracker, losses and counted rejections, and says its own part
+of the status, the start line and the diagnosis. The worker handles any form alike: a
+third form is a third class (``JsonInput`` here, ``ros_input.RosInput``), not a branch.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol
+
+import zenoh
+
+from ..config.settings import Settings
+from ..contract import keys
+from ..contract.keys import BodyRef
+from ..contract.poses import Rejected, Rejection, decode_pose
+from ..contract.schemas import Ros2Status
+from ..core.records import PoseSample
+from .ledger import Ledger
+
+
+@dataclass(frozen=True, slots=True)
+class Loss:
+    """Bodies the input says are gone, applied after the poses read before it (in order).
+    ``time_went_back``: the sender's clock restarted, so older stamps are its new timeline."""
+
+    bodies: list[BodyRef]
+    time_went_back: bool = False
+
+
+class Input(Protocol):
+    #: Whether a result's body has a pose key of ours to declare beside its result key
+    #: (shell.declared_keys): poses that come on our JSON keys.
+    declares_pose_keys: bool
+
+    def hot_key(self) -> str:
+        """The key expression the worker reads straight from zenoh's channel."""
+        ...
+
+    def open(self, session: zenoh.Session, hand_off: Callable[[object], None]) -> str:
+        """Declare the side subscriptions (their samples go to ``hand_off``, the intake);
+        what is read, as the start line says it."""
+        ...
+
+    def read(self, item: object, poses: list[PoseSample]) -> Loss | None:
+        """One sample (from the hot key or a side subscription): its poses appended to
+        ``poses``, its rejections counted; a loss, which the worker applies after them."""
+        ...
+
+    def origin(self, sample: PoseSample) -> str:
+        """Where a pose came from, as its sender names it (for a rejection's log line)."""
+        ...
+
+    def next_due(self) -> float | None:
+        """When ``diagnose`` has work next (the service's clock), if ever."""
+        ...
+
+    def diagnose(self) -> None:
+        """Why the input may give no results, logged when that changes; due or not."""
+        ...
+
+    def status(self) -> Ros2Status | None:
+        """The input's part of the status (the robot's, for ROS 2 input)."""
+        ...
+
+    def said(self) -> str:
+        """The input's part of the start line, after the pose keys ('' for none)."""
+        ...
+
+    def close(self) -> None: ...
+
+
+class JsonInput:
+    """Poses as JSON on ``NS/bodies/<id>/pose/<frame>`` (docs/contract.md); a DELETE on a
+    pose key loses the body. Nothing on the side, nothing to diagnose."""
+
+    declares_pose_keys = True
+
+    def __init__(self, settings: Settings, ledger: Ledger) -> None:
+        self._namespace = settings.namespace
+        self._subscription = keys.pose_subscription(settings.namespace, settings.base_frame)
+        self._limit = settings.max_payload_bytes
+        self._pose_key = keys.PoseKeyParser(settings.namespace, 2 * settings.max_bodies)
+        self._ledger = ledger
+
+    def hot_key(self) -> str:
+        return self._subscription
+
+    def open(self, session: zenoh.Session, hand_off: Callable[[object], None]) -> str:
+        return self._subscription
+
+    def read(self, item: object, poses: list[PoseSample]) -> Loss | None:
+        assert isinstance(item, zenoh.Sample)  # the JSON input's only items
+        key = str(item.key_expr)
+        parsed = self._pose_key(key)
+        if item.kind == zenoh.SampleKind.DELETE:
+            if parsed is None:
+                self._ledger.reject(Rejection.INVALID_KEY, key, "DELETE on an invalid key")
+                return None
+            return Loss([parsed])
+        if parsed is None:
+            self._ledger.reject(Rejection.INVALID_KEY, key, "not NS/bodies/<id>/pose/<frame>")
+            return None
+        limit = self._limit
+        if len(item.payload) > limit:  # refuse before copying a huge payload
+            self._ledger.reject(
+                Rejection.PAYLOAD_TOO_LARGE, key, f"{len(item.payload)} bytes > {limit}"
+            )
+            return None
+        decoded = decode_pose(item.payload.to_bytes(), parsed.body_id, parsed.frame_id, limit)
+        if isinstance(decoded, Rejected):
+            self._ledger.reject(decoded.reason, key, decoded.detail)
+            return None
+        poses.append(PoseSample(parsed, decoded))
+        return None
+
+    def origin(self, sample: PoseSample) -> str:
+        return keys.pose_key(self._namespace, sample.body_id, sample.frame_id)
+
+    def next_due(self) -> float | None:
+        return None
+
+    def diagnose(self) -> None:
+        return None
+
+    def status(self) -> Ros2Status | None:
+        return None
+
+    def said(self) -> str:
+        return ""
+
+    def close(self) -> None:
+        return None

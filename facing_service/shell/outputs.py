@@ -1,0 +1,137 @@
+"""The service's output forms, as types: one ``Output`` protocol, one class per form.
+
+Each form turns what the worker decided (the tracker's changes, a scene's update, and
+every period the turn's view) into publications, in the order they must go out, and may
+bring a sender of its own for the publisher thread (the robot's topics need declared
+publishers and liveliness tokens; our JSON keys are the publisher's own hot path). The
+JSON form is always on (it is the contract); ``--output ros2`` adds the robot's topics.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import zenoh
+
+from ..config.settings import Settings
+from ..core.records import Changes
+from ..core.scene import SceneUpdate
+from ..core.view import TurnView
+from ..ros2.output import RosMessage, RosOutput
+from .outbox import Kind, Publication
+from .publications import publications, ros_publications, scene_publications
+from .robot import Robot
+from .ros_bus import RobotPublishers
+
+
+class Sender(Protocol):
+    """Sends one output form's publications of ``kind`` (on the publisher thread)."""
+
+    kind: Kind
+
+    def send(self, publication: Publication) -> None: ...
+
+    def close(self) -> None: ...
+
+
+class Output(Protocol):
+    def on_changes(self, changes: Changes) -> list[Publication]:
+        """What a tracker call's changes call for."""
+        ...
+
+    def on_scene(self, update: SceneUpdate) -> list[Publication]:
+        """What a frame's scene update calls for."""
+        ...
+
+    def tick(self, now: float, view: TurnView, scenes: list[SceneUpdate]) -> list[Publication]:
+        """What time alone calls for (periodic messages), read from the turn's view."""
+        ...
+
+    def next_due(self) -> float | None:
+        """When ``tick`` has work next (the service's clock), if ever."""
+        ...
+
+    def said(self) -> str:
+        """The form's part of the start line ('' for none)."""
+        ...
+
+    def sender(self, session: zenoh.Session) -> Sender | None:
+        """A sender of the form's own kind of publication, declared on the publisher
+        thread; None when the publisher's own JSON path sends them."""
+        ...
+
+
+class JsonOutput:
+    """Our keys, in JSON (docs/contract.md): results, aggregates, engagement, scenes."""
+
+    def __init__(self, settings: Settings) -> None:
+        self._namespace = settings.namespace
+        self._instance = settings.instance
+
+    def on_changes(self, changes: Changes) -> list[Publication]:
+        return publications(changes, self._namespace, self._instance)
+
+    def on_scene(self, update: SceneUpdate) -> list[Publication]:
+        return scene_publications(update, self._namespace, self._instance)
+
+    def tick(self, now: float, view: TurnView, scenes: list[SceneUpdate]) -> list[Publication]:
+        return []
+
+    def next_due(self) -> float | None:
+        return None
+
+    def said(self) -> str:
+        return ""
+
+    def sender(self, session: zenoh.Session) -> Sender | None:
+        return None
+
+
+class RobotSender:
+    """``RobotPublishers`` fed the outbox's publications."""
+
+    kind = Kind.ROS
+
+    def __init__(self, publishers: RobotPublishers) -> None:
+        self._publishers = publishers
+
+    def send(self, publication: Publication) -> None:
+        topic, payload, _, typename = publication
+        assert typename is not None  # every Kind.ROS publication names its type
+        self._publishers.send(RosMessage(topic, typename, payload))
+
+    def close(self) -> None:
+        self._publishers.close()
+
+
+class RosTopicsOutput:
+    """The robot's own topics (``--output ros2``, see ``ros2.output``), in each form the
+    robot is answered in."""
+
+    def __init__(self, settings: Settings, robot: Robot) -> None:
+        self._ros = RosOutput(settings.ros_engagement_rate_hz, settings.ros_intents)
+        self._robot = robot
+        self._node_name = settings.ros_node_name
+        self._intents = settings.ros_intents
+
+    def on_changes(self, changes: Changes) -> list[Publication]:
+        return ros_publications(self._ros.on_changes(changes))
+
+    def on_scene(self, update: SceneUpdate) -> list[Publication]:
+        return ros_publications(self._ros.on_scene(update))
+
+    def tick(self, now: float, view: TurnView, scenes: list[SceneUpdate]) -> list[Publication]:
+        return ros_publications(self._ros.tick(now, view, scenes))
+
+    def next_due(self) -> float | None:
+        return self._ros.next_tick
+
+    def said(self) -> str:
+        topics = "engagement_status, facing lists, groups, gazing, markers" + (
+            ", /intents" if self._intents else ""
+        )
+        return f"; ROS 2 output on the robot's topics ({topics})"
+
+    def sender(self, session: zenoh.Session) -> Sender | None:
+        robot = self._robot
+        return RobotSender(RobotPublishers(session, robot.wire, self._node_name, robot.form))
