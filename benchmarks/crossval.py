@@ -45,13 +45,13 @@ from facing_service.contract.keys import BodyRef
 from facing_service.contract.levels import Level
 from facing_service.contract.poses import Rejected
 from facing_service.core.records import Changes, PoseSample
-from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import RosSample, route
 from facing_service.ros2.people import People
 from facing_service.ros2.wire import Wire
 from facing_service.shell.service import tracker_for
 
 from . import scoring
+from .bags import read_bag_raw
 from .scoring import BASE_FRAME, FOLDERS, Labelled, Row, advantage, summaries, summary, timeline_of
 
 S = 1_000_000_000
@@ -166,7 +166,7 @@ def read_recording(recording: Labelled) -> Recording:
     faces are decided independently of them."""
     people, wire, steps = People(BASE_FRAME), Wire(), []
     times = []
-    for topic, typename, t, raw in ros2_types.read_bag_raw(recording.path):
+    for topic, typename, t, raw in read_bag_raw(recording.path):
         times.append(t)
         update = route(people, wire, RosSample(wire.key(topic, typename), raw), received_s=t / S)
         if isinstance(update, Rejected):

@@ -25,7 +25,6 @@ import random
 import statistics
 from pathlib import Path
 
-from facing_service.client.sim import LabelledSample, Segment, labelled_track
 from facing_service.config.profiles import engagement_params
 from facing_service.config.settings import Settings
 from facing_service.core.detector import classify_one
@@ -33,11 +32,13 @@ from facing_service.core.engagement import (
     Engagement,
     EngagementParams,
     Level,
-    VoteWindow,
     advance,
     facing_score,
     step,
 )
+
+from .hri_engagement import VoteWindow
+from .labelled import LabelledSample, Segment, labelled_track
 
 RESULTS = Path(__file__).resolve().parent / "results" / "engagement.json"
 TARGETS = {"to_engaged_s": 1.0, "to_disengaged_s": 1.5, "spurious_per_person_minute": 0.1}

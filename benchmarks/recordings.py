@@ -38,9 +38,8 @@ import zenoh
 
 from facing_service.config.settings import Settings
 from facing_service.contract import keys
-from facing_service.core.engagement import Level, VoteWindow, visual_social_engagement
+from facing_service.contract.levels import Level
 from facing_service.core.tf_errors import TfError
-from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import tf_inputs
 from facing_service.ros2.people import People
 from facing_service.ros2.wire import RosFormat, Wire
@@ -49,6 +48,8 @@ from facing_service.testing import endpoint, free_port, loopback_config, wait_un
 from facing_service.tools.replay import Replay
 
 from . import scoring
+from .bags import read_bag
+from .hri_engagement import VoteWindow, visual_social_engagement
 from .scoring import (
     BASE_FRAME,
     FOLDERS,
@@ -75,7 +76,7 @@ def rule_timelines(bag: Path, persons: list[str]) -> dict[str, Timeline]:
     """hri_engagement's rule on the recording's TF data: every 0.1 s, each tracked person
     with a face votes from their gaze frame looked up in the base frame (time 0, as libhri
     does); no vote when the lookup fails."""
-    messages = list(ros2_types.read_bag(bag))
+    messages = list(read_bag(bag))
     start, end = messages[0][1], messages[-1][1]
     people = People(BASE_FRAME)
     windows: dict[str, VoteWindow] = {}
@@ -152,7 +153,7 @@ def service_timelines(
                 time.sleep(0.5)  # the last events on their way
         finally:
             subscriber.undeclare()
-    messages = [t for _, t, _ in ros2_types.read_bag(bag)]
+    messages = [t for _, t, _ in read_bag(bag)]
     start, end = messages[0], messages[-1]
     return {person: timeline_of(events, f"person_{person}", start, end) for person in persons}
 

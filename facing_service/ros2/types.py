@@ -7,7 +7,6 @@ ship (``hri_msgs``) are registered from their upstream ``.msg`` files kept in ``
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -68,21 +67,3 @@ def header(frame_id: str, stamp: tuple[int, int]) -> Any:
     """A ``std_msgs/Header``: every message we send carries one."""
     time = message_type("builtin_interfaces/msg/Time")(sec=stamp[0], nanosec=stamp[1])
     return message_type("std_msgs/msg/Header")(stamp=time, frame_id=frame_id)
-
-
-def read_bag(path: Path) -> Iterator[tuple[str, int, Any]]:
-    """``(topic, receive time in ns, message)`` of a ROS 2 bag (sqlite3 or mcap), in order."""
-    from rosbags.highlevel import AnyReader
-
-    with AnyReader([Path(path)], default_typestore=typestore()) as reader:
-        for connection, timestamp, raw in reader.messages():
-            yield connection.topic, timestamp, reader.deserialize(raw, connection.msgtype)
-
-
-def read_bag_raw(path: Path) -> Iterator[tuple[str, str, int, bytes]]:
-    """``(topic, type name, receive time in ns, CDR bytes)``: what a replay sends as it is."""
-    from rosbags.highlevel import AnyReader
-
-    with AnyReader([Path(path)], default_typestore=typestore()) as reader:
-        for connection, timestamp, raw in reader.messages():
-            yield connection.topic, connection.msgtype, timestamp, bytes(raw)

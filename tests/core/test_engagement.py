@@ -8,13 +8,13 @@ from dataclasses import replace
 
 import pytest
 
+from benchmarks.hri_engagement import VoteWindow
 from facing_service.config.profiles import engagement_params, head_profile
 from facing_service.config.settings import Settings
 from facing_service.core.engagement import (
     Engagement,
     EngagementParams,
     Level,
-    VoteWindow,
     Zone,
     advance,
     facing_score,

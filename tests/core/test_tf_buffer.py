@@ -9,6 +9,7 @@ import random
 import pytest
 from oracles import BAGS, oracle
 
+from benchmarks.bags import read_bag
 from facing_service.core.tf_buffer import TfBuffer
 from facing_service.core.tf_errors import (
     ConnectivityError,
@@ -18,7 +19,6 @@ from facing_service.core.tf_errors import (
     TfError,
 )
 from facing_service.core.tf_math import Transform
-from facing_service.ros2.types import read_bag
 
 S = 1_000_000_000
 TF_TOPICS = ("/tf", "/tf_static")

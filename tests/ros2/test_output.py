@@ -15,6 +15,7 @@ import zenoh
 from oracles import BAGS
 from upstream import STANDARD_MSGS, definition
 
+from benchmarks.bags import read_bag
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.poses import Stamp
 from facing_service.contract.schemas import FrameFacing
@@ -255,7 +256,7 @@ def test_replay_records_what_the_service_published(net, tmp_path):
     assert "recorded" in output
     levels = [
         message.level
-        for topic, _, message in ros2_types.read_bag(out)
+        for topic, _, message in read_bag(out)
         if topic == "/humans/persons/rorql/engagement_status"
     ]
     assert Level.ENGAGED in levels
@@ -282,7 +283,7 @@ def test_a_recording_written_as_mcap_replays(net, tmp_path):
     assert list(bag.glob("*.mcap"))
     levels = [
         message.level
-        for topic, _, message in ros2_types.read_bag(bag)
+        for topic, _, message in read_bag(bag)
         if topic == "/humans/persons/rorql/engagement_status"
     ]
     assert Level.ENGAGED in levels  # what the service said is in the bag

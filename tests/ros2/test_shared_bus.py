@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import pytest
 from oracles import BAGS
 
+from benchmarks.bags import read_bag_raw
 from facing_service.contract.levels import Level
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.wire import Wire, attachment
@@ -75,7 +76,7 @@ def run(net, attack: Attack | None = None, forms=(rmw_zenoh.JAZZY_0_2_10,)) -> t
         attacker = threading.Thread(target=attack, args=(scene,), daemon=True)
         attacker.start()
     try:
-        messages = [m for m in ros2_types.read_bag_raw(RECORDING) if m[1] in rmw_zenoh.TYPE_HASHES]
+        messages = [m for m in read_bag_raw(RECORDING) if m[1] in rmw_zenoh.TYPE_HASHES]
         start, t0 = messages[0][2], time.monotonic()
         for topic, typename, t, raw in messages:
             wait = (t - start) / 1e9 - (time.monotonic() - t0)
