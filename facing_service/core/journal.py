@@ -1,64 +1,130 @@
-"""Transactions over a pure object's dict stores: changes made inside one apply whole, or
-not at all. A journal, not a copy: only the keys a call touches are kept, each once,
-before its first change (a copy of 10 000 tracks per batch cost more than the batch)."""
+"""Transactions over a pure object's state: changes made inside one apply whole, or not
+at all.
+
+The state lives in ``Store``s, ordered dicts that keep their own journal: every way to
+change a store, and every read inside a transaction (what is read may be a mutable
+record about to be changed in place), first keeps the key's value, once per transaction.
+So nothing changes a store around its journal, and no call site has to remember to ask.
+A journal, not a copy: only the keys a call touches are kept (a copy of 10 000 tracks per
+batch cost more than the batch). Values that are mutable records provide ``__copy__``
+(kept shallow-copied); the others are immutable (kept as they are).
+
+Order is not journaled: ``move_to_end`` only reorders, and an owner whose order means
+something puts it back after a roll-back (``Journal(after_roll_back=...)``).
+"""
 
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
-from typing import ClassVar
+from collections import OrderedDict
+from collections.abc import Callable, Iterable
+from typing import Any, Generic, TypeVar
+
+K = TypeVar("K")
+V = TypeVar("V")
+
+_ABSENT: Any = object()  # a key that was not in the store: a roll-back removes it
 
 
-class Journaled:
-    """Base of an object whose state is dicts named in ``STORES``. Each mutator calls
-    ``_keep(store, key)`` before changing ``key``; ``transaction()`` puts every kept value
-    back when the block raises. Values that are mutable records provide ``__copy__``
-    (kept shallow-copied); the others are immutable (kept as they are)."""
+class Journal:
+    """The undo log of one owner's stores, open during a transaction only."""
 
-    STORES: ClassVar[tuple[str, ...]] = ()
-    _journal: dict[str, dict[object, object]] | None = None
+    __slots__ = ("_after_roll_back", "_kept")
 
-    def transaction(self) -> AbstractContextManager[None]:
+    def __init__(self, after_roll_back: Callable[[], None] | None = None) -> None:
+        self._kept: dict[tuple[int, object], tuple[Store[Any, Any], object, object]] | None
+        self._kept = None
+        self._after_roll_back = after_roll_back
+
+    def transaction(self) -> _Transaction:
         """Changes made inside apply whole, or not at all: on an exception every store is
         put back as it was, then the exception goes on."""
         return _Transaction(self)
 
-    def _keep(self, store: str, key: object) -> None:
-        """Journal ``key``'s value in ``store`` before its first change in a transaction."""
-        journal = self._journal
-        if journal is not None and key not in (kept := journal[store]):
-            value = getattr(self, store).get(key)
-            copy = getattr(value, "__copy__", None)
-            kept[key] = value if copy is None else copy()
+    def keep(self, store: Store[Any, Any], key: object) -> None:
+        """``key``'s value in ``store``, kept before its first touch in a transaction."""
+        kept = self._kept
+        if kept is None or (slot := (id(store), key)) in kept:
+            return
+        value = OrderedDict.get(store, key, _ABSENT)
+        copy = getattr(value, "__copy__", None)
+        kept[slot] = (store, key, value if copy is None else copy())
 
-    def _roll_back(self, journal: dict[str, dict[object, object]]) -> None:
-        for store, kept in journal.items():
-            values = getattr(self, store)
-            for key, value in kept.items():
-                if value is None:
-                    values.pop(key, None)
-                else:
-                    values[key] = value
-        self._rolled_back()
-
-    def _rolled_back(self) -> None:
-        """After a roll-back: put back what the stores' order means (none by default)."""
+    def _roll_back(self, kept: Iterable[tuple[Store[Any, Any], object, object]]) -> None:
+        for store, key, value in kept:
+            if value is _ABSENT:
+                OrderedDict.pop(store, key, None)
+            else:
+                OrderedDict.__setitem__(store, key, value)
+        if self._after_roll_back is not None:
+            self._after_roll_back()
 
 
 class _Transaction:
-    """``Journaled.transaction()``. A class rather than a generator-based context manager:
+    """``Journal.transaction()``. A class rather than a generator-based context manager:
     the worker opens one per tracker call, and the generator's machinery was a third of
     a one-pose transaction's cost."""
 
-    __slots__ = ("_owner",)
+    __slots__ = ("_journal",)
 
-    def __init__(self, owner: Journaled) -> None:
-        self._owner = owner
+    def __init__(self, journal: Journal) -> None:
+        self._journal = journal
 
     def __enter__(self) -> None:
-        assert self._owner._journal is None, "transactions do not nest"
-        self._owner._journal = {store: {} for store in self._owner.STORES}
+        assert self._journal._kept is None, "transactions do not nest"
+        self._journal._kept = {}
 
     def __exit__(self, kind: type[BaseException] | None, *_: object) -> None:
-        journal, self._owner._journal = self._owner._journal, None
-        if kind is not None and journal is not None:
-            self._owner._roll_back(journal)  # then the exception goes on
+        kept, self._journal._kept = self._journal._kept, None
+        if kind is not None and kept:
+            self._journal._roll_back(kept.values())  # then the exception goes on
+
+
+class Store(OrderedDict[K, V], Generic[K, V]):
+    """An ordered dict whose every change, and every read in a transaction, is journaled
+    first (see the module). Iterating (``items()``, ``values()``) is not: what is changed
+    after it goes through a journaled method."""
+
+    def __init__(self, journal: Journal, items: Iterable[tuple[K, V]] = ()) -> None:
+        super().__init__()
+        self._journal = journal
+        for key, value in items:
+            OrderedDict.__setitem__(self, key, value)
+
+    def __getitem__(self, key: K) -> V:
+        self._journal.keep(self, key)
+        return super().__getitem__(key)
+
+    def get(self, key: K, default: Any = None) -> Any:  # type: ignore[override]
+        if self._journal._kept is None or key not in self:  # nothing to keep: the hot path
+            return super().get(key, default)
+        self._journal.keep(self, key)
+        return super().get(key, default)
+
+    def __setitem__(self, key: K, value: V) -> None:
+        self._journal.keep(self, key)
+        super().__setitem__(key, value)
+
+    def __delitem__(self, key: K) -> None:
+        self._journal.keep(self, key)
+        super().__delitem__(key)
+
+    def pop(self, key: K, *default: Any) -> Any:  # type: ignore[override]
+        self._journal.keep(self, key)
+        return super().pop(key, *default)
+
+    def popitem(self, last: bool = True) -> tuple[K, V]:
+        if self:
+            self._journal.keep(self, next(reversed(self)) if last else next(iter(self)))
+        return super().popitem(last)
+
+    def setdefault(self, key: K, default: V) -> V:  # type: ignore[override]
+        self._journal.keep(self, key)
+        return super().setdefault(key, default)
+
+    def clear(self) -> None:
+        for key in list(self):
+            self._journal.keep(self, key)
+        super().clear()
+
+    def update(self, *_: Any, **__: Any) -> None:
+        raise TypeError("Store.update: set each key (journaled) instead")

@@ -7,8 +7,8 @@ a network. The service feeds it batches and publishes what each call returns.
 
 from __future__ import annotations
 
-from collections import OrderedDict
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import AbstractContextManager
 from dataclasses import replace
 
 from ..contract.keys import BodyRef
@@ -16,7 +16,7 @@ from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing
 from . import detector
 from .engagement import EngagementParams, Level, advance, facing_score, step
-from .journal import Journaled
+from .journal import Journal, Store
 from .records import (
     BodyState,
     Changes,
@@ -35,7 +35,7 @@ from .records import (
 TOMBSTONE_S = 30.0
 
 
-class Tracker(Journaled):
+class Tracker:
     """Latest pose and decision per (frame, body).
 
     Rules: a sample whose stamp is older than the latest accepted one for its (frame, body)
@@ -47,13 +47,11 @@ class Tracker(Journaled):
     Memory is bounded by ``max_bodies``: frames other than the declared ones are forgotten
     as soon as their last body is lost (after their empty aggregate is published).
 
-    Transactions (``Journaled``): the service wraps each tracker call and the building of
-    its publications in one, so an error while saying a change (a bug, a value no output
-    can carry) never leaves a change unsaid: no ghost, no aggregate that disagrees with
-    the results.
+    Transactions: the state lives in journaled stores (``journal.Store``), and the
+    service wraps each tracker call and the building of its publications in one, so an
+    error while saying a change (a bug, a value no output can carry) never leaves a change
+    unsaid: no ghost, no aggregate that disagrees with the results.
     """
-
-    STORES = ("_tracks", "_frames", "_tombstones", "_due")
 
     def __init__(
         self,
@@ -74,20 +72,27 @@ class Tracker(Journaled):
         self.engagement_period_s = engagement_period_s
         self.stale_after_s = stale_after_s
         self.max_bodies = max_bodies
+        self._journal = journal = Journal(after_roll_back=self._rolled_back)
         # Ordered by last accepted sample, oldest first: expiry pops from the front.
-        self._tracks: OrderedDict[BodyRef, Track] = OrderedDict()
+        self._tracks: Store[BodyRef, Track] = Store(journal)
         self._declared = frozenset(frames)
-        self._frames: dict[str, Frame] = {frame: Frame() for frame in self._declared}
+        self._frames: Store[str, Frame] = Store(journal, ((f, Frame()) for f in self._declared))
         # After a DELETE: the last accepted stamp, and when the tombstone expires (the
         # caller's clock). Oldest first; at most max_bodies of them.
-        self._tombstones: OrderedDict[BodyRef, tuple[tuple[int, int], float]] = OrderedDict()
+        self._tombstones: Store[BodyRef, tuple[tuple[int, int], float]] = Store(journal)
         # Bodies whose level will change with time alone (DISENGAGING's dwell): when.
-        self._due: dict[BodyRef, float] = {}
+        self._due: Store[BodyRef, float] = Store(journal)
+
+    def transaction(self) -> AbstractContextManager[None]:
+        """Changes made inside apply whole, or not at all (see ``journal``)."""
+        return self._journal.transaction()
 
     def _rolled_back(self) -> None:
         """Back in the orders expiry relies on: tracks by last sample, tombstones by expiry."""
-        self._tracks = OrderedDict(sorted(self._tracks.items(), key=lambda kv: kv[1].last_seen))
-        self._tombstones = OrderedDict(sorted(self._tombstones.items(), key=lambda kv: kv[1][1]))
+        for key, _ in sorted(self._tracks.items(), key=lambda kv: kv[1].last_seen):
+            self._tracks.move_to_end(key)
+        for key, _ in sorted(self._tombstones.items(), key=lambda kv: kv[1][1]):
+            self._tombstones.move_to_end(key)
 
     def __len__(self) -> int:
         return len(self._tracks)
@@ -113,7 +118,6 @@ class Tracker(Journaled):
                 if sample.pose.stamp <= tomb[0]:  # a late pose of a deleted body
                     changes.out_of_order.append(sample)
                     continue
-                self._keep("_tombstones", key)
                 del self._tombstones[key]  # newer than the DELETE: the body is back
             if last is None:  # a new body
                 if room <= 0:
@@ -193,11 +197,9 @@ class Tracker(Journaled):
             if (track := self._tracks.get(key)) is None:
                 continue
             if not time_went_back:
-                self._keep("_tombstones", key)
                 self._tombstones[key] = (track.pose.stamp, now + TOMBSTONE_S)
                 self._tombstones.move_to_end(key)
                 while len(self._tombstones) > self.max_bodies:
-                    self._keep("_tombstones", next(iter(self._tombstones)))
                     self._tombstones.popitem(last=False)
             self._remove(key, changes)
             frames.add(key.frame_id)
@@ -212,12 +214,10 @@ class Tracker(Journaled):
         for key, due in list(self._due.items()):
             if due > now:
                 continue
-            self._keep("_due", key)
             del self._due[key]
             track = self._tracks.get(key)
             if track is None or track.engagement.last is None:
                 continue
-            self._keep("_tracks", key)
             before = track.engagement.level
             t = track.engagement.last + (now - track.last_seen)
             track.engagement = advance(track.engagement, t, track.profile.engagement)
@@ -244,7 +244,6 @@ class Tracker(Journaled):
         """Lose every body with no accepted sample for ``stale_after_s`` before ``now``,
         and forget expired tombstones."""
         while self._tombstones and next(iter(self._tombstones.values()))[1] <= now:
-            self._keep("_tombstones", next(iter(self._tombstones)))
             self._tombstones.popitem(last=False)
         changes = Changes()
         deadline = now - self.stale_after_s
@@ -312,7 +311,6 @@ class Tracker(Journaled):
         """Keep the new state (``track``: the body's, None when new); the engagement update
         to publish, if one is due."""
         key = sample.body
-        self._keep("_tracks", key)
         if track is None:
             track = self._tracks[key] = Track(sample.pose, now, state, profile)
         else:  # in place: the body's engagement carries over
@@ -320,7 +318,6 @@ class Tracker(Journaled):
             track.profile = profile
         self._tracks.move_to_end(key)
         update = self._engage(track, state, now)
-        self._keep("_frames", sample.frame_id)
         frame = self._frames.setdefault(sample.frame_id, Frame())
         frame.update(sample.body_id, state.facing)
         if frame.stamp is None or sample.pose.stamp > frame.stamp:
@@ -343,7 +340,6 @@ class Tracker(Journaled):
         )
         changed = track.engagement.level is not before
         key = state.body
-        self._keep("_due", key)
         if track.engagement.level is Level.DISENGAGING:  # dwell running: due even if silent
             left = track.engagement.since + p.disengage_dwell_s - t
             self._due[key] = now + max(0.0, left)
@@ -359,8 +355,6 @@ class Tracker(Journaled):
         return [track.engagement_update(None) for track in self._tracks.values()]
 
     def _remove(self, key: BodyRef, changes: Changes) -> None:
-        for store, k in (("_tracks", key), ("_due", key), ("_frames", key.frame_id)):
-            self._keep(store, k)
         track = self._tracks.pop(key)
         self._due.pop(key, None)
         if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
@@ -372,7 +366,7 @@ class Tracker(Journaled):
     def _frame_changes(self, frame_ids: Iterable[str]) -> list[FrameFacing]:
         """Aggregates of the given frames whose lists changed since last published."""
         changed = []
-        for frame_id in sorted(frame_ids):  # (each kept by _store or _remove already)
+        for frame_id in sorted(frame_ids):
             frame = self._frames[frame_id]
             if frame.dirty:
                 frame.dirty = False
