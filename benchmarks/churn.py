@@ -95,7 +95,7 @@ class RouterProcess:
 
 
 @dataclass
-class Person:
+class Visitor:
     body: str
     leaves_at: float
     x: float
@@ -203,7 +203,7 @@ def main() -> None:
         wait_for_status(tracker, timeout=30)
         start = time.monotonic()
         end = start + args.minutes * 60
-        people: list[Person] = []
+        people: list[Visitor] = []
         next_id = 0
         next_sample = start
         next_restart = start + args.restart_every_s
@@ -228,7 +228,7 @@ def main() -> None:
             # Poisson arrivals keeping about --people present; each stays 10-90 s.
             if rng.random() < args.people / 50.0 * period:
                 people.append(
-                    Person(
+                    Visitor(
                         f"p{next_id}",
                         now + rng.uniform(10, 90),
                         rng.uniform(1, 6),

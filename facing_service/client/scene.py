@@ -106,7 +106,7 @@ class SceneListener:
         for key, model in self._keys.items():
             for reply in session.get(key, timeout=timeout_s):
                 if reply.ok is not None:
-                    self._said(model.model_validate_json(reply.ok.payload.to_bytes()))
+                    self._take(model.model_validate_json(reply.ok.payload.to_bytes()))
 
     def groups(self, frame: str) -> list[GroupState]:
         with self._lock:
@@ -129,9 +129,9 @@ class SceneListener:
         except Exception:  # a bad sample must never break the subscription
             log.exception("facing client: could not read %s", sample.key_expr)
             return
-        self._said(said)
+        self._take(said)
 
-    def _said(self, said: FrameGroups | FrameGazing) -> None:
+    def _take(self, said: FrameGroups | FrameGazing) -> None:
         if said.instance is not None and not self._is_live(said.instance):
             self.dropped_from_dead += 1
             return

@@ -38,7 +38,7 @@ class Activity(str, Enum):
 
 
 @dataclass
-class Person:
+class Walker:
     body_id: str
     x: float
     y: float
@@ -75,7 +75,7 @@ class Scene:
     start_s: float = 1_700_000_000.0
     _rng: random.Random = field(init=False)
     _now: float = field(init=False, default=0.0)
-    _crowd: dict[str, Person] = field(init=False, default_factory=dict)
+    _crowd: dict[str, Walker] = field(init=False, default_factory=dict)
     _next_id: int = field(init=False, default=1)
 
     def __post_init__(self) -> None:
@@ -118,7 +118,7 @@ class Scene:
         rng = self._rng
         angle = rng.uniform(0, 2 * math.pi)
         radius = rng.uniform(1.5, AREA_M)
-        person = Person(
+        person = Walker(
             body_id=f"p{self._next_id}",
             x=radius * math.cos(angle),
             y=radius * math.sin(angle),
@@ -130,7 +130,7 @@ class Scene:
         self._crowd[person.body_id] = person
         self._choose(person)
 
-    def _choose(self, person: Person) -> None:
+    def _choose(self, person: Walker) -> None:
         """Pick the next activity: walk somewhere, stop, face the robot, or leave."""
         rng = self._rng
         roll = rng.random()
@@ -152,7 +152,7 @@ class Scene:
             person.goal = (2 * AREA_M * math.cos(angle), 2 * AREA_M * math.sin(angle))
             person.until_s = math.inf
 
-    def _move(self, person: Person, dt: float) -> None:
+    def _move(self, person: Walker, dt: float) -> None:
         if self._now >= person.until_s:
             self._choose(person)
         if person.activity in (Activity.WALKING, Activity.LEAVING):
@@ -229,7 +229,7 @@ class TrackerPublisher:
         self._every_s = progress_every_s
         self._say = say
         self.poses = self.deletes = 0
-        self._started = self._said = time.monotonic()
+        self._started = self._reported = time.monotonic()
 
     def __call__(self, key: str, payload: bytes | None) -> None:
         if payload is None:
@@ -243,7 +243,10 @@ class TrackerPublisher:
                 congestion_control=zenoh.CongestionControl.BLOCK,
             )
             self.poses += 1
-        if self._every_s is not None and (now := time.monotonic()) - self._said >= self._every_s:
-            self._said = now
+        if (
+            self._every_s is not None
+            and (now := time.monotonic()) - self._reported >= self._every_s
+        ):
+            self._reported = now
             rate = self.poses / (now - self._started)
             self._say(f"published {self.poses} poses ({rate:.0f}/s) and {self.deletes} deletes")

@@ -297,12 +297,12 @@ class GroupTracker:
         self._next_id = 1
         self._candidate: frozenset[frozenset[str]] | None = None
         self._since = 0.0
-        self._said: frozenset[frozenset[str]] = frozenset()  # the groups' members, as said
+        self._announced: frozenset[frozenset[str]] = frozenset()  # the groups' members, as said
 
     @property
     def pending(self) -> bool:
         """A grouping other than the one said has been seen, and is not said yet."""
-        return self._candidate is not None and self._candidate != self._said
+        return self._candidate is not None and self._candidate != self._announced
 
     def update(
         self, found: list[tuple[frozenset[str], tuple[float, float]]], now: float
@@ -312,7 +312,7 @@ class GroupTracker:
         partition = frozenset(members for members, _ in found if len(members) > 1)
         if partition != self._candidate:
             self._candidate, self._since = partition, now
-        if partition == self._said or now - self._since < self.hold_s:
+        if partition == self._announced or now - self._since < self.hold_s:
             self._recentre(found)
             return [], []
         return self._adopt(found)
@@ -356,5 +356,5 @@ class GroupTracker:
             if gid not in old or old[gid].members != members:
                 changed.append(group)
         self.groups = new
-        self._said = frozenset(g.members for g in new.values())
+        self._announced = frozenset(g.members for g in new.values())
         return changed, sorted(old.keys() - new.keys())

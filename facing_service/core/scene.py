@@ -70,8 +70,8 @@ class SceneUpdate:
     changed: tuple[Group, ...]  # formed (a new id) or with other members
     dissolved: tuple[int, ...]
     gazing: frozenset[Pair]
-    groups_news: bool  # the frame's groups are to be said (changed, or said first)
-    gazing_news: bool  # who faces whom is to be said
+    groups_changed: bool  # the frame's groups are to be said (changed, or said first)
+    gazing_changed: bool  # who faces whom is to be said
     left_out: int  # people beyond max_people, not considered
 
 
@@ -81,7 +81,7 @@ STILL_M, STILL_Q = 1e-3, 1e-4
 
 
 @dataclass(frozen=True)
-class Worked:
+class LastComputation:
     """What the last computation was given, and the groups it found."""
 
     ids: list[str]
@@ -109,7 +109,7 @@ class FrameScene:
     left_out: int = 0
     stamp: tuple[int, int] = (0, 0)
     said_once: bool = False
-    _worked: Worked | None = None
+    _worked: LastComputation | None = None
 
     def __post_init__(self) -> None:
         self.tracker = GroupTracker(self.params.hold_s)
@@ -144,27 +144,27 @@ class FrameScene:
                 (frozenset(ids[i] for i in m), (x, y))
                 for m, (x, y) in zip(members(labels), centre.tolist(), strict=True)
             ]
-            self._worked = Worked(ids, t, q, found)
+            self._worked = LastComputation(ids, t, q, found)
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
         anew = not self.said_once or left_out != self.left_out
-        groups_news = anew or bool(changed or dissolved)
-        gazing_news = anew or gazing != self.gazing
+        groups_changed = anew or bool(changed or dissolved)
+        gazing_changed = anew or gazing != self.gazing
         # The newest stamp behind the scene, kept while nothing changes too: people who
         # stood still and then left are said gone at their last pose's stamp, not at the
         # stamp of the last change (issue 46). Never back: a person with the newest stamp
         # leaving does not make the scene older than what was said.
         self.stamp = max(self.stamp, stamp)
-        if not (groups_news or gazing_news):
+        if not (groups_changed or gazing_changed):
             return None
         self.gazing, self.left_out, self.said_once = gazing, left_out, True
-        return self.snapshot(changed, dissolved, groups_news, gazing_news)
+        return self.snapshot(changed, dissolved, groups_changed, gazing_changed)
 
     def snapshot(
         self,
         changed: Sequence[Group] = (),
         dissolved: Sequence[int] = (),
-        groups_news: bool = False,
-        gazing_news: bool = False,
+        groups_changed: bool = False,
+        gazing_changed: bool = False,
     ) -> SceneUpdate:
         """The scene as last said, with what its last update changed."""
         return SceneUpdate(
@@ -174,8 +174,8 @@ class FrameScene:
             tuple(changed),
             tuple(dissolved),
             self.gazing,
-            groups_news,
-            gazing_news,
+            groups_changed,
+            gazing_changed,
             self.left_out,
         )
 

@@ -33,7 +33,7 @@ from .tf_errors import (
     InvalidArgumentError,
     LookupError_,
 )
-from .tf_math import IDENTITY, Quat, Transform, Vec, add, neg, qinv, qmul, rotate
+from .tf_math import IDENTITY, Quat, RigidTransform, Vec, add, neg, qinv, qmul, rotate
 
 QUATERNION_NORMALIZATION_TOLERANCE = 10e-3
 MAX_GRAPH_DEPTH = 1000
@@ -48,7 +48,7 @@ MAX_GRAPH_DEPTH = 1000
 # -- the buffer -----------------------------------------------------------------------------
 
 
-def check_transform(parent: str, child: str, transform: Transform) -> str | None:
+def check_transform(parent: str, child: str, transform: RigidTransform) -> str | None:
     """tf2's input checks: the reason a transform is refused, or None."""
     if child == parent:
         return "self_transform"
@@ -89,7 +89,7 @@ class TfBuffer:
         self.shape = 0
 
     def set_transform(
-        self, parent: str, child: str, stamp_ns: int, transform: Transform, *, static: bool
+        self, parent: str, child: str, stamp_ns: int, transform: RigidTransform, *, static: bool
     ) -> str | None:
         """Store a transform; returns None, or the reason tf2 would refuse it (or
         ``too_many_frames``)."""
@@ -222,7 +222,7 @@ class TfBuffer:
                 f'"{frame}" passed to lookupTransform argument {argument} does not exist. '
             )
 
-    def lookup(self, target: str, source: str, time_ns: int = 0) -> tuple[Transform, int]:
+    def lookup(self, target: str, source: str, time_ns: int = 0) -> tuple[RigidTransform, int]:
         """The pose of ``source`` in ``target`` at ``time_ns`` (0: the latest common time),
         and the time it is for. Raises TfError as tf2 would."""
         if target == source:
@@ -239,7 +239,7 @@ class TfBuffer:
         cache = self._caches.get(frame)
         return None if cache is None else cache.get(time)
 
-    def _walk(self, target: str, source: str, time: int) -> Transform:
+    def _walk(self, target: str, source: str, time: int) -> RigidTransform:
         """tf2's ``walkToTopParent`` with its ``TransformAccum``."""
         src_vec: Vec = (0.0, 0.0, 0.0)
         src_quat: Quat = (0.0, 0.0, 0.0, 1.0)
@@ -256,7 +256,7 @@ class TfBuffer:
                 break
             assert stored is not None
             if frame == target:  # the target is an ancestor of the source
-                return Transform(src_vec, src_quat)
+                return RigidTransform(src_vec, src_quat)
             t = stored.transform
             src_vec = add(rotate(t.rotation, src_vec), t.translation)
             src_quat = qmul(t.rotation, src_quat)
@@ -279,7 +279,7 @@ class TfBuffer:
             assert stored is not None
             if frame == source:  # the source is an ancestor of the target
                 inv = qinv(tgt_quat)
-                return Transform(rotate(inv, neg(tgt_vec)), inv)
+                return RigidTransform(rotate(inv, neg(tgt_vec)), inv)
             t = stored.transform
             tgt_vec = add(rotate(t.rotation, tgt_vec), t.translation)
             tgt_quat = qmul(t.rotation, tgt_quat)
@@ -295,7 +295,9 @@ class TfBuffer:
                 )
             raise _disconnected(target, source)
         inv = qinv(tgt_quat)
-        return Transform(add(rotate(inv, src_vec), rotate(inv, neg(tgt_vec))), qmul(inv, src_quat))
+        return RigidTransform(
+            add(rotate(inv, src_vec), rotate(inv, neg(tgt_vec))), qmul(inv, src_quat)
+        )
 
     def _latest_link(self, frame: str) -> tuple[int, str] | None:
         """``(latest stamp, parent)`` of ``frame`` (stamp 0 when static); None at a root."""

@@ -9,7 +9,7 @@ from bisect import bisect_left
 from dataclasses import dataclass
 
 from .tf_errors import ExtrapolationError
-from .tf_math import Transform, lerp, slerp
+from .tf_math import RigidTransform, lerp, slerp
 
 S_NS = 1_000_000_000
 DEFAULT_CACHE_TIME_NS = 10 * S_NS
@@ -23,7 +23,7 @@ MAX_CACHE_ENTRIES = 10_000
 class Stored:
     stamp: int
     parent: str
-    transform: Transform
+    transform: RigidTransform
 
 
 def _seconds(ns: int) -> str:
@@ -125,7 +125,7 @@ class TimeCache:
         return Stored(
             time,
             one.parent,
-            Transform(
+            RigidTransform(
                 lerp(a.translation, b.translation, ratio),
                 slerp(a.rotation, b.rotation, ratio),
             ),

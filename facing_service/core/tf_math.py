@@ -13,12 +13,12 @@ Quat = tuple[float, float, float, float]  # x, y, z, w
 
 
 @dataclass(frozen=True, slots=True)
-class Transform:
+class RigidTransform:
     translation: Vec
     rotation: Quat
 
 
-IDENTITY = Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+IDENTITY = RigidTransform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
 
 
 def qmul(a: Quat, b: Quat) -> Quat:

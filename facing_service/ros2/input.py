@@ -30,7 +30,7 @@ from typing import Any
 
 from ..contract.poses import Rejected, Rejection, stamp_ns
 from ..contract.robot import DEFAULT_MAX_MESSAGE_BYTES
-from ..core.tf_math import Transform
+from ..core.tf_math import RigidTransform
 from . import types as ros2_types
 from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
 from .wire import RosFormat, Wire
@@ -129,7 +129,7 @@ def tf_inputs(message: Any) -> list[TfInput]:
                 t.header.frame_id,
                 t.child_frame_id,
                 INVALID_STAMP if stamp is None else stamp,
-                Transform((tr.x, tr.y, tr.z), (rot.x, rot.y, rot.z, rot.w)),
+                RigidTransform((tr.x, tr.y, tr.z), (rot.x, rot.y, rot.z, rot.w)),
             )
         )
     return inputs

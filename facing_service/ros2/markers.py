@@ -45,7 +45,7 @@ GROUP_COLOUR = (0.8, 0.2, 0.8)
 
 
 @dataclass(frozen=True, slots=True)
-class Drawn:
+class PersonMarker:
     """One person as drawn: where, which way, how engaged, the facing figures."""
 
     id: str
@@ -57,17 +57,17 @@ class Drawn:
     distance_m: float | None
 
 
-def drawn(view: TurnView) -> dict[str, list[Drawn]]:
+def drawn(view: TurnView) -> dict[str, list[PersonMarker]]:
     """Every tracked person as the markers draw them, by frame."""
     levels = view.levels
     poses: dict[str, dict[str, Pose]] = {}
-    out: dict[str, list[Drawn]] = {}
+    out: dict[str, list[PersonMarker]] = {}
     for s in view.states:
         if s.frame_id not in poses:
             poses[s.frame_id] = dict(view.poses(s.frame_id))
         pose = poses[s.frame_id][s.body_id]
         out.setdefault(s.frame_id, []).append(
-            Drawn(s.body_id, pose.translation, pose.rotation,
+            PersonMarker(s.body_id, pose.translation, pose.rotation,
                   levels.get(s.body, Level.UNKNOWN), s.threshold_deg, s.angle_deg,
                   s.distance_m)
         )  # fmt: skip
@@ -131,7 +131,7 @@ def _pose(t: tuple[float, float, float], q: tuple[float, float, float, float]) -
     )
 
 
-def person_markers(frame: str, stamp: tuple[int, int], p: Drawn) -> list[Any]:
+def person_markers(frame: str, stamp: tuple[int, int], p: PersonMarker) -> list[Any]:
     """The cone, the arrow and the label of one person, in the person's frame pose."""
     m = _t("visualization_msgs/msg/Marker")
     colour, ns, pose = COLOURS[p.level], f"person/{p.id}", _pose(p.translation, p.rotation)
@@ -196,7 +196,7 @@ class MarkerDrawer:
         self,
         frame: str,
         stamp: tuple[int, int],
-        people: Sequence[Drawn],
+        people: Sequence[PersonMarker],
         groups: Sequence[Group],
     ) -> bytes:
         where = {p.id: (p.translation[0], p.translation[1]) for p in people}

@@ -37,7 +37,7 @@ from ..core.records import Changes, EngagementUpdate
 from ..core.scene import SceneUpdate
 from ..core.view import TurnView
 from . import types as ros2_types
-from .markers import MARKER_ARRAY, MARKERS_TOPIC, Drawn, MarkerDrawer, drawn
+from .markers import MARKER_ARRAY, MARKERS_TOPIC, MarkerDrawer, PersonMarker, drawn
 
 ENGAGEMENT_LEVEL = "hri_msgs/msg/EngagementLevel"
 INTENT = "hri_actions_msgs/msg/Intent"
@@ -223,7 +223,7 @@ class RosOutput:
         return out + self._markers(drawn(view), by_frame)
 
     def _markers(
-        self, people: dict[str, list[Drawn]], scenes: dict[str, SceneUpdate]
+        self, people: dict[str, list[PersonMarker]], scenes: dict[str, SceneUpdate]
     ) -> list[RosMessage]:
         """Each frame's markers (people, groups), and the last DELETEs of a frame that
         emptied (then forgotten: bounded)."""

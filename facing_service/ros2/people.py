@@ -50,7 +50,7 @@ from ..contract.robot import DEFAULT_MAX_FRAMES
 from ..core.records import PoseSample
 from ..core.tf_buffer import TfBuffer
 from ..core.tf_errors import TfError
-from ..core.tf_math import Transform
+from ..core.tf_math import RigidTransform
 
 #: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
 KINDS = {
@@ -115,7 +115,7 @@ class TfInput:
     parent: str
     child: str
     stamp_ns: int
-    transform: Transform
+    transform: RigidTransform
 
 
 @dataclass
@@ -376,7 +376,9 @@ class People:
                 continue
             update.poses.append(self._sample(subject, frame, transform, stamp))
 
-    def _sample(self, subject: str, frame: str, transform: Transform, stamp: int) -> PoseSample:
+    def _sample(
+        self, subject: str, frame: str, transform: RigidTransform, stamp: int
+    ) -> PoseSample:
         profile = "head" if frame.startswith("face_") else "body"
         return PoseSample(
             keys.BodyRef(frame_id=self.base_frame, body_id=subject),
@@ -385,7 +387,7 @@ class People:
         )
 
 
-def _pose(transform: Transform, stamp_ns: int) -> Pose:
+def _pose(transform: RigidTransform, stamp_ns: int) -> Pose:
     """tf2 composes quaternions without renormalizing; the detector wants unit ones."""
     x, y, z, w = transform.rotation
     n = math.sqrt(x * x + y * y + z * z + w * w)

@@ -68,7 +68,7 @@ class Input(Protocol):
         """The input's part of the status (the robot's, for ROS 2 input)."""
         ...
 
-    def said(self) -> str:
+    def start_line(self) -> str:
         """The input's part of the start line, after the pose keys ('' for none)."""
         ...
 
@@ -131,7 +131,7 @@ class JsonInput:
     def status(self) -> Ros2Status | None:
         return None
 
-    def said(self) -> str:
+    def start_line(self) -> str:
         return ""
 
     def close(self) -> None:

@@ -8,7 +8,7 @@ Here the worker pulls the hot samples (input poses, or a robot's /tf) straight f
 ``FifoChannel``, blocking in native code with the GIL released.
 
 Everything else (queries, the robot's other topics) still comes through callbacks, into
-a bounded deque (``inbox.Inbox``); the callback then puts a *wake-up* on a key the hot
+a bounded deque (``side_queue.SideQueue``); the callback then puts a *wake-up* on a key the hot
 subscription matches, local to this session and marked with a per-process token. The
 wake-up lands in the channel behind every sample that arrived before the item, so the
 worker handles a query after those samples, as before. The same wake-up, sent by an alarm
@@ -30,7 +30,7 @@ from collections.abc import Callable
 import zenoh
 
 from ..contract import keys
-from .inbox import Inbox
+from .side_queue import SideQueue
 from .threads import daemon_thread
 
 _ITEM, _ALARM = b"i", b"a"  # why a wake-up was sent: a side item, or the alarm
@@ -51,7 +51,7 @@ class Intake:
         self._token = os.urandom(16)
         self._closing = closing
         self._clock = clock
-        self._side: Inbox[object] = Inbox(capacity)
+        self._side: SideQueue[object] = SideQueue(capacity)
         self._channel = session.declare_subscriber(key_expr, zenoh.handlers.FifoChannel(capacity))
         self._alarm = threading.Condition()
         self._alarm_at: float | None = None

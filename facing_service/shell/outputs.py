@@ -51,7 +51,7 @@ class Output(Protocol):
         """When ``tick`` has work next (the service's clock), if ever."""
         ...
 
-    def said(self) -> str:
+    def start_line(self) -> str:
         """The form's part of the start line ('' for none)."""
         ...
 
@@ -80,7 +80,7 @@ class JsonOutput:
     def next_due(self) -> float | None:
         return None
 
-    def said(self) -> str:
+    def start_line(self) -> str:
         return ""
 
     def sender(self, session: zenoh.Session) -> Sender | None:
@@ -126,7 +126,7 @@ class RosTopicsOutput:
     def next_due(self) -> float | None:
         return self._ros.next_tick
 
-    def said(self) -> str:
+    def start_line(self) -> str:
         topics = "engagement_status, facing lists, groups, gazing, markers" + (
             ", /intents" if self._intents else ""
         )

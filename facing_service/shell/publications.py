@@ -94,13 +94,13 @@ def scene_publications(update: SceneUpdate, namespace: str, instance: str) -> li
         Publication(keys.group_key(namespace, frame, str(gid)), None, Kind.SCENE)
         for gid in update.dissolved
     ]
-    if update.groups_news:
+    if update.groups_changed:
         out.append(
             Publication(
                 keys.groups_key(namespace, frame), groups_json(update, instance), Kind.SCENE
             )
         )
-    if update.gazing_news:
+    if update.gazing_changed:
         out.append(
             Publication(
                 keys.gazing_key(namespace, frame), gazing_json(update, instance), Kind.SCENE

@@ -255,7 +255,7 @@ class RosInput:
             findings=self.findings,
         )
 
-    def said(self) -> str:
+    def start_line(self) -> str:
         """The start line's part: what is read, and how faces are judged."""
         s, wire = self.settings, self.wire
         where = f"domain {wire.domain_id}, " if wire.format.value == "rmw_zenoh" else ""

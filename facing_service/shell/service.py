@@ -106,7 +106,7 @@ class FacingService:
         self._token: zenoh.LivelinessToken | None = None
         self._threads: list[threading.Thread] = []
         self._link_watch: LinkWatch | None = None
-        self._session_said: dict[str, object] = {}  # mode and scouting in force (status)
+        self._session_in_force: dict[str, object] = {}  # mode and scouting in force (status)
 
     # -- lifecycle -------------------------------------------------------------------
 
@@ -114,7 +114,7 @@ class FacingService:
         s = self.settings
         ns, frame = s.namespace, s.base_frame
         conf = zenoh_config(s)
-        self._session_said = effective_session(s, conf)
+        self._session_in_force = effective_session(s, conf)
         self._session = session = zenoh.open(conf)
         _, endpoints = mode_and_endpoints(conf, "connect")
         self._link_watch = LinkWatch(self.connected, endpoints, time.monotonic, self._closing)
@@ -186,7 +186,7 @@ class FacingService:
             s.hysteresis_deg,
             s.stale_after_s,
             s.max_bodies,
-            self._input.said() + "".join(output.said() for output in self._outputs),
+            self._input.start_line() + "".join(o.start_line() for o in self._outputs),
         )
         return self
 
@@ -257,7 +257,7 @@ class FacingService:
             version=__version__,
             zenoh_id=str(self._session.zid()) if self._session is not None else "",
             uptime_s=round(self._clock() - self._started_at, 3),
-            config=public_settings(self.settings.model_dump(mode="json") | self._session_said),
+            config=public_settings(self.settings.model_dump(mode="json") | self._session_in_force),
             connected=self.connected(),
             outage_s=None if outage is None else round(outage, 3),
             inbox_depth=len(self._intake) if self._intake is not None else 0,

@@ -39,7 +39,7 @@ log = logging.getLogger("facing_service")
 MAX_BATCH = 1024
 #: Wall time a batch may take before the rest of it waits for the next turn of the loop:
 #: between turns, what was decided is handed to the publisher, bodies expire, the ROS
-#: tick and diagnosis run. Input that is dear to handle (a robot's deep TF chains) then
+#: tick and diagnosis run. Input that is costly to handle (a robot's deep TF chains) then
 #: delays the others' results by at most this much, not by the whole batch.
 BATCH_BUDGET_S = 0.05
 
@@ -70,8 +70,8 @@ class Worker:
         self._intake = intake
         self._closing = closing
         self._settings = settings  # for the queries' answers and the capacity's reason
-        self._said: list[Publication] = []  # decided this turn of the loop
-        self._accepted = 0  # samples whose results are in _said
+        self._decided: list[Publication] = []  # decided this turn of the loop
+        self._accepted = 0  # samples whose results are in _decided
         self._ledger.tracked = self._tracker.tracked_per_frame()
         self._horizon = clock()  # when the worker took what it handles now
         self._drained = True  # the last take emptied the intake
@@ -169,12 +169,12 @@ class Worker:
         they changed), then each output's periodic messages."""
         for update in self._scenes.tick(self._clock(), view):
             for output in self._outputs:
-                self._said += output.on_scene(update)
+                self._decided += output.on_scene(update)
             if update.left_out:
                 self._ledger.count("scene_people_left_out", update.left_out)
         now, current = self._clock(), self._scenes.current()
         for output in self._outputs:
-            self._said += output.tick(now, view, current)
+            self._decided += output.tick(now, view, current)
 
     def _handle(self, batch: list[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together. An item
@@ -255,13 +255,13 @@ class Worker:
     def _apply(self, change: Callable[[], Changes]) -> Changes:
         """One tracker call and the publications it calls for, whole or not at all: when
         either raises, the tracker is as before and nothing of it is said."""
-        said = len(self._said)
+        mark = len(self._decided)
         try:
             with self._tracker.transaction():
                 changes = change()
                 self._publish(changes)
         except Exception:
-            del self._said[said:]
+            del self._decided[mark:]
             raise
         return changes
 
@@ -272,7 +272,7 @@ class Worker:
         """What the changes call for, in the order it must be sent (handed over at the end
         of the loop's turn, see ``_hand_over``)."""
         for output in self._outputs:
-            self._said += output.on_changes(changes)
+            self._decided += output.on_changes(changes)
         if changes.results or changes.lost:
             self._scenes.touch(
                 {s.frame_id for s in changes.results} | {b.frame_id for b in changes.lost}
@@ -286,9 +286,9 @@ class Worker:
 
         Accepted samples are counted once their results are handed over: "all accepted and
         the outbox empty" means all sent."""
-        if self._said:
-            self._outbox.add(self._said)
-            self._said = []
+        if self._decided:
+            self._outbox.add(self._decided)
+            self._decided = []
         if self._accepted:
             self._ledger.count("samples_accepted", self._accepted)
             self._accepted = 0

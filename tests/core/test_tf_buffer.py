@@ -18,7 +18,7 @@ from facing_service.core.tf_errors import (
     LookupError_,
     TfError,
 )
-from facing_service.core.tf_math import Transform
+from facing_service.core.tf_math import RigidTransform
 
 S = 1_000_000_000
 TF_TOPICS = ("/tf", "/tf_static")
@@ -28,8 +28,8 @@ def yaw(deg: float) -> tuple[float, float, float, float]:
     return (0.0, 0.0, math.sin(math.radians(deg) / 2), math.cos(math.radians(deg) / 2))
 
 
-def tf(x: float = 0.0, y: float = 0.0, z: float = 0.0, q=(0.0, 0.0, 0.0, 1.0)) -> Transform:
-    return Transform((x, y, z), q)
+def tf(x: float = 0.0, y: float = 0.0, z: float = 0.0, q=(0.0, 0.0, 0.0, 1.0)) -> RigidTransform:
+    return RigidTransform((x, y, z), q)
 
 
 # -- unit: the rules, one by one ---------------------------------------------------------
@@ -127,7 +127,7 @@ def ours(ops: list[list]) -> list[dict]:
     for op in ops:
         if op[0] == "set":
             _, parent, child, stamp, t, q, static = op
-            b.set_transform(parent, child, stamp, Transform(tuple(t), tuple(q)), static=static)
+            b.set_transform(parent, child, stamp, RigidTransform(tuple(t), tuple(q)), static=static)
             continue
         _, target, source, time = op
         try:
@@ -256,10 +256,10 @@ def test_a_frames_history_is_capped_whatever_its_stamps():
     past MAX_CACHE_ENTRIES; the newest and every lookup stay tf2's."""
     from facing_service.core.tf_buffer import TfBuffer
     from facing_service.core.tf_cache import MAX_CACHE_ENTRIES
-    from facing_service.core.tf_math import Transform
+    from facing_service.core.tf_math import RigidTransform
 
     buffer = TfBuffer()
-    one = Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+    one = RigidTransform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
     newest = 10**10
     for i in range(MAX_CACHE_ENTRIES + 500):  # each older than the last
         assert buffer.set_transform("base", "x", newest - i, one, static=False) is None

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from facing_service.core.tf_math import Transform
+from facing_service.core.tf_math import RigidTransform
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.diagnosis import RobotWatch, where_else
 from facing_service.ros2.people import People, TfInput
@@ -24,7 +24,9 @@ TF, IDS = ros2_types.TF_MESSAGE, ros2_types.IDS_LIST
 
 
 def tf_in(parent: str, child: str, sec: float) -> TfInput:
-    return TfInput(parent, child, int(sec * S), Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)))
+    return TfInput(
+        parent, child, int(sec * S), RigidTransform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+    )
 
 
 # -- the checks, without a network -------------------------------------------------------

@@ -199,30 +199,30 @@ def test_a_dear_batch_hands_over_what_came_before_it(net, robot_and_service, mon
     of work the rest of a batch waits for the next turn, after a hand-over."""
     _, service, robot, consumer = robot_and_service
     results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
-    on_tf, dear_done = service._input.people.on_tf, []
+    on_tf, costly_done = service._input.people.on_tf, []
 
-    def dear(transforms, **kwargs):
+    def costly(transforms, **kwargs):
         if any(t.child == "dear" for t in transforms):
-            time.sleep(0.3 if not dear_done else 0.02)
-            dear_done.append(True)
+            time.sleep(0.3 if not costly_done else 0.02)
+            costly_done.append(True)
         return on_tf(transforms, **kwargs)
 
-    monkeypatch.setattr(service._input.people, "on_tf", dear)
+    monkeypatch.setattr(service._input.people, "on_tf", costly)
     robot.publish("/humans/bodies/tracked", IDS, ids_list(["a"]))
     time.sleep(0.2)
-    dear_message = tf_message(transform("base_link", "dear", 10 * S, (1.0, 0.0, 0.0)))
-    robot.publish("/tf", TF, dear_message)  # the worker is busy with it for 0.3 s...
+    costly_message = tf_message(transform("base_link", "dear", 10 * S, (1.0, 0.0, 0.0)))
+    robot.publish("/tf", TF, costly_message)  # the worker is busy with it for 0.3 s...
     time.sleep(0.1)
     body = transform("base_link", "body_a", 10 * S, (2.0, 0.0, 0.0), yaw_q(180))
     sent = time.monotonic()
     robot.publish("/tf", TF, tf_message(body))  # ...while these queue behind it
     for _ in range(50):
-        robot.publish("/tf", TF, dear_message)
+        robot.publish("/tf", TF, costly_message)
     results.wait_for(lambda i: i.kind == "put", timeout=5)
-    waited, handled = time.monotonic() - sent, len(dear_done)
-    print(f"\nthe person's result came {waited:.2f} s after its pose, {handled} dear messages in")
+    waited, handled = time.monotonic() - sent, len(costly_done)
+    print(f"\nthe person's result came {waited:.2f} s after its pose, {handled} costly messages in")
     assert handled < 51, "the person's result waited for the whole batch"
-    _wait(lambda: len(dear_done) == 51)
+    _wait(lambda: len(costly_done) == 51)
 
 
 @pytest.mark.parametrize("late", ["tracked list", "static link"])

@@ -13,7 +13,7 @@ from oracles import oracle
 
 from facing_service.contract.poses import Rejected, Rejection
 from facing_service.core.detector import classify_one
-from facing_service.core.tf_math import Transform
+from facing_service.core.tf_math import RigidTransform
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import RosSample, route
 from facing_service.ros2.people import MAX_FRAME_NAME, People, TfInput
@@ -148,7 +148,7 @@ def test_a_service_that_does_not_answer_says_what_the_robot_does_not_that_it_ans
 
 
 def tf_in(parent, child, sec, t=(0.0, 0.0, 0.0), q=(0.0, 0.0, 0.0, 1.0)) -> TfInput:
-    return TfInput(parent, child, int(sec * S), Transform(t, q))
+    return TfInput(parent, child, int(sec * S), RigidTransform(t, q))
 
 
 def test_the_tracked_lists_define_who_exists():

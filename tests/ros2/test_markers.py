@@ -13,7 +13,7 @@ import pytest
 from facing_service.contract.levels import Level
 from facing_service.core.groups import Group
 from facing_service.ros2 import types as ros2_types
-from facing_service.ros2.markers import COLOURS, MARKER_ARRAY, Drawn, MarkerDrawer
+from facing_service.ros2.markers import COLOURS, MARKER_ARRAY, MarkerDrawer, PersonMarker
 
 #: visualization_msgs/msg/MarkerArray, identical in Humble and Jazzy (common_interfaces).
 UPSTREAM_HASH = "RIHS01_86cb8800b6fb05b5eff1abd7a56f62a5641d3ae9a1c29e78e67e704f1d067dcf"
@@ -23,8 +23,8 @@ def yaw(deg: float) -> tuple[float, float, float, float]:
     return (0.0, 0.0, math.sin(math.radians(deg) / 2), math.cos(math.radians(deg) / 2))
 
 
-ANN = Drawn("ann", (2.0, 0.6, 0.0), yaw(-90), Level.ENGAGED, 20.0, 12.0, 2.1)
-BOB = Drawn("bob<script>", (2.0, -0.6, 0.0), yaw(90), Level.DISENGAGED, 20.0, None, None)
+ANN = PersonMarker("ann", (2.0, 0.6, 0.0), yaw(-90), Level.ENGAGED, 20.0, 12.0, 2.1)
+BOB = PersonMarker("bob<script>", (2.0, -0.6, 0.0), yaw(90), Level.DISENGAGED, 20.0, None, None)
 GROUP = Group(4, frozenset({"ann", "bob<script>", ""}), True, (2.0, 0.0))
 
 

@@ -5,11 +5,11 @@ from __future__ import annotations
 import threading
 import time
 
-from facing_service.shell.inbox import Inbox
+from facing_service.shell.side_queue import SideQueue
 
 
 def test_items_come_out_in_order_in_batches():
-    inbox: Inbox[int] = Inbox(100)
+    inbox: SideQueue[int] = SideQueue(100)
     never = threading.Event()
     for i in range(10):
         assert inbox.put(i, never)
@@ -19,7 +19,7 @@ def test_items_come_out_in_order_in_batches():
 
 
 def test_a_waiting_taker_wakes_for_an_item_or_on_wake():
-    inbox: Inbox[str] = Inbox(10)
+    inbox: SideQueue[str] = SideQueue(10)
     got: list[list[str]] = []
     taker = threading.Thread(target=lambda: got.append(inbox.take(None, most=10)))
     taker.start()
@@ -36,7 +36,7 @@ def test_a_waiting_taker_wakes_for_an_item_or_on_wake():
 
 
 def test_a_full_inbox_holds_the_putter_until_there_is_room_or_closing():
-    inbox: Inbox[int] = Inbox(2)
+    inbox: SideQueue[int] = SideQueue(2)
     closing = threading.Event()
     inbox.put(1, closing)
     inbox.put(2, closing)
@@ -58,7 +58,7 @@ def test_a_full_inbox_holds_the_putter_until_there_is_room_or_closing():
 
 
 def test_many_putters_one_taker_lose_nothing():
-    inbox: Inbox[tuple[int, int]] = Inbox(64)
+    inbox: SideQueue[tuple[int, int]] = SideQueue(64)
     never = threading.Event()
     n, putters = 5000, 4
 
