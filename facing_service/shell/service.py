@@ -264,7 +264,7 @@ class FacingService:
             ros2=self._input.status(),
         )
         alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
-        failing = self._worker is not None and self._worker.failing
+        failing = self._worker is not None and self._worker.faults.failing
         health = "failed" if not alive else "degraded" if failing else "ok"
         if health == "ok" and outage is not None and outage > NO_ROUTER_AFTER_S:
             health = "no router"

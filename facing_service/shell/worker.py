@@ -3,11 +3,13 @@ zenoh's channel, and queries (and a robot's other topics) from the side queue th
 callbacks fill, in arrival order (``intake``); handles them in batches, hands each turn's
 publications to the outbox, and answers queries in order with the samples.
 
-Each turn: handle what arrived (poses in batches through the core, each tracker call and
-its publications in one transaction), then what time alone makes due (expiry, engagement
-dwell, the ROS 2 tick and diagnosis), then hand the publications over. A bug met on an
-item is counted and logged and that item alone is lost (``internal_error``); the status
-says "degraded" until a batch succeeds.
+Each turn: handle what arrived (the input form reads each sample into poses and losses;
+poses go through the core in batches), then what time alone makes due (expiry,
+engagement dwell, the scenes and each output's periodic messages, read from one
+``TurnView`` of the tracker, and the input's diagnosis), then hand the publications over.
+Each tracker call and its publications are one transaction (``decisions``). A bug met on
+an item is counted and logged and that item alone is lost (``internal_error``); the
+status says "degraded" until a batch succeeds.
 """
 
 from __future__ import annotations
@@ -21,21 +23,21 @@ import zenoh
 
 from ..config.profiles import scene_params
 from ..config.settings import Settings
-from ..contract.poses import Rejection
 from ..core.records import Changes, PoseSample
 from ..core.scene import Scenes
 from ..core.tracker import Tracker
 from ..core.view import TurnView
+from .decisions import Decisions, Faults
 from .inputs import Input
 from .intake import Intake
 from .ledger import Ledger
-from .outbox import Outbox, Publication
+from .outbox import Outbox
 from .outputs import Output
 from .queries import QueryItem, answer
 
 log = logging.getLogger("facing_service")
 
-#: Most inbox items handled per batch: bounds the latency a backlog adds to a query.
+#: Most intake items handled per batch: bounds the latency a backlog adds to a query.
 MAX_BATCH = 1024
 #: Wall time a batch may take before the rest of it waits for the next turn of the loop:
 #: between turns, what was decided is handed to the publisher, bodies expire, the ROS
@@ -46,8 +48,7 @@ BATCH_BUDGET_S = 0.05
 
 class Worker:
     """The worker's state and its loop (``run``, on the service's worker thread). Every
-    attribute is the worker's alone but ``failing`` (read by the status) and ``intake``
-    (set by the service once its session is open)."""
+    attribute is the worker's alone but ``faults.failing`` (read by the status)."""
 
     def __init__(
         self,
@@ -69,22 +70,23 @@ class Worker:
         self._outbox = outbox
         self._intake = intake
         self._closing = closing
-        self._settings = settings  # for the queries' answers and the capacity's reason
-        self._decided: list[Publication] = []  # decided this turn of the loop
-        self._accepted = 0  # samples whose results are in _decided
+        self._settings = settings  # for the queries' answers
         self._ledger.tracked = self._tracker.tracked_per_frame()
         self._horizon = clock()  # when the worker took what it handles now
         self._drained = True  # the last take emptied the intake
-        self.failing = False  # the last batch raised (written by the worker only)
-        self._faults = 0  # errors in the current batch
         self._carried: list[object] = []  # the rest of a batch over BATCH_BUDGET_S
         self._scenes = Scenes(scene_params(settings))
+        self.faults = Faults(ledger)  # its ``failing`` is read by the status
+        self._decisions = Decisions(
+            tracker, source, outputs, self._scenes, ledger, outbox, self.faults,
+            settings.max_bodies,
+        )  # fmt: skip
 
     def first_aggregates(self) -> None:
         """Every declared frame's aggregate, before any input (sent once the publisher
         starts): a consumer learns the frame exists, with nobody in it yet."""
-        self._publish(Changes(frames=self._tracker.frames()))
-        self._hand_over()
+        self._decisions.publish(Changes(frames=self._tracker.frames()))
+        self._decisions.hand_over()
 
     def run(self) -> None:
         """The worker thread's loop, until the service closes."""
@@ -93,7 +95,6 @@ class Worker:
                 batch = self._next_batch()
             except zenoh.ZError:  # the channel closed: shutting down
                 break
-            self._faults = 0
             try:
                 self._handle(batch)
                 self._expire()
@@ -101,22 +102,11 @@ class Worker:
                 self._input.diagnose()
                 self._ledger.rejection_log.maybe_log()
                 self._ledger.tracked = self._tracker.tracked_per_frame()
-                self._hand_over()
+                self._decisions.hand_over()
             except Exception as error:  # the worker must outlive any single bug, and say so
-                self._fault(error, f"a batch of {len(batch)} items")
-            if batch or self._faults:  # "degraded" until a batch succeeds: a turn woken
-                self.failing = self._faults > 0  # by the alarm alone proves nothing
+                self.faults.met(error, f"a batch of {len(batch)} items")
+            self.faults.turn_over(bool(batch))
         self._ledger.rejection_log.maybe_log(force=True)
-
-    def _fault(self, error: Exception, where: str) -> None:
-        """A bug met in the worker: counted, logged (the first of a batch with its
-        traceback), and the status says "degraded" until a batch has none: from before
-        the count, so a status that shows the error also says degraded."""
-        self.failing = True
-        self._ledger.count("worker_errors")
-        self._faults += 1
-        if self._faults == 1:
-            log.error("worker: unexpected error in %s", where, exc_info=error)
 
     def _next_batch(self) -> list[object]:
         """What arrived (at most MAX_BATCH), waiting for it until the next deadline
@@ -161,7 +151,7 @@ class Worker:
         if self._carried:  # taken at the horizon, not handled yet: they may refresh bodies
             return
         for call in self._tracker.timed(self._horizon):
-            self._apply(call)
+            self._decisions.apply(call)
 
     def _time_tick(self, view: TurnView) -> None:
         """What time alone makes due, read from the turn's view: each frame whose people
@@ -169,12 +159,12 @@ class Worker:
         they changed), then each output's periodic messages."""
         for update in self._scenes.tick(self._clock(), view):
             for output in self._outputs:
-                self._decided += output.on_scene(update)
+                self._decisions.add(output.on_scene(update))
             if update.left_out:
                 self._ledger.count("scene_people_left_out", update.left_out)
         now, current = self._clock(), self._scenes.current()
         for output in self._outputs:
-            self._decided += output.tick(now, view, current)
+            self._decisions.add(output.tick(now, view, current))
 
     def _handle(self, batch: list[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together. An item
@@ -191,104 +181,16 @@ class Worker:
             try:
                 self._handle_one(item, poses)
             except Exception as error:
-                self._fault(error, f"an input item ({type(item).__name__})")
-        self._flush(poses)
+                self.faults.met(error, f"an input item ({type(item).__name__})")
+        self._decisions.flush(poses, self._horizon)
 
     def _handle_one(self, item: object, poses: list[PoseSample]) -> None:
         if isinstance(item, QueryItem):
-            self._flush(poses)
+            self._decisions.flush(poses, self._horizon)
             # What was decided before the query goes out (and is counted) first: a status
             # read after the answer agrees with it, as a result sent before it does.
-            self._hand_over()
+            self._decisions.hand_over()
             answer(item, self._tracker, self._scenes, self._ledger, self._settings)
         elif (loss := self._input.read(item, poses)) is not None:
-            self._flush(poses)  # the poses before it first, in order
-            self._apply(
-                lambda: self._tracker.lose(loss.bodies, self._horizon,
-                                           time_went_back=loss.time_went_back)
-            )  # fmt: skip
-
-    def _flush(self, poses: list[PoseSample]) -> None:
-        """Run the pending poses through the tracker, publish, and empty the list. When
-        that meets a bug, the poses go again one by one: only the one at fault is lost
-        (refused as internal_error), never the batch's others."""
-        if not poses:
-            return
-        batch = list(poses)
-        poses.clear()
-        try:
-            self._ingest(batch)
-            return
-        except Exception as error:
-            self._fault(error, f"a batch of {len(batch)} poses")
-            if len(batch) == 1:
-                self._refuse(batch[0], error)
-                return
-        for sample in batch:
-            try:
-                self._ingest([sample])
-            except Exception as error:
-                self._fault(error, f"the pose of {sample.body_id} in {sample.frame_id}")
-                self._refuse(sample, error)
-
-    def _refuse(self, sample: PoseSample, error: Exception) -> None:
-        """A pose whose handling met a bug: refused alone, as internal_error."""
-        detail = f"{type(error).__name__}: {error}"
-        self._reject(Rejection.INTERNAL_ERROR, self._input.origin(sample), detail)
-
-    def _ingest(self, poses: list[PoseSample]) -> None:
-        changes = self._apply(lambda: self._tracker.ingest(poses, self._horizon))
-        for sample in changes.out_of_order:
-            self._reject(
-                Rejection.OUT_OF_ORDER,
-                self._input.origin(sample),
-                f"stamp {sample.pose.stamp} older than the latest accepted",
-            )
-        for sample in changes.over_capacity:
-            self._reject(
-                Rejection.CAPACITY,
-                self._input.origin(sample),
-                f"already tracking max_bodies={self._settings.max_bodies}",
-            )
-        self._accepted += len(changes.results)
-
-    def _apply(self, change: Callable[[], Changes]) -> Changes:
-        """One tracker call and the publications it calls for, whole or not at all: when
-        either raises, the tracker is as before and nothing of it is said."""
-        mark = len(self._decided)
-        try:
-            with self._tracker.transaction():
-                changes = change()
-                self._publish(changes)
-        except Exception:
-            del self._decided[mark:]
-            raise
-        return changes
-
-    def _reject(self, reason: Rejection, key: str, detail: str) -> None:
-        self._ledger.reject(reason, key, detail)
-
-    def _publish(self, changes: Changes) -> None:
-        """What the changes call for, in the order it must be sent (handed over at the end
-        of the loop's turn, see ``_hand_over``)."""
-        for output in self._outputs:
-            self._decided += output.on_changes(changes)
-        if changes.results or changes.lost:
-            self._scenes.touch(
-                {s.frame_id for s in changes.results} | {b.frame_id for b in changes.lost}
-            )
-
-    def _hand_over(self) -> None:
-        """Give the publisher all this turn decided, in one go, as the worker is about to
-        wait: one lock and one wake-up per turn, and the publisher wakes when the worker
-        lets go of the GIL rather than waiting for it. The worker never waits on the
-        network (a stuck consumer only ever stalls the publisher).
-
-        Accepted samples are counted once their results are handed over: "all accepted and
-        the outbox empty" means all sent."""
-        if self._decided:
-            self._outbox.add(self._decided)
-            self._decided = []
-        if self._accepted:
-            self._ledger.count("samples_accepted", self._accepted)
-            self._accepted = 0
+            self._decisions.flush(poses, self._horizon)  # the poses before it first
+            self._decisions.lose(loss, self._horizon)

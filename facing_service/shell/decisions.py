@@ -1,0 +1,160 @@
+"""What the worker decides, and how a bug in it stays small.
+
+``Decisions``: each tracker call and the publications it calls for, in one transaction
+(whole or not at all: when either raises, the tracker is as before and nothing of it is
+said); the turn's publications, handed to the outbox in one go; poses that meet a bug
+tried again one by one, so only the one at fault is lost (``internal_error``).
+``Faults``: the bugs met in a turn, counted and logged, and the status's "degraded".
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Sequence
+
+from ..contract.poses import Rejection
+from ..core.records import Changes, PoseSample
+from ..core.scene import Scenes
+from ..core.tracker import Tracker
+from .inputs import Input, Loss
+from .ledger import Ledger
+from .outbox import Outbox, Publication
+from .outputs import Output
+
+log = logging.getLogger("facing_service")
+
+
+class Faults:
+    """``failing`` is read by the status (any thread); the rest is the worker's."""
+
+    def __init__(self, ledger: Ledger) -> None:
+        self._ledger = ledger
+        self.failing = False  # the last batch raised
+        self.in_turn = 0  # errors in the current turn
+
+    def met(self, error: Exception, where: str) -> None:
+        """A bug met in the worker: counted, logged (the first of a turn with its
+        traceback), and the status says "degraded" until a batch has none: from before
+        the count, so a status that shows the error also says degraded."""
+        self.failing = True
+        self._ledger.count("worker_errors")
+        self.in_turn += 1
+        if self.in_turn == 1:
+            log.error("worker: unexpected error in %s", where, exc_info=error)
+
+    def turn_over(self, handled_any: bool) -> None:
+        """ "degraded" until a batch succeeds: a turn woken by the alarm alone proves nothing."""
+        if handled_any or self.in_turn:
+            self.failing = self.in_turn > 0
+        self.in_turn = 0
+
+
+class Decisions:
+    def __init__(
+        self,
+        tracker: Tracker,
+        source: Input,
+        outputs: Sequence[Output],
+        scenes: Scenes,
+        ledger: Ledger,
+        outbox: Outbox,
+        faults: Faults,
+        max_bodies: int,
+    ) -> None:
+        self._tracker = tracker
+        self._input = source
+        self._outputs = outputs
+        self._scenes = scenes
+        self._ledger = ledger
+        self._outbox = outbox
+        self._faults = faults
+        self._max_bodies = max_bodies
+        self._decided: list[Publication] = []  # decided this turn of the loop
+        self._accepted = 0  # samples whose results are in _decided
+
+    def add(self, publications: list[Publication]) -> None:
+        """Publications decided outside a tracker call (scenes, periodic messages)."""
+        self._decided += publications
+
+    def apply(self, change: Callable[[], Changes]) -> Changes:
+        """One tracker call and the publications it calls for, whole or not at all."""
+        mark = len(self._decided)
+        try:
+            with self._tracker.transaction():
+                changes = change()
+                self.publish(changes)
+        except Exception:
+            del self._decided[mark:]
+            raise
+        return changes
+
+    def publish(self, changes: Changes) -> None:
+        """What the changes call for, in the order it must be sent (handed over at the end
+        of the loop's turn, see ``hand_over``); the frames they touch are due a scene."""
+        for output in self._outputs:
+            self._decided += output.on_changes(changes)
+        if changes.results or changes.lost:
+            self._scenes.touch(
+                {s.frame_id for s in changes.results} | {b.frame_id for b in changes.lost}
+            )
+
+    def lose(self, loss: Loss, now: float) -> None:
+        self.apply(lambda: self._tracker.lose(loss.bodies, now, time_went_back=loss.time_went_back))
+
+    def flush(self, poses: list[PoseSample], now: float) -> None:
+        """Run the pending poses through the tracker, publish, and empty the list. When
+        that meets a bug, the poses go again one by one: only the one at fault is lost
+        (refused as internal_error), never the batch's others."""
+        if not poses:
+            return
+        batch = list(poses)
+        poses.clear()
+        try:
+            self._ingest(batch, now)
+            return
+        except Exception as error:
+            self._faults.met(error, f"a batch of {len(batch)} poses")
+            if len(batch) == 1:
+                self._refuse(batch[0], error)
+                return
+        for sample in batch:
+            try:
+                self._ingest([sample], now)
+            except Exception as error:
+                self._faults.met(error, f"the pose of {sample.body_id} in {sample.frame_id}")
+                self._refuse(sample, error)
+
+    def _refuse(self, sample: PoseSample, error: Exception) -> None:
+        detail = f"{type(error).__name__}: {error}"
+        self._ledger.reject(Rejection.INTERNAL_ERROR, self._input.origin(sample), detail)
+
+    def _ingest(self, poses: list[PoseSample], now: float) -> None:
+        changes = self.apply(lambda: self._tracker.ingest(poses, now))
+        for sample in changes.out_of_order:
+            self._ledger.reject(
+                Rejection.OUT_OF_ORDER,
+                self._input.origin(sample),
+                f"stamp {sample.pose.stamp} older than the latest accepted",
+            )
+        for sample in changes.over_capacity:
+            self._ledger.reject(
+                Rejection.CAPACITY,
+                self._input.origin(sample),
+                f"already tracking max_bodies={self._max_bodies}",
+            )
+        self._accepted += len(changes.results)
+
+    def hand_over(self) -> None:
+        """Give the publisher all this turn decided, in one go, as the worker is about to
+        wait: one lock and one wake-up per turn, and the publisher wakes when the worker
+        lets go of the GIL rather than waiting for it. The worker never waits on the
+        network (a stuck consumer only ever stalls the publisher).
+
+        Accepted samples are counted once their results are handed over: "all accepted and
+        the outbox empty" means all sent."""
+        if self._decided:
+            self._outbox.add(self._decided)
+            self._decided = []
+        if self._accepted:
+            self._ledger.count("samples_accepted", self._accepted)
+            self._accepted = 0
