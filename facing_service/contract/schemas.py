@@ -259,10 +259,11 @@ class ServiceStatus(BaseModel):
         description="samples_accepted, results_published, results_superseded, "
         "deletes_published, frames_published, engagement_published, events_published, "
         "queries_answered, queries_refused, publish_errors, tf_lookups_unresolved, "
-        "ros_published, scene_published, scene_people_left_out, worker_errors: every one "
-        "present from the start (scene_published: groups, group and who-faces-whom "
+        "ros_published, scene_published, scene_people_left_out, clock_restarts, worker_errors: "
+        "every one present from the start (scene_published: groups, group and who-faces-whom "
         "publications; scene_people_left_out: people beyond --group-max-people, summed "
-        "over the scenes said). Read with the outbox depth: all accepted and an "
+        "over the scenes said; clock_restarts: bodies whose tracker's clock started over, "
+        "lost and followed on the new clock). Read with the outbox depth: all accepted and an "
         "outbox_depth of 0 means all sent."
     )
     rejected: dict[str, int] = Field(description="Rejected samples per reason (all reasons).")

@@ -114,6 +114,9 @@ class Changes:
     out_of_order: list[PoseSample] = field(default_factory=list)
     over_capacity: list[PoseSample] = field(default_factory=list)
     engagement: list[EngagementUpdate] = field(default_factory=list)
+    #: Poses on a body's new clock (its tracker restarted, see tracker.RESTART_EVIDENCE):
+    #: the caller loses the body (no tombstone), then ingests them as a new life.
+    restarted: list[PoseSample] = field(default_factory=list)
 
 
 @dataclass(slots=True)

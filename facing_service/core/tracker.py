@@ -33,6 +33,13 @@ from .records import (
 #: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
 #: from reordered or replayed traffic arrive within well under this.
 TOMBSTONE_S = 30.0
+#: A tracker that restarts, reusing its ids, its clock starting over, is told from late or
+#: stray poses by evidence: this many poses of a body in a row (no accepted one between),
+#: each older than its last accepted one (or its DELETE's) by more than RESTART_GAP_S,
+#: each newer than the one before. One stale pose, a replayed one, or reordered traffic
+#: (jitter is well under the gap) are refused as out of order, as before.
+RESTART_EVIDENCE = 3
+RESTART_GAP_S = 1.0
 
 
 class Tracker:
@@ -82,6 +89,9 @@ class Tracker:
         self._tombstones: Store[BodyRef, tuple[tuple[int, int], float]] = Store(journal)
         # Bodies whose level will change with time alone (DISENGAGING's dwell): when.
         self._due: Store[BodyRef, float] = Store(journal)
+        # Evidence of a tracker's clock starting over: the last such pose's stamp, and how
+        # many in a row (see RESTART_EVIDENCE). Oldest first; at most max_bodies.
+        self._older: Store[BodyRef, tuple[tuple[int, int], int]] = Store(journal)
 
     def transaction(self) -> AbstractContextManager[None]:
         """Changes made inside apply whole, or not at all (see ``journal``)."""
@@ -109,14 +119,23 @@ class Tracker:
         count: dict[BodyRef, int] = {}
         generations: list[list[PoseSample]] = []
         room = self.max_bodies - len(self._tracks)
+        restarted: set[BodyRef] = set()
         for sample in samples:
             key = sample.body
+            if key in restarted:  # the rest of a restarted body's poses: its new clock
+                changes.restarted.append(sample)
+                continue
             last = newest.get(key)
             if last is None and (track := self._tracks.get(key)) is not None:
                 last = track.pose.stamp
             if last is None and (tomb := self._tombstones.get(key)) is not None:
                 if sample.pose.stamp <= tomb[0]:  # a late pose of a deleted body
-                    changes.out_of_order.append(sample)
+                    if self._clock_restarted(key, sample.pose.stamp, tomb[0]):
+                        del self._tombstones[key]
+                        restarted.add(key)
+                        changes.restarted.append(sample)
+                    else:
+                        changes.out_of_order.append(sample)
                     continue
                 del self._tombstones[key]  # newer than the DELETE: the body is back
             if last is None:  # a new body
@@ -125,8 +144,14 @@ class Tracker:
                     continue
                 room -= 1
             elif sample.pose.stamp < last:
-                changes.out_of_order.append(sample)
+                if self._clock_restarted(key, sample.pose.stamp, last):
+                    restarted.add(key)
+                    changes.restarted.append(sample)
+                else:
+                    changes.out_of_order.append(sample)
                 continue
+            if key in self._older:  # an accepted pose ends a run of older ones
+                del self._older[key]
             newest[key] = sample.pose.stamp
             k = count.get(key, 0)
             count[key] = k + 1
@@ -143,6 +168,23 @@ class Tracker:
             touched.update(s.frame_id for s in generation)
         changes.frames = self._frame_changes(touched)
         return changes
+
+    def _clock_restarted(self, key: BodyRef, stamp: tuple[int, int], last: tuple[int, int]) -> bool:
+        """Whether this pose, older than the body's ``last``, completes the evidence that
+        its tracker's clock started over (RESTART_EVIDENCE); kept towards it otherwise."""
+        if stamp_s(last) - stamp_s(stamp) <= RESTART_GAP_S:  # late, not a new clock
+            self._older.pop(key, None)
+            return False
+        before = self._older.get(key)
+        count = before[1] + 1 if before is not None and stamp > before[0] else 1
+        if count >= RESTART_EVIDENCE:
+            del self._older[key]
+            return True
+        self._older[key] = (stamp, count)
+        self._older.move_to_end(key)
+        while len(self._older) > self.max_bodies:
+            self._older.popitem(last=False)
+        return False
 
     def _decide_each(self, samples: Sequence[PoseSample], now: float, changes: Changes) -> None:
         """A few bodies: one pass per body on floats (``detector.classify_one``), looking
@@ -357,6 +399,8 @@ class Tracker:
     def _remove(self, key: BodyRef, changes: Changes) -> None:
         track = self._tracks.pop(key)
         self._due.pop(key, None)
+        if key in self._older:
+            del self._older[key]
         if track.engagement.level is not Level.UNKNOWN:  # lost: a last event, to UNKNOWN
             update = track.engagement_update(track.engagement.level)
             changes.engagement.append(replace(update, level=Level.UNKNOWN, since=update.stamp))

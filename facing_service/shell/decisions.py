@@ -15,7 +15,7 @@ from collections.abc import Callable, Sequence
 from ..contract.poses import Rejection
 from ..core.records import Changes, PoseSample
 from ..core.scene import Scenes
-from ..core.tracker import Tracker
+from ..core.tracker import RESTART_EVIDENCE, Tracker
 from .inputs import Input, Loss
 from .ledger import Ledger
 from .outbox import Outbox, Publication
@@ -143,6 +143,17 @@ class Decisions:
                 f"already tracking max_bodies={self._max_bodies}",
             )
         self._accepted += len(changes.results)
+        if changes.restarted:  # a tracker restarted, its clock starting over: a new life
+            bodies = list(dict.fromkeys(sample.body for sample in changes.restarted))
+            for body in bodies:
+                log.warning(
+                    "%s in %s: its tracker's clock started over (%d poses in a row older "
+                    "than its last, each newer than the one before): lost, and followed "
+                    "on the new clock", body.body_id, body.frame_id, RESTART_EVIDENCE,
+                )  # fmt: skip
+            self._ledger.count("clock_restarts", len(bodies))
+            self.apply(lambda: self._tracker.lose(bodies, now, time_went_back=True))
+            self._ingest(changes.restarted, now)
 
     def hand_over(self) -> None:
         """Give the publisher all this turn decided, in one go, as the worker is about to

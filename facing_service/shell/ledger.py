@@ -39,6 +39,7 @@ DECIDED = (
     "tf_lookups_unresolved",
     "worker_errors",
     "scene_people_left_out",
+    "clock_restarts",
 )
 #: The publisher's counters, one per kind of publication, plus its errors.
 SENT = {
@@ -67,6 +68,7 @@ COUNTERS = (
     "ros_published",
     "scene_published",
     "scene_people_left_out",
+    "clock_restarts",
     "worker_errors",
 )
 

@@ -356,3 +356,66 @@ def test_keeping_a_frame_shares_its_lists_until_they_change():
     frame.discard("a")
     assert (frame.tracked, frame.facing) == ({"b"}, {"b"})
     assert (kept_again.tracked, kept_again.facing) == ({"a", "b"}, {"a", "b"})
+
+
+def test_a_tracker_whose_clock_starts_over_is_followed_after_three_poses_in_a_row():
+    """Issue 45: a tracker restarts and reuses its ids, its stamps starting over. Three
+    poses in a row, each more than RESTART_GAP_S older than the body's last and newer
+    than the one before, are its new clock: the caller gets them back as ``restarted``
+    (it loses the body, then ingests them anew)."""
+    from facing_service.core.tracker import RESTART_EVIDENCE
+
+    t = tracker()
+    t.ingest([sample(sec=1000)], now=0.0)
+    for i in range(RESTART_EVIDENCE - 1):
+        refused = t.ingest([sample(sec=1 + i)], now=0.1 * i)
+        assert refused.out_of_order and not refused.restarted and not refused.results
+    third = t.ingest([sample(sec=RESTART_EVIDENCE), sample(sec=RESTART_EVIDENCE + 1)], now=1)
+    assert [s.pose.stamp for s in third.restarted] == [(3, 0), (4, 0)]
+    assert not third.out_of_order and not third.results
+    lost = t.lose([BodyRef(frame_id="cam", body_id="a")], now=1.0, time_went_back=True)
+    assert lost.lost == [BodyRef(frame_id="cam", body_id="a")]
+    anew = t.ingest(third.restarted, now=1.0)
+    assert [s.stamp for s in anew.results] == [(3, 0), (4, 0)] and len(t) == 1
+
+
+@pytest.mark.parametrize(
+    "stream",
+    [
+        [1, 1, 1, 1, 1],  # one stale pose, re-sent: never newer than the one before
+        [5, 3, 4, 2, 6],  # stale poses out of order
+        [999.5, 999.6, 999.7, 999.8],  # late by less than the gap: reordered traffic
+    ],
+)
+def test_stale_or_reordered_poses_never_restart_a_body(stream):
+    t = tracker()
+    t.ingest([sample(sec=1000)], now=0.0)
+    for i, sec in enumerate(stream):
+        whole, frac = int(sec), round((sec % 1) * 1e9)
+        changes = t.ingest([sample(sec=whole, nanosec=frac)], now=0.1 * i)
+        assert changes.out_of_order and not changes.restarted
+    assert t.states()[0].stamp == (1000, 0)
+
+
+def test_an_accepted_pose_between_breaks_the_evidence():
+    """The live tracker still sending: a stray old stream interleaved with it never adds
+    up to three in a row."""
+    t = tracker()
+    t.ingest([sample(sec=1000)], now=0.0)
+    for i in range(10):
+        assert t.ingest([sample(sec=1 + i)], now=i).out_of_order
+        assert t.ingest([sample(sec=1001 + i)], now=i).results
+    assert t.states()[0].stamp == (1010, 0)
+
+
+def test_a_deleted_body_whose_tracker_restarts_comes_back_on_its_new_clock():
+    """A clean stop (DELETE: a tombstone refuses older poses for TOMBSTONE_S), then the
+    restarted tracker's clock from zero: back after three poses, not after 30 s."""
+    t = tracker()
+    t.ingest([sample(sec=1000)], now=0.0)
+    t.lose([BodyRef(frame_id="cam", body_id="a")], now=0.1)
+    assert t.ingest([sample(sec=1)], now=0.2).out_of_order
+    assert t.ingest([sample(sec=2)], now=0.3).out_of_order
+    back = t.ingest([sample(sec=3)], now=0.4)
+    assert [s.pose.stamp for s in back.restarted] == [(3, 0)]
+    assert t.ingest(back.restarted, now=0.4).results

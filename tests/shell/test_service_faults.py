@@ -260,3 +260,40 @@ def test_the_ros2_path_recovers_after_the_robots_router_restarts(net, caplog):
         robot.close()
     assert "lost every router and peer" in caplog.text
     wait_until(lambda: "back in touch" in caplog.text, 5, "the return said")
+
+
+def test_a_tracker_that_restarts_and_reuses_its_ids_is_followed(net):
+    """Issue 45. A tracker crashes and restarts, its clock starting over: its first poses
+    are older than the body's last, refused as late until three in a row (each newer than
+    the one before) show a new clock; then the body is lost (DELETE) and followed anew.
+    A tracker that stopped cleanly (DELETE) and restarts with newer stamps is back at once."""
+    service, ep = net.service()
+    consumer = net.client(ep)
+    results = net.recorder(consumer, "hri/bodies/a/facing/cam")
+    wait_until_answered(consumer, FRAME_KEY)
+    first = net.client(ep)
+    wait_until_answered(first, FRAME_KEY)
+    for sec in (1000, 1001):
+        send(first, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=sec))
+    results.wait_for(lambda i: i.kind == "put" and i.value["stamp"]["sec"] == 1001)
+    first.close()  # crashed: no DELETE
+
+    again = net.client(ep)  # restarted: its clock from 1 s
+    wait_until_answered(again, FRAME_KEY)
+    for sec in (1, 2, 3, 4):
+        send(again, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=sec, off_deg=60))
+    results.wait_for(lambda i: i.kind == "put" and i.value["stamp"]["sec"] == 4)
+    after = [i for i in results.items if i.kind == "delete" or i.value["stamp"]["sec"] < 1000]
+    assert [(i.kind, None if i.kind == "delete" else i.value["stamp"]["sec"]) for i in after] == [
+        ("delete", None),
+        ("put", 3),
+        ("put", 4),
+    ]  # the two first refused as late; the third shows the new clock
+    status = service.status()
+    assert status.counters["clock_restarts"] == 1 and status.rejected["out_of_order"] == 2
+
+    again.delete("hri/bodies/a/pose/cam")  # a clean stop
+    results.wait_for(lambda i: i.kind == "delete", count=2)
+    send(again, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=5))  # restarted, later
+    results.wait_for(lambda i: i.kind == "put" and i.value["stamp"]["sec"] == 5)
+    assert service.status().counters["clock_restarts"] == 1
