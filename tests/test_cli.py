@@ -134,7 +134,7 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
             ["run", "-e", "tcp/nohost:99999"],
             "--connect=['tcp/nohost:99999']: tcp/nohost:99999: port",
         ),
-        (["run", "-e", "nohost:7447"], "not <protocol>/<address>"),
+        (["run", "-e", "nohost:7447"], "not <protocol>/<address> (tcp/nohost:7447?)"),
         (["run", "-l", "tcp/[::1:7447"], "--listen="),
         (["run", "-c", "/no/such.json5"], "--config '/no/such.json5': no such file"),
         (["run", "-c", "/tmp"], "--config '/tmp': not a file"),

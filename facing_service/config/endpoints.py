@@ -14,7 +14,8 @@ def endpoint_problem(endpoint: str, *, listen: bool = False) -> str | None:
     locator = endpoint.split("#", 1)[0].split("?", 1)[0]
     protocol, sep, address = locator.partition("/")
     if not sep or protocol not in _PROTOCOLS:
-        return f"not <protocol>/<address>, protocol one of {', '.join(sorted(_PROTOCOLS))}"
+        hint = f" (tcp/{endpoint}?)" if not sep and ":" in endpoint else ""
+        return f"not <protocol>/<address>{hint}, protocol one of {', '.join(sorted(_PROTOCOLS))}"
     if protocol not in _HOST_PORT:
         return None if address else "no address"
     host, colon, port = address.rpartition(":")
