@@ -20,8 +20,9 @@ def test_ruff(args):
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
-#: The layers kept type-clean (issue 43): the pure core, the contract and the ROS 2 codec.
-TYPED = ["facing_service/contract", "facing_service/core", "facing_service/ros2"]
+#: The layers kept type-clean (issue 43): the pure core, the contract, the ROS 2 codec and
+#: the service's shell.
+TYPED = [f"facing_service/{layer}" for layer in ("contract", "core", "ros2", "shell")]
 
 
 def test_mypy_finds_nothing_in_the_typed_layers():

@@ -124,9 +124,10 @@ class Intake:
                 items.extend(self._side.take(0.0, 1))
             if len(items) >= most:
                 return items, False
-            sample = channel.try_recv()
-            if sample is None:
+            following = channel.try_recv()
+            if following is None:
                 return items, True
+            sample = following
 
     def _woken_by(self, attachment: bytes) -> bytes | None:
         token = self._token

@@ -87,7 +87,7 @@ class LinkWatch:
                     "reach nobody meanwhile",
                     self._where,
                 )
-            elif now >= next_say:
+            elif self._since is not None and now >= next_say:  # (lost: _since is set)
                 next_say = now + REMINDER_S
                 log.warning(
                     "still no router or peer at %s after %.0f s (zenoh keeps trying)",

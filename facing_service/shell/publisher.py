@@ -57,6 +57,7 @@ class Publisher:
                     return
                 put, result = self._session.put, Kind.RESULT
                 declared, declare = self._keys.exprs, self._keys.declare
+                key: zenoh.KeyExpr | str | None
                 for p in publications:
                     try:
                         if p.kind is result:  # the hot path, inlined: most of what is sent
@@ -81,12 +82,11 @@ class Publisher:
         if (sender := senders.get(p.kind)) is not None:  # an output form's own (ROS 2)
             sender.send(p)
         elif p.payload is None:  # Kind.DELETE: the body is lost (or a group dissolved)
-            key = self._keys.exprs.get(p.key, p.key)
-            self._session.delete(key, congestion_control=BLOCK)
+            self._session.delete(self._keys.exprs.get(p.key, p.key), congestion_control=BLOCK)
             self._keys.forget(p.key)
         elif p.kind is Kind.ENGAGEMENT:  # per body: on its declared key, as results
-            if (key := self._keys.exprs.get(p.key)) is None:
-                key = self._keys.declare(p.key, False)
+            declared = self._keys.exprs.get(p.key)
+            key = declared if declared is not None else self._keys.declare(p.key, False)
             self._session.put(key, p.payload, encoding=JSON, congestion_control=BLOCK)
         else:
             self._session.put(p.key, p.payload, encoding=JSON, congestion_control=BLOCK)

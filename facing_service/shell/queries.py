@@ -31,7 +31,10 @@ def answer(
     """Reply with the current state of every matching key, one reply per key."""
     query = item.query
     try:
-        threshold = threshold_parameter(dict(query.parameters), item.space)
+        threshold = threshold_parameter(
+            dict(query.parameters),  # type: ignore[call-overload]  # (stubs: no __iter__)
+            item.space,
+        )
     except ValueError as error:
         ledger.count("queries_refused")  # before the reply: a status read after it agrees
         query.reply_err(
@@ -56,12 +59,14 @@ def answer(
         if query.key_expr.intersects(zenoh.KeyExpr(key))
     ]
     if not replies:
-        replies, error = _nothing_matched(item.space, str(query.key_expr), ledger, scenes, settings)
+        replies, refusal = _nothing_matched(
+            item.space, str(query.key_expr), ledger, scenes, settings
+        )
     else:
-        error = None
+        refusal = None
     ledger.count("queries_answered")  # before the replies: a status read after them agrees
-    if error is not None:
-        query.reply_err(error.model_dump_json(), encoding=JSON)
+    if refusal is not None:
+        query.reply_err(refusal.model_dump_json(), encoding=JSON)
     for key, payload in replies:
         query.reply(key, payload, encoding=JSON)
     query.drop()
@@ -90,7 +95,9 @@ def _nothing_matched(
     if space in ("groups", "gazing"):
         return query_replies(space, ns, me, (), (), (), [scene]), None
     if space == "frame":
-        said = frame_json(frame_facing(frame, empty and empty.stamp, [], []), me)
+        said = frame_json(
+            frame_facing(frame, empty.stamp if empty is not None else None, [], []), me
+        )
         return [(keys.frame_key(ns, frame), said)], None
     if ledger.tracked.get(frame, 0):  # others are there: the body asked for is not
         detail = f"no body matching {selector!r} is tracked in frame {frame!r} now"

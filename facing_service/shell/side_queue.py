@@ -62,7 +62,7 @@ class SideQueue(Generic[T]):
                 if not items:
                     self._arrived.wait(timeout)
                 self._taker_waiting = False
-        batch = []
+        batch: list[T] = []
         while items and len(batch) < most:
             batch.append(items.popleft())
         if batch and self._putters_waiting:
