@@ -37,6 +37,7 @@ from facing_service.config.session import zenoh_config
 from facing_service.config.settings import Settings
 from facing_service.contract import keys
 from facing_service.contract.poses import pose_dict, yaw_rotation
+from facing_service.contract.stamps import ZERO, Time
 from facing_service.testing import LOOPBACK_FLAGS, endpoint, running_cli, wait_until
 
 from .common import free_port, rss_mb, status, wait_for_status
@@ -114,15 +115,15 @@ class Consumer:
     received: int = 0
     out_of_order: int = 0
     joins: int = 0
-    last: dict[str, tuple[int, int]] = field(default_factory=dict)
+    last: dict[str, Time] = field(default_factory=dict)
 
     def on_result(self, sample: zenoh.Sample) -> None:
         if sample.kind != zenoh.SampleKind.PUT:
             return
         value = json.loads(sample.payload.to_bytes())
-        stamp = (value["stamp"]["sec"], value["stamp"]["nanosec"])
+        stamp = Time.of(value["stamp"]["sec"], value["stamp"]["nanosec"])
         body = str(sample.key_expr)
-        if stamp < self.last.get(body, (0, 0)):
+        if stamp < self.last.get(body, ZERO):
             self.out_of_order += 1
         self.last[body] = stamp
         self.received += 1
@@ -251,7 +252,7 @@ def main() -> None:
                 payload = pose_dict(
                     person.body,
                     "map",
-                    (wall // 10**9, wall % 10**9),
+                    Time(wall),
                     (person.x, person.y, 0.0),
                     yaw_rotation(person.yaw),
                 )

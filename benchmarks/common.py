@@ -14,6 +14,7 @@ import zenoh
 from facing_service.contract import keys
 from facing_service.contract.poses import pose_dict, yaw_rotation
 from facing_service.contract.schemas import ServiceStatus
+from facing_service.contract.stamps import Time
 from facing_service.ros2 import types as ros2_types
 from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback_config, running_cli
 
@@ -29,7 +30,9 @@ def rss_mb(pid: int) -> float:
 
 
 def pose_payload(body: str, frame: str, x: float, y: float, yaw_deg: float, sec: int) -> bytes:
-    return json.dumps(pose_dict(body, frame, (sec, 0), (x, y, 0.0), yaw_rotation(yaw_deg))).encode()
+    return json.dumps(
+        pose_dict(body, frame, Time.of(sec), (x, y, 0.0), yaw_rotation(yaw_deg))
+    ).encode()
 
 
 def tf_payload(body: str, frame: str, x: float, y: float, yaw_deg: float, sec: int) -> bytes:

@@ -189,8 +189,7 @@ def events(recording: Recording, settings: Settings) -> list[tuple[int, str, Lev
     def collect(changes: Changes) -> None:
         for update in changes.engagement:
             if update.previous is not None:
-                sec, nanosec = update.stamp
-                said.append((sec * S + nanosec, update.body_id, update.level))
+                said.append((int(update.stamp), update.body_id, update.level))
 
     for step in recording.steps:
         now = step.now_s

@@ -20,6 +20,7 @@ import zenoh
 from facing_service.config.settings import Settings
 from facing_service.contract import keys
 from facing_service.contract.poses import pose_dict, yaw_rotation
+from facing_service.contract.stamps import Time
 from facing_service.shell.service import FacingService
 from facing_service.testing import endpoint, free_port, loopback_config, wait_until
 
@@ -55,7 +56,7 @@ def live(frames: Sequence, hold_s: float = 1.0) -> list[list[frozenset[int]]]:
             start = time.monotonic()
             for k in range(round(hold_s * RATE_HZ)):
                 tick += 1
-                stamp = divmod(round(tick / RATE_HZ * 1e9), 1_000_000_000)
+                stamp = Time.from_seconds(tick / RATE_HZ)
                 for i, (x, y), heading in zip(
                     frame.ids, frame.positions.tolist(), frame.headings.tolist(), strict=True
                 ):

@@ -204,6 +204,7 @@ TRACKER = """
 import json, sys, time
 import zenoh
 from facing_service.contract.poses import pose_dict, yaw_rotation
+from facing_service.contract.stamps import Time
 from lossy_link import pose_of
 ep, bodies, hz, seconds = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
 conf = zenoh.Config()
@@ -218,7 +219,7 @@ with zenoh.open(conf) as session:
     for tick in range(int(hz * seconds)):
         for i, publisher in enumerate(publishers):
             x, y, yaw = pose_of(i, tick)
-            publisher.put(json.dumps(pose_dict(f"b{i}", "cam", (1 + tick, 0), (x, y, 0.0),
+            publisher.put(json.dumps(pose_dict(f"b{i}", "cam", Time.of(1 + tick), (x, y, 0.0),
                                                yaw_rotation(yaw))).encode())
             sent += 1
         time.sleep(max(0.0, start + (tick + 1) / hz - time.monotonic()))

@@ -7,6 +7,7 @@ import math
 from typing import Any
 
 from facing_service.contract import poses as contract_poses
+from facing_service.contract.stamps import Time
 
 from loopback import send
 
@@ -34,7 +35,7 @@ def pose_dict(
     """A TransformStamped dict; by default the body looks at the robot, turned by off_deg."""
     yaw = (toward_origin_deg(x, y) if yaw_deg is None else yaw_deg) + off_deg
     return contract_poses.pose_dict(
-        body_id, frame_id, (sec, nanosec), (x, y, z), yaw_quaternion(yaw)
+        body_id, frame_id, Time.of(sec, nanosec), (x, y, z), yaw_quaternion(yaw)
     )
 
 

@@ -33,6 +33,7 @@ from ..contract import keys
 from ..contract.errors import ClientNotOpen, QueryRefused, UnknownFrame
 from ..contract.levels import Level
 from ..contract.schemas import EngagementEvent, FacingState, GazePair, GroupState, QueryError
+from ..contract.stamps import Time
 from .scene import SCENE_EVENTS, Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
@@ -405,5 +406,5 @@ def _instance_of(token_key: str) -> str:
     return token_key.rsplit("/", 1)[-1]
 
 
-def _stamp(state: FacingState) -> tuple[int, int]:
-    return state.stamp.sec, state.stamp.nanosec
+def _stamp(state: FacingState) -> Time:
+    return Time.from_model(state.stamp)

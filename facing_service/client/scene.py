@@ -19,6 +19,7 @@ import zenoh
 
 from ..contract import keys
 from ..contract.schemas import FrameGazing, FrameGroups, GazePair, GroupState
+from ..contract.stamps import Time
 
 log = logging.getLogger("facing_service.client")
 
@@ -166,5 +167,5 @@ def changes(frame: str, before: list[GroupState], after: list[GroupState]) -> li
     return events
 
 
-def _stamp(said: FrameGroups | FrameGazing) -> tuple[int, int]:
-    return said.stamp.sec, said.stamp.nanosec
+def _stamp(said: FrameGroups | FrameGazing) -> Time:
+    return Time.from_model(said.stamp)

@@ -21,6 +21,7 @@ import zenoh
 
 from ..contract import keys
 from ..contract.poses import pose_dict, yaw_rotation
+from ..contract.stamps import Time
 
 #: The area people move in around the robot (metres, base frame; the robot at the origin).
 AREA_M = 4.0
@@ -177,7 +178,7 @@ def pose_message(pose: TrackedPose, frame_id: str) -> bytes:
         pose_dict(
             pose.body_id,
             frame_id,
-            (pose.sec, pose.nanosec),
+            Time.of(pose.sec, pose.nanosec),
             (pose.x, pose.y, 0.0),
             yaw_rotation(pose.yaw_deg),
         )

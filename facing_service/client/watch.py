@@ -33,6 +33,7 @@ from rich.text import Text
 
 from ..contract import keys
 from ..contract.schemas import FacingState, GroupState
+from ..contract.stamps import Time
 from .client import FacingClient
 
 #: Arrows for a heading in the map (base x is up, base y is left), every 45 degrees.
@@ -264,7 +265,7 @@ class Watcher:
         recording reads right, and ``--once`` does not say "1.0" for everyone)."""
         if state.frame_id != self.frame:
             return
-        t = state.stamp.sec + state.stamp.nanosec / 1e9
+        t = Time.from_model(state.stamp).seconds
         with self._lock:
             previous = self._since.get(state.body_id)
             if previous is None:

@@ -17,6 +17,8 @@ from typing import Annotated, Any
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from pydantic_core import from_json
 
+from .stamps import MAX_NANOSEC, MAX_SEC, NS, Stamp, Time
+
 #: tf2's tolerance on a quaternion's squared norm before it refuses to normalize it.
 QUATERNION_TOLERANCE = 0.01
 #: Translations beyond this (metres) are refused: no tracker sees that far, and bounding
@@ -26,25 +28,6 @@ DEFAULT_MAX_PAYLOAD_BYTES = 65536
 _INPUT = ConfigDict(strict=True, allow_inf_nan=False)
 Coordinate = Annotated[float, Field(ge=-MAX_TRANSLATION_M, le=MAX_TRANSLATION_M)]
 QuaternionComponent = Annotated[float, Field(ge=-2.0, le=2.0)]
-
-_MAX_SEC, _MAX_NANOSEC = 2**31 - 1, 999_999_999
-
-
-def stamp_ns(sec: int, nanosec: int) -> int | None:
-    """A stamp as integer nanoseconds, or None when it is outside what a
-    ``builtin_interfaces/Time`` may say, and so what any output of ours can carry
-    (negative seconds; nanoseconds past 999 999 999, as an uninitialised stamp has)."""
-    if 0 <= sec <= _MAX_SEC and 0 <= nanosec <= _MAX_NANOSEC:
-        return sec * 1_000_000_000 + nanosec
-    return None
-
-
-class Stamp(BaseModel):
-    """``builtin_interfaces/Time``: ROS 2 keeps ``sec`` in an int32 and never negative."""
-
-    model_config = _INPUT
-    sec: int = Field(ge=0, le=_MAX_SEC)
-    nanosec: int = Field(ge=0, le=_MAX_NANOSEC)
 
 
 class Header(BaseModel):
@@ -86,7 +69,7 @@ class TransformStamped(BaseModel):
 def pose_dict(
     body_id: str,
     frame_id: str,
-    stamp: tuple[int, int],
+    stamp: Time,
     translation: tuple[float, float, float],
     rotation: tuple[float, float, float, float],
 ) -> dict[str, Any]:
@@ -95,7 +78,7 @@ def pose_dict(
     tests use."""
     (x, y, z), (qx, qy, qz, qw) = translation, rotation
     return {
-        "header": {"stamp": {"sec": stamp[0], "nanosec": stamp[1]}, "frame_id": frame_id},
+        "header": {"stamp": {"sec": stamp.sec, "nanosec": stamp.nanosec}, "frame_id": frame_id},
         "child_frame_id": f"body_{body_id}",
         "transform": {
             "translation": {"x": x, "y": y, "z": z},
@@ -144,9 +127,10 @@ class Rejection(str, Enum):
 
 @dataclass(frozen=True, slots=True)
 class Pose:
-    """A validated pose: plain tuples the core can stack into arrays; unit quaternion."""
+    """A validated pose: its stamp, and plain tuples the core can stack into arrays; unit
+    quaternion."""
 
-    stamp: tuple[int, int]
+    stamp: Time
     translation: tuple[float, float, float]
     rotation: tuple[float, float, float, float]
 
@@ -212,7 +196,7 @@ def _decode_with_model(payload: bytes, body_id: str, frame_id: str) -> Pose | Re
     norm = math.sqrt(norm2)
     t = msg.transform.translation
     return Pose(
-        stamp=(msg.header.stamp.sec, msg.header.stamp.nanosec),
+        stamp=Time.from_model(msg.header.stamp),
         translation=(t.x, t.y, t.z),
         rotation=(q.x / norm, q.y / norm, q.z / norm, q.w / norm),
     )
@@ -241,8 +225,8 @@ def _plainly_valid(payload: bytes, body_id: str, frame_id: str) -> Pose | None:
     if not (
         type(sec) is int
         and type(nanosec) is int
-        and 0 <= sec <= _MAX_SEC
-        and 0 <= nanosec <= _MAX_NANOSEC
+        and 0 <= sec <= MAX_SEC
+        and 0 <= nanosec <= MAX_NANOSEC
         and header.get("frame_id") == frame_id
         and (child == "" or child == f"body_{body_id}")
         # ints or floats, never bools (bool is an int subclass; type() is exact)
@@ -268,7 +252,7 @@ def _plainly_valid(payload: bytes, body_id: str, frame_id: str) -> Pose | None:
         return None
     norm = math.sqrt(norm2)
     return Pose(
-        (sec, nanosec),
+        Time(sec * NS + nanosec),
         (float(x), float(y), float(z)),
         (qx / norm, qy / norm, qz / norm, qw / norm),
     )

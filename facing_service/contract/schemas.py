@@ -10,7 +10,8 @@ from typing import Any
 
 from pydantic import BaseModel, Field
 
-from .poses import Stamp, TransformStamped
+from .poses import TransformStamped
+from .stamps import NS, Stamp
 
 
 class Point(BaseModel):
@@ -53,7 +54,7 @@ class FacingState(BaseModel):
 def facing_state_json(
     body_id: str,
     frame_id: str,
-    stamp: tuple[int, int],
+    stamp: int,
     facing: bool,
     angle_deg: float | None,
     distance_m: float | None,
@@ -70,11 +71,12 @@ def facing_state_json(
     escaping) and every number is finite; a test checks it against ``FacingState``. A
     negative zero (``-Rᵀt`` of a body at z = 0) is said as 0.0: ``+ 0.0`` makes it one.
     """
+    sec, nanosec = divmod(stamp, NS)  # (a Time: integer nanoseconds)
     x, y, z = robot_in_body[0] + 0.0, robot_in_body[1] + 0.0, robot_in_body[2] + 0.0
     px, py, pz = position[0] + 0.0, position[1] + 0.0, position[2] + 0.0
     return (
         f'{{"body_id":"{body_id}","frame_id":"{frame_id}",'
-        f'"stamp":{{"sec":{stamp[0]},"nanosec":{stamp[1]}}},'
+        f'"stamp":{{"sec":{sec},"nanosec":{nanosec}}},'
         f'"facing":{"true" if facing else "false"},'
         f'"angle_deg":{"null" if angle_deg is None else repr(angle_deg)},'
         f'"distance_m":{"null" if distance_m is None else repr(distance_m)},'

@@ -11,8 +11,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..contract.keys import BodyRef
-from ..contract.poses import Pose, Stamp
+from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing, facing_state_json
+from ..contract.stamps import Time
 from . import detector
 from .engagement import Engagement, EngagementParams, Level, Zone, zone
 
@@ -56,7 +57,7 @@ class BodyState(_OfABody):
     values (a pydantic model per sample was a third of the per-sample cost)."""
 
     body: BodyRef
-    stamp: tuple[int, int]
+    stamp: Time
     facing: bool
     angle_deg: float | None
     distance_m: float | None
@@ -87,21 +88,12 @@ class EngagementUpdate(_OfABody):
     (then it is also an event); UNKNOWN with a previous level means the body was lost."""
 
     body: BodyRef
-    stamp: tuple[int, int]
+    stamp: Time
     level: Level
     score: float
     zone: Zone
-    since: tuple[int, int]
+    since: Time
     previous: Level | None
-
-
-def stamp_s(stamp: tuple[int, int]) -> float:
-    return stamp[0] + stamp[1] * 1e-9
-
-
-def to_stamp(seconds: float) -> tuple[int, int]:
-    sec, nanosec = divmod(round(seconds * 1e9), 1_000_000_000)
-    return sec, nanosec
 
 
 @dataclass
@@ -137,7 +129,7 @@ class Track:
             engagement.level,
             engagement.score,
             zone(state.distance_m, self.profile.engagement),
-            to_stamp(engagement.since),
+            Time.from_seconds(engagement.since),
             previous,
         )
 
@@ -164,7 +156,7 @@ class Frame:
 
     tracked: set[str] = field(default_factory=set)
     facing: set[str] = field(default_factory=set)
-    stamp: tuple[int, int] | None = None
+    stamp: Time | None = None
     dirty: bool = False  # membership changed since the aggregate was last published
     shared: bool = field(default=False, repr=False, compare=False)  # sets also a copy's
 
@@ -196,11 +188,11 @@ class Frame:
 
 
 def frame_facing(
-    frame_id: str, stamp: tuple[int, int] | None, facing: Iterable[str], tracked: Iterable[str]
+    frame_id: str, stamp: Time | None, facing: Iterable[str], tracked: Iterable[str]
 ) -> FrameFacing:
     return FrameFacing(
         frame_id=frame_id,
-        stamp=None if stamp is None else Stamp(sec=stamp[0], nanosec=stamp[1]),
+        stamp=None if stamp is None else stamp.model(),
         bodies_facing=sorted(facing),
         bodies_tracked=sorted(tracked),
     )

@@ -17,6 +17,7 @@ from typing import Protocol
 
 import numpy as np
 
+from ..contract.stamps import ZERO, Time
 from . import detector
 from .groups import (
     Group,
@@ -54,7 +55,7 @@ class Person:
 class PeopleOf(Protocol):
     """Where a frame's people are read from (the worker's turn view)."""
 
-    def people(self, frame_id: str) -> tuple[list[Person], tuple[int, int]]: ...
+    def people(self, frame_id: str) -> tuple[list[Person], Time]: ...
 
 
 Pair = tuple[str, str]  # (sender, receiver): the sender faces the receiver
@@ -65,7 +66,7 @@ class SceneUpdate:
     """What changed in one frame's scene, and the whole scene as it now stands."""
 
     frame_id: str
-    stamp: tuple[int, int]
+    stamp: Time
     groups: tuple[Group, ...]  # every group, by id
     changed: tuple[Group, ...]  # formed (a new id) or with other members
     dissolved: tuple[int, ...]
@@ -107,7 +108,7 @@ class FrameScene:
     room: RoomScale = field(init=False)
     gazing: frozenset[Pair] = frozenset()
     left_out: int = 0
-    stamp: tuple[int, int] = (0, 0)
+    stamp: Time = ZERO
     said_once: bool = False
     _worked: LastComputation | None = None
 
@@ -120,9 +121,7 @@ class FrameScene:
         """A grouping waits to be said (it must be looked at again once it has held)."""
         return self.tracker.pending
 
-    def update(
-        self, people: Sequence[Person], stamp: tuple[int, int], now: float
-    ) -> SceneUpdate | None:
+    def update(self, people: Sequence[Person], stamp: Time, now: float) -> SceneUpdate | None:
         """The scene of ``people`` now; an update when anything said changed."""
         p = self.params
         people, left_out = nearest(people, p.max_people)
@@ -209,7 +208,7 @@ class Scenes:
     PAST_FRAMES = 256
 
     def __init__(self, params: SceneParams) -> None:
-        self._past: OrderedDict[str, tuple[int, int]] = OrderedDict()
+        self._past: OrderedDict[str, Time] = OrderedDict()
         self.params = params
         self._frames: dict[str, FrameScene] = {}
         self._dirty: set[str] = set()  # frames whose people moved since last worked out
@@ -268,7 +267,7 @@ class Scenes:
         """The scene of a frame known to this service with nobody in it now (no group, no
         pair, at its last stamp); None for a frame never seen or forgotten."""
         if frame_id in self._frames or frame_id in self._dirty:
-            stamp = self._frames[frame_id].stamp if frame_id in self._frames else (0, 0)
+            stamp = self._frames[frame_id].stamp if frame_id in self._frames else ZERO
         elif frame_id in self._past:
             stamp = self._past[frame_id]
         else:
@@ -276,6 +275,6 @@ class Scenes:
         return nobody(frame_id, stamp)
 
 
-def nobody(frame_id: str, stamp: tuple[int, int]) -> SceneUpdate:
+def nobody(frame_id: str, stamp: Time) -> SceneUpdate:
     """A frame's scene with nobody in it: no group, no pair."""
     return SceneUpdate(frame_id, stamp, (), (), (), frozenset(), False, False, 0)

@@ -14,6 +14,7 @@ from dataclasses import replace
 from ..contract.keys import BodyRef
 from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing
+from ..contract.stamps import NS, Time
 from . import detector
 from .engagement import EngagementParams, Level, advance, facing_score, step
 from .journal import Journal, Store
@@ -27,7 +28,6 @@ from .records import (
     Track,
     decide,
     frame_facing,
-    stamp_s,
 )
 
 #: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
@@ -86,12 +86,12 @@ class Tracker:
         self._frames: Store[str, Frame] = Store(journal, ((f, Frame()) for f in self._declared))
         # After a DELETE: the last accepted stamp, and when the tombstone expires (the
         # caller's clock). Oldest first; at most max_bodies of them.
-        self._tombstones: Store[BodyRef, tuple[tuple[int, int], float]] = Store(journal)
+        self._tombstones: Store[BodyRef, tuple[Time, float]] = Store(journal)
         # Bodies whose level will change with time alone (DISENGAGING's dwell): when.
         self._due: Store[BodyRef, float] = Store(journal)
         # Evidence of a tracker's clock starting over: the last such pose's stamp, and how
         # many in a row (see RESTART_EVIDENCE). Oldest first; at most max_bodies.
-        self._older: Store[BodyRef, tuple[tuple[int, int], int]] = Store(journal)
+        self._older: Store[BodyRef, tuple[Time, int]] = Store(journal)
 
     def transaction(self) -> AbstractContextManager[None]:
         """Changes made inside apply whole, or not at all (see ``journal``)."""
@@ -115,7 +115,7 @@ class Tracker:
         in a batch is still decided in stamp order, with its own hysteresis.
         """
         changes = Changes()
-        newest: dict[BodyRef, tuple[int, int]] = {}
+        newest: dict[BodyRef, Time] = {}
         count: dict[BodyRef, int] = {}
         generations: list[list[PoseSample]] = []
         room = self.max_bodies - len(self._tracks)
@@ -169,10 +169,10 @@ class Tracker:
         changes.frames = self._frame_changes(touched)
         return changes
 
-    def _clock_restarted(self, key: BodyRef, stamp: tuple[int, int], last: tuple[int, int]) -> bool:
+    def _clock_restarted(self, key: BodyRef, stamp: Time, last: Time) -> bool:
         """Whether this pose, older than the body's ``last``, completes the evidence that
         its tracker's clock started over (RESTART_EVIDENCE); kept towards it otherwise."""
-        if stamp_s(last) - stamp_s(stamp) <= RESTART_GAP_S:  # late, not a new clock
+        if last - stamp <= RESTART_GAP_S * NS:  # late, not a new clock
             self._older.pop(key, None)
             return False
         before = self._older.get(key)
@@ -371,7 +371,7 @@ class Tracker:
         is the tracker's. Unchanged levels are republished at most every period of the
         caller's clock (``now``): that limit is about output load, whatever the stamps do."""
         p = track.profile.engagement
-        t = stamp_s(state.stamp)
+        t = state.stamp.seconds
         before = track.engagement.level
         track.engagement = step(
             track.engagement,

@@ -10,6 +10,7 @@ from functools import cached_property
 from ..contract.keys import BodyRef
 from ..contract.levels import Level
 from ..contract.poses import Pose
+from ..contract.stamps import ZERO, Time
 from .records import BodyState, EngagementUpdate
 from .scene import Person
 from .tracker import Tracker
@@ -44,8 +45,8 @@ class TurnView:
             poses = self._poses[frame_id] = self._tracker.poses(frame_id)
         return poses
 
-    def people(self, frame_id: str) -> tuple[list[Person], tuple[int, int]]:
+    def people(self, frame_id: str) -> tuple[list[Person], Time]:
         """A frame's people, as the scene sees them, and their newest stamp."""
         poses = self.poses(frame_id)
         people = [Person(body, p.translation, p.rotation) for body, p in poses]
-        return people, max((p.stamp for _, p in poses), default=(0, 0))
+        return people, max((p.stamp for _, p in poses), default=ZERO)

@@ -28,8 +28,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
-from ..contract.poses import Rejected, Rejection, stamp_ns
+from ..contract.poses import Rejected, Rejection
 from ..contract.robot import DEFAULT_MAX_MESSAGE_BYTES
+from ..contract.stamps import Time
 from ..core.tf_math import RigidTransform
 from . import types as ros2_types
 from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
@@ -123,7 +124,7 @@ def tf_inputs(message: Any) -> list[TfInput]:
     inputs = []
     for t in message.transforms:
         tr, rot = t.transform.translation, t.transform.rotation
-        stamp = stamp_ns(t.header.stamp.sec, t.header.stamp.nanosec)
+        stamp = Time.checked(t.header.stamp.sec, t.header.stamp.nanosec)
         inputs.append(
             TfInput(
                 t.header.frame_id,

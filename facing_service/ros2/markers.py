@@ -22,6 +22,7 @@ import numpy as np
 
 from ..contract.levels import Level
 from ..contract.poses import Pose
+from ..contract.stamps import ZERO, Time
 from ..core.groups import Group
 from ..core.scene import ROBOT
 from ..core.view import TurnView
@@ -84,7 +85,7 @@ def _point(x: float, y: float, z: float = 0.0) -> Any:
 
 def _marker(
     frame: str,
-    stamp: tuple[int, int],
+    stamp: Time,
     ns: str,
     mid: int,
     kind: int,
@@ -113,7 +114,7 @@ def _marker(
         colors=[],
         texture_resource="",
         texture=_t("sensor_msgs/msg/CompressedImage")(
-            header=ros2_types.header("", (0, 0)), format="", data=np.zeros(0, dtype=np.uint8)
+            header=ros2_types.header("", ZERO), format="", data=np.zeros(0, dtype=np.uint8)
         ),
         uv_coordinates=[],
         text=text,
@@ -131,7 +132,7 @@ def _pose(t: tuple[float, float, float], q: tuple[float, float, float, float]) -
     )
 
 
-def person_markers(frame: str, stamp: tuple[int, int], p: PersonMarker) -> list[Any]:
+def person_markers(frame: str, stamp: Time, p: PersonMarker) -> list[Any]:
     """The cone, the arrow and the label of one person, in the person's frame pose."""
     m = _t("visualization_msgs/msg/Marker")
     colour, ns, pose = COLOURS[p.level], f"person/{p.id}", _pose(p.translation, p.rotation)
@@ -159,7 +160,7 @@ def person_markers(frame: str, stamp: tuple[int, int], p: PersonMarker) -> list[
 
 
 def group_markers(
-    frame: str, stamp: tuple[int, int], group: Group, where: dict[str, tuple[float, float]]
+    frame: str, stamp: Time, group: Group, where: dict[str, tuple[float, float]]
 ) -> list[Any]:
     """A group's o-space circle and the lines to its members (the robot at the origin)."""
     m = _t("visualization_msgs/msg/Marker")
@@ -181,7 +182,7 @@ def group_markers(
     ]  # fmt: skip
 
 
-def deletion(frame: str, stamp: tuple[int, int], ns: str, mid: int) -> Any:
+def deletion(frame: str, stamp: Time, ns: str, mid: int) -> Any:
     m = _t("visualization_msgs/msg/Marker")
     return _marker(frame, stamp, ns, mid, m.ARROW, action=m.DELETE)
 
@@ -195,7 +196,7 @@ class MarkerDrawer:
     def draw(
         self,
         frame: str,
-        stamp: tuple[int, int],
+        stamp: Time,
         people: Sequence[PersonMarker],
         groups: Sequence[Group],
     ) -> bytes:

@@ -33,6 +33,7 @@ from typing import Any
 
 from ..contract.levels import Level
 from ..contract.schemas import FrameFacing
+from ..contract.stamps import ZERO, Time
 from ..core.records import Changes, EngagementUpdate
 from ..core.scene import SceneUpdate
 from ..core.view import TurnView
@@ -115,7 +116,7 @@ def _kind(subject: str) -> str:
 
 
 def facing_list(frame: FrameFacing, topic: str, ids: list[str]) -> RosMessage:
-    stamp = (frame.stamp.sec, frame.stamp.nanosec) if frame.stamp else (0, 0)
+    stamp = Time.from_model(frame.stamp) if frame.stamp else ZERO
     message = ros2_types.message_type(ros2_types.IDS_LIST)(
         header=ros2_types.header(frame.frame_id, stamp), ids=ids
     )
@@ -130,7 +131,7 @@ def ros_id(subject: str) -> str:
     return subject[len(_kind(subject)) :]
 
 
-def group_message(frame_id: str, stamp: tuple[int, int], group_id: int, members: Any) -> RosMessage:
+def group_message(frame_id: str, stamp: Time, group_id: int, members: Any) -> RosMessage:
     message = ros2_types.message_type(GROUP)(
         header=ros2_types.header(frame_id, stamp),
         group_id=str(group_id),
@@ -139,7 +140,7 @@ def group_message(frame_id: str, stamp: tuple[int, int], group_id: int, members:
     return RosMessage(GROUPS_TOPIC, GROUP, ros2_types.serialize(message, GROUP))
 
 
-def gaze_message(frame_id: str, stamp: tuple[int, int], sender: str, receiver: str) -> RosMessage:
+def gaze_message(frame_id: str, stamp: Time, sender: str, receiver: str) -> RosMessage:
     message = ros2_types.message_type(GAZE)(
         header=ros2_types.header(frame_id, stamp), sender=ros_id(sender), receiver=ros_id(receiver)
     )
@@ -231,7 +232,7 @@ class RosOutput:
         for frame in sorted(people.keys() | self._drawers.keys()):
             drawer = self._drawers.setdefault(frame, MarkerDrawer())
             scene = scenes.get(frame)
-            stamp = scene.stamp if scene is not None else (0, 0)
+            stamp = scene.stamp if scene is not None else ZERO
             groups = scene.groups if scene is not None else ()
             payload = drawer.draw(frame, stamp, people.get(frame, []), groups)
             out.append(RosMessage(MARKERS_TOPIC, MARKER_ARRAY, payload))

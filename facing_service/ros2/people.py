@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 from ..contract import keys
 from ..contract.poses import MAX_TRANSLATION_M, Pose
 from ..contract.robot import DEFAULT_MAX_FRAMES
+from ..contract.stamps import Time
 from ..core.records import PoseSample
 from ..core.tf_buffer import TfBuffer
 from ..core.tf_errors import TfError
@@ -392,7 +393,7 @@ def _pose(transform: RigidTransform, stamp_ns: int) -> Pose:
     x, y, z, w = transform.rotation
     n = math.sqrt(x * x + y * y + z * z + w * w)
     return Pose(
-        (stamp_ns // S, stamp_ns % S),
+        Time(stamp_ns),
         transform.translation,
         (x / n, y / n, z / n, w / n),
     )

@@ -11,6 +11,8 @@ from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..contract.stamps import Time
+
 if TYPE_CHECKING:
     from rosbags.typesys.store import Typestore
 
@@ -63,7 +65,7 @@ def message_type(typename: str) -> Any:
     return typestore().types[typename]
 
 
-def header(frame_id: str, stamp: tuple[int, int]) -> Any:
+def header(frame_id: str, stamp: Time) -> Any:
     """A ``std_msgs/Header``: every message we send carries one."""
-    time = message_type("builtin_interfaces/msg/Time")(sec=stamp[0], nanosec=stamp[1])
+    time = message_type("builtin_interfaces/msg/Time")(sec=stamp.sec, nanosec=stamp.nanosec)
     return message_type("std_msgs/msg/Header")(stamp=time, frame_id=frame_id)

@@ -11,7 +11,6 @@ from typing import Any
 
 from ..contract import keys
 from ..contract.levels import Level
-from ..contract.poses import Stamp
 from ..contract.schemas import (
     Centre,
     EngagementEvent,
@@ -122,7 +121,7 @@ def groups_json(update: SceneUpdate, instance: str) -> bytes:
     return (
         FrameGroups(
             frame=update.frame_id,
-            stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+            stamp=update.stamp.model(),
             groups=[group_state(g) for g in update.groups],
             people_left_out=update.left_out,
             instance=instance,
@@ -140,7 +139,7 @@ def gazing_json(update: SceneUpdate, instance: str) -> bytes:
     return (
         FrameGazing(
             frame=update.frame_id,
-            stamp=Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+            stamp=update.stamp.model(),
             pairs=pairs,
             people_left_out=update.left_out,
             instance=instance,
@@ -222,7 +221,7 @@ def _engagement_fields(update: EngagementUpdate, instance: str) -> dict[str, Any
         "instance": instance,
         "body_id": update.body_id,
         "frame_id": update.frame_id,
-        "stamp": Stamp(sec=update.stamp[0], nanosec=update.stamp[1]),
+        "stamp": update.stamp.model(),
         "level": update.level.name,
         "level_value": int(update.level),
         "score": update.score,
@@ -231,7 +230,7 @@ def _engagement_fields(update: EngagementUpdate, instance: str) -> dict[str, Any
 
 
 def engagement_state(update: EngagementUpdate, instance: str) -> EngagementState:
-    since = Stamp(sec=update.since[0], nanosec=update.since[1])
+    since = update.since.model()
     return EngagementState(**_engagement_fields(update, instance), since=since)
 
 

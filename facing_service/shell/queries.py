@@ -11,6 +11,7 @@ import zenoh
 from ..config.settings import Settings
 from ..contract import keys
 from ..contract.schemas import QueryError
+from ..contract.stamps import ZERO
 from ..core.records import frame_facing
 from ..core.scene import Scenes, nobody
 from ..core.tracker import Tracker
@@ -91,7 +92,7 @@ def _nothing_matched(
         tracked = ", ".join(sorted(ledger.tracked)) or "none"
         detail = f"no frame {frame!r} in this service; frames tracked: {tracked}"
         return [], QueryError(error="unknown_frame", detail=detail)
-    scene = empty or nobody(frame, (0, 0))
+    scene = empty or nobody(frame, ZERO)
     if space in ("groups", "gazing"):
         return query_replies(space, ns, me, (), (), (), [scene]), None
     if space == "frame":

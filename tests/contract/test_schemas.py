@@ -21,6 +21,7 @@ from facing_service.contract.poses import (
     decode_pose,
 )
 from facing_service.contract.schemas import FacingState, Point, facing_state_json, json_schemas
+from facing_service.contract.stamps import Time
 
 from poses import pose_dict
 
@@ -57,7 +58,7 @@ def with_(d, path, value):
 def test_valid_pose_is_decoded():
     result = decode_pose(encode(good(x=2.0, y=1.0, yaw_deg=90.0, sec=7, nanosec=5)), "a", "cam")
     assert isinstance(result, Pose)
-    assert result.stamp == (7, 5)
+    assert result.stamp == Time.of(7, 5)
     assert result.translation == (2.0, 1.0, 0.0)
     assert result.rotation == pytest.approx((0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5)))
 
@@ -223,7 +224,8 @@ def test_hand_written_facing_state_json_matches_the_model(
     body, frame, sec, nanosec, facing, angle, distance, r, threshold, position, heading, instance
 ):
     fast = facing_state_json(
-        body, frame, (sec, nanosec), facing, angle, distance, r, threshold, position, heading,
+        body, frame, Time.of(sec, nanosec), facing, angle, distance, r, threshold, position,
+        heading,
         instance,
     )  # fmt: skip
     model = FacingState(
@@ -313,7 +315,7 @@ def test_fast_path_takes_the_common_valid_payloads(d):
 def test_no_negative_zero_is_said():
     """Issue 46: a body at z = 0 gave `"z": -0.0` (from -Rᵀt): correct, and confusing."""
     fast = facing_state_json(
-        "a", "cam", (1, 0), True, 10.0, 2.0, (2.0, -0.0, -0.0), 20.0, (-0.0, 0.0, -0.0), -0.0
+        "a", "cam", Time.of(1), True, 10.0, 2.0, (2.0, -0.0, -0.0), 20.0, (-0.0, 0.0, -0.0), -0.0
     )
     assert b"-0.0" not in fast
     assert json.loads(fast)["robot_in_body"]["z"] == 0.0

@@ -15,6 +15,7 @@ from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.levels import Level
 from facing_service.contract.poses import Pose
+from facing_service.contract.stamps import Time
 from facing_service.core.records import Frame, PoseSample
 from facing_service.core.tracker import Tracker
 
@@ -27,7 +28,7 @@ def sample(body="a", frame="cam", off_deg=0.0, sec=1, nanosec=0, x=2.0, y=0.0) -
     yaw = toward_origin_deg(x, y) + off_deg
     return PoseSample(
         BodyRef(frame_id=frame, body_id=body),
-        Pose((sec, nanosec), (x, y, 0.0), yaw_quaternion(yaw)),
+        Pose(Time.of(sec, nanosec), (x, y, 0.0), yaw_quaternion(yaw)),
     )
 
 
@@ -56,7 +57,7 @@ def test_first_pose_yields_a_result_and_a_frame_change():
     (frame,) = changes.frames
     assert frame.bodies_facing == ["a"] and frame.bodies_tracked == ["a"]
     assert frame.stamp is not None and frame.stamp.sec == 1
-    assert state.stamp == (1, 0)
+    assert state.stamp == Time.of(1)
 
 
 def test_frame_aggregate_only_when_a_list_changes():
@@ -80,8 +81,8 @@ def test_older_stamp_is_refused_and_equal_stamp_accepted():
 def test_out_of_order_inside_one_batch():
     t = tracker()
     changes = t.ingest([sample(sec=3), sample(sec=2), sample(sec=4)], now=0.0)
-    assert [s.stamp[0] for s in changes.results] == [3, 4]
-    assert [s.pose.stamp for s in changes.out_of_order] == [(2, 0)]
+    assert [s.stamp.sec for s in changes.results] == [3, 4]
+    assert [s.pose.stamp for s in changes.out_of_order] == [Time.of(2)]
 
 
 @pytest.mark.parametrize(
@@ -103,7 +104,7 @@ def test_hysteresis(hysteresis, angles, expected):
 def test_one_body_twice_in_a_batch_is_decided_in_order_with_hysteresis():
     t = tracker()
     changes = t.ingest([sample(off_deg=18, sec=1), sample(off_deg=23, sec=2)], now=0.0)
-    assert [(s.stamp[0], s.facing) for s in changes.results] == [(1, True), (2, True)]
+    assert [(s.stamp.sec, s.facing) for s in changes.results] == [(1, True), (2, True)]
     t2 = tracker()
     changes = t2.ingest([sample(off_deg=23, sec=1), sample(off_deg=18, sec=2)], now=0.0)
     assert [s.facing for s in changes.results] == [False, True]
@@ -184,7 +185,7 @@ def test_declared_frame_is_known_before_any_pose():
 
 def test_degenerate_pose_is_tracked_not_facing():
     t = tracker()
-    pose = Pose((1, 0), (0.0, 0.0, -1.0), (0.0, 0.0, 0.0, 1.0))
+    pose = Pose(Time.of(1), (0.0, 0.0, -1.0), (0.0, 0.0, 0.0, 1.0))
     (state,) = t.ingest([PoseSample(A, pose)], now=0.0).results
     assert not state.facing and state.angle_deg is None and state.distance_m is None
     assert math.isfinite(state.robot_in_body[2])
@@ -344,7 +345,7 @@ def test_keeping_a_frame_shares_its_lists_until_they_change():
     """The journal keeps a frame per transaction: the copy shares its sets (copying 10 000
     ids a pose cost 314 us), and the first change gives the live frame its own, so the kept
     one still says what was before."""
-    frame = Frame({"a", "b"}, {"a"}, (1, 0), False)
+    frame = Frame({"a", "b"}, {"a"}, Time.of(1), False)
     kept = copy.copy(frame)
     assert kept.tracked is frame.tracked and kept.facing is frame.facing
     frame.update("a", True)  # nothing changes: still shared
@@ -371,12 +372,12 @@ def test_a_tracker_whose_clock_starts_over_is_followed_after_three_poses_in_a_ro
         refused = t.ingest([sample(sec=1 + i)], now=0.1 * i)
         assert refused.out_of_order and not refused.restarted and not refused.results
     third = t.ingest([sample(sec=RESTART_EVIDENCE), sample(sec=RESTART_EVIDENCE + 1)], now=1)
-    assert [s.pose.stamp for s in third.restarted] == [(3, 0), (4, 0)]
+    assert [s.pose.stamp for s in third.restarted] == [Time.of(3), Time.of(4)]
     assert not third.out_of_order and not third.results
     lost = t.lose([BodyRef(frame_id="cam", body_id="a")], now=1.0, time_went_back=True)
     assert lost.lost == [BodyRef(frame_id="cam", body_id="a")]
     anew = t.ingest(third.restarted, now=1.0)
-    assert [s.stamp for s in anew.results] == [(3, 0), (4, 0)] and len(t) == 1
+    assert [s.stamp for s in anew.results] == [Time.of(3), Time.of(4)] and len(t) == 1
 
 
 @pytest.mark.parametrize(
@@ -394,7 +395,7 @@ def test_stale_or_reordered_poses_never_restart_a_body(stream):
         whole, frac = int(sec), round((sec % 1) * 1e9)
         changes = t.ingest([sample(sec=whole, nanosec=frac)], now=0.1 * i)
         assert changes.out_of_order and not changes.restarted
-    assert t.states()[0].stamp == (1000, 0)
+    assert t.states()[0].stamp == Time.of(1000)
 
 
 def test_an_accepted_pose_between_breaks_the_evidence():
@@ -405,7 +406,7 @@ def test_an_accepted_pose_between_breaks_the_evidence():
     for i in range(10):
         assert t.ingest([sample(sec=1 + i)], now=i).out_of_order
         assert t.ingest([sample(sec=1001 + i)], now=i).results
-    assert t.states()[0].stamp == (1010, 0)
+    assert t.states()[0].stamp == Time.of(1010)
 
 
 def test_a_deleted_body_whose_tracker_restarts_comes_back_on_its_new_clock():
@@ -417,5 +418,5 @@ def test_a_deleted_body_whose_tracker_restarts_comes_back_on_its_new_clock():
     assert t.ingest([sample(sec=1)], now=0.2).out_of_order
     assert t.ingest([sample(sec=2)], now=0.3).out_of_order
     back = t.ingest([sample(sec=3)], now=0.4)
-    assert [s.pose.stamp for s in back.restarted] == [(3, 0)]
+    assert [s.pose.stamp for s in back.restarted] == [Time.of(3)]
     assert t.ingest(back.restarted, now=0.4).results

@@ -9,6 +9,7 @@ import time
 
 import pytest
 
+from facing_service.contract.stamps import Time
 from facing_service.core.tf_math import RigidTransform
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.diagnosis import RobotWatch, where_else
@@ -82,7 +83,9 @@ def test_time_going_back_clears_the_buffer_as_tfs_listener_does():
     assert [r for r, _ in first.refused + second.refused] == ["tf_repeated_data"] * 2
     third = people.on_tf([tf_in("base_link", "body_a", 10 + 2 / 30)], static=False)
     assert third.time_back_ns == pytest.approx(0.9 * S, abs=0.05 * S)
-    assert third.lost == ["body_a"] and [p.pose.stamp for p in third.poses] == [(10, 66666666)]
+    assert third.lost == ["body_a"] and [p.pose.stamp for p in third.poses] == [
+        Time.of(10, 66666666)
+    ]
 
 
 def test_one_stale_message_between_fresh_ones_clears_nothing():

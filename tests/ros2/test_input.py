@@ -12,6 +12,7 @@ import pytest
 from oracles import oracle
 
 from facing_service.contract.poses import Rejected, Rejection
+from facing_service.contract.stamps import Time
 from facing_service.core.detector import classify_one
 from facing_service.core.tf_math import RigidTransform
 from facing_service.ros2 import types as ros2_types
@@ -184,12 +185,12 @@ def test_poses_move_only_forward_at_the_latest_common_time():
     people = People("base_link")
     people.on_tracked("/humans/bodies/tracked", ["a"])
     update = people.on_tf([tf_in("base_link", "cam", 1), tf_in("cam", "body_a", 1)], static=False)
-    assert [p.pose.stamp for p in update.poses] == [(1, 0)]
+    assert [p.pose.stamp for p in update.poses] == [Time.of(1)]
     # body_a moves on, but cam has nothing newer: the latest common time stays at 1 s.
     assert people.on_tf([tf_in("cam", "body_a", 2)], static=False).poses == []
     assert people.on_tf([tf_in("cam", "body_a", 3)], static=False).poses == []
     (moved,) = people.on_tf([tf_in("base_link", "cam", 3)], static=False).poses
-    assert moved.pose.stamp == (3, 0)
+    assert moved.pose.stamp == Time.of(3)
 
 
 # -- every ROS 2 rejection reason -----------------------------------------------------------
@@ -536,7 +537,7 @@ def test_first_results_are_said_from_what_the_buffer_holds():
     for i in range(90):  # 3 s at 30 Hz before the list
         people.on_tf([tf_in("base_link", "body_a", 1 + i / 30, (2.0, 0.0, 0.0))], static=False)
     poses = people.on_tracked("/humans/bodies/tracked", ["a"]).poses
-    stamps = [p.pose.stamp[0] * S + p.pose.stamp[1] for p in poses]
+    stamps = [p.pose.stamp for p in poses]
     assert stamps == sorted(stamps) and len(stamps) == 60  # 2 s at 30 Hz, the latest last
     assert stamps[-1] == int((1 + 89 / 30) * S)
 

@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from facing_service.contract.levels import Level
+from facing_service.contract.stamps import Time
 from facing_service.core.groups import Group
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.markers import COLOURS, MARKER_ARRAY, MarkerDrawer, PersonMarker
@@ -37,7 +38,7 @@ def test_the_marker_array_type_is_upstreams():
 
 
 def test_two_people_and_their_group_decode_as_drawn():
-    markers = decode(MarkerDrawer().draw("base_link", (5, 0), [ANN, BOB], [GROUP]))
+    markers = decode(MarkerDrawer().draw("base_link", Time.of(5), [ANN, BOB], [GROUP]))
     by = {(m.ns, m.id): m for m in markers}
     assert sorted(by) == [
         ("group/4", 0), ("group/4", 1),
@@ -59,8 +60,8 @@ def test_two_people_and_their_group_decode_as_drawn():
 
 def test_who_leaves_is_deleted_by_id_and_nothing_else():
     drawer = MarkerDrawer()
-    drawer.draw("base_link", (5, 0), [ANN, BOB], [GROUP])
-    markers = decode(drawer.draw("base_link", (6, 0), [ANN], []))
+    drawer.draw("base_link", Time.of(5), [ANN, BOB], [GROUP])
+    markers = decode(drawer.draw("base_link", Time.of(6), [ANN], []))
     deleted = sorted((m.ns, m.id) for m in markers if m.action == 2)
     assert deleted == [("group/4", 0), ("group/4", 1)] + [
         ("person/bob<script>", i) for i in range(3)
@@ -68,7 +69,9 @@ def test_who_leaves_is_deleted_by_id_and_nothing_else():
     assert sorted((m.ns, m.id) for m in markers if m.action == 0) == [
         ("person/ann", i) for i in range(3)
     ]
-    assert [m for m in decode(drawer.draw("base_link", (7, 0), [ANN], [])) if m.action == 2] == []
+    assert [
+        m for m in decode(drawer.draw("base_link", Time.of(7), [ANN], [])) if m.action == 2
+    ] == []
 
 
 # -- the definition, checked against upstream common_interfaces --------------------------

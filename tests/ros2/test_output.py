@@ -19,6 +19,7 @@ from benchmarks.bags import read_bag
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.poses import Stamp
 from facing_service.contract.schemas import FrameFacing
+from facing_service.contract.stamps import Time
 from facing_service.core.engagement import Level, Zone
 from facing_service.core.records import Changes, EngagementUpdate
 from facing_service.ros2 import types as ros2_types
@@ -41,11 +42,11 @@ TWO_PEOPLE = BAGS / "2p_AA_FV_eng_1"  # eloek and ghfbv, both labelled ENGAGED
 def update(body: str, level: Level, previous: Level | None) -> EngagementUpdate:
     return EngagementUpdate(
         BodyRef(frame_id="base_link", body_id=body),
-        (5, 0),
+        Time.of(5),
         level,
         0.9,
         Zone.SOCIAL,
-        (4, 0),
+        Time.of(4),
         previous,
     )
 

@@ -14,6 +14,7 @@ from facing_service.contract.schemas import (
     FacingState,
     FrameFacing,
 )
+from facing_service.contract.stamps import Time
 from facing_service.core.engagement import Level, Zone
 from facing_service.core.records import BodyState, Changes, EngagementUpdate
 from facing_service.ros2.output import RosMessage
@@ -34,12 +35,12 @@ def at(body: str) -> BodyRef:
 
 def state(body: str, facing: bool = True) -> BodyState:
     return BodyState(
-        at(body), (5, 6), facing, 3.0, 2.0, (2.0, 0.1, 0.0), 20.0, (-2.0, 0.1, 0.0), 0.0
+        at(body), Time.of(5, 6), facing, 3.0, 2.0, (2.0, 0.1, 0.0), 20.0, (-2.0, 0.1, 0.0), 0.0
     )
 
 
 def update(body: str, level: Level, previous: Level | None) -> EngagementUpdate:
-    return EngagementUpdate(at(body), (5, 6), level, 0.8, Zone.SOCIAL, (4, 0), previous)
+    return EngagementUpdate(at(body), Time.of(5, 6), level, 0.8, Zone.SOCIAL, Time.of(4), previous)
 
 
 def frame(facing: list[str], tracked: list[str]) -> FrameFacing:

@@ -1,0 +1,74 @@
+"""Time, in one shape: ``Time``, integer nanoseconds (the stamp of a pose, a result, a
+transform, a scene), with the ``sec``/``nanosec`` views ROS messages and our JSON carry.
+``Stamp`` is its JSON form on the wire (``builtin_interfaces/Time``), converted at the
+edges only (``Time.from_model``, ``Time.model``).
+
+An int, so stamps compare, hash, sort and subtract as numbers, and tf2's rules (integer
+nanoseconds) need no conversion; arithmetic gives plain ints (a duration is not a stamp).
+"""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, ConfigDict, Field
+
+NS = 1_000_000_000
+#: builtin_interfaces/Time: ROS 2 keeps ``sec`` in an int32 and never negative.
+MAX_SEC, MAX_NANOSEC = 2**31 - 1, 999_999_999
+
+
+class Stamp(BaseModel):
+    """``builtin_interfaces/Time``: ROS 2 keeps ``sec`` in an int32 and never negative."""
+
+    model_config = ConfigDict(strict=True, allow_inf_nan=False)
+    sec: int = Field(ge=0, le=MAX_SEC)
+    nanosec: int = Field(ge=0, le=MAX_NANOSEC)
+
+
+class Time(int):
+    """A stamp: integer nanoseconds on the sender's clock."""
+
+    __slots__ = ()
+
+    @classmethod
+    def of(cls, sec: int, nanosec: int = 0) -> Time:
+        return cls(sec * NS + nanosec)
+
+    @classmethod
+    def checked(cls, sec: int, nanosec: int) -> Time | None:
+        """The stamp, or None when it is outside what a ``builtin_interfaces/Time`` may
+        say, and so what any output of ours can carry (negative seconds; nanoseconds past
+        999 999 999, as an uninitialised stamp has)."""
+        if 0 <= sec <= MAX_SEC and 0 <= nanosec <= MAX_NANOSEC:
+            return cls(sec * NS + nanosec)
+        return None
+
+    @classmethod
+    def from_seconds(cls, seconds: float) -> Time:
+        return cls(round(seconds * 1e9))
+
+    @classmethod
+    def from_model(cls, stamp: Stamp) -> Time:
+        return cls(stamp.sec * NS + stamp.nanosec)
+
+    @property
+    def sec(self) -> int:
+        return int(self) // NS
+
+    @property
+    def nanosec(self) -> int:
+        return int(self) % NS
+
+    @property
+    def seconds(self) -> float:
+        """As float seconds (the engagement machine's clock); sec + nanosec * 1e-9."""
+        return self.sec + self.nanosec * 1e-9
+
+    def model(self) -> Stamp:
+        return Stamp.model_construct(sec=self.sec, nanosec=self.nanosec)
+
+    def __repr__(self) -> str:
+        return f"Time.of({self.sec}, {self.nanosec})"
+
+
+#: No stamp yet (an empty frame, a scene before anyone was seen).
+ZERO = Time(0)
