@@ -19,6 +19,7 @@ import zenoh
 from test_router_secure import Deployment, _router_flags
 
 from facing_service.contract.keys import BodyRef
+from facing_service.contract.stamps import Time
 from facing_service.core.engagement import Level, Zone
 from facing_service.core.records import EngagementUpdate
 from facing_service.ros2 import types as ros2_types
@@ -137,8 +138,8 @@ def test_the_policy_covers_every_topic_the_service_reads_and_answers_on():
         for topic, typename, _ in TOPICS
     ]
     update = EngagementUpdate(
-        BodyRef(frame_id="base_link", body_id="person_p1"), (1, 0), Level.ENGAGED, 1.0,
-        Zone.SOCIAL, (1, 0), None,
+        BodyRef(frame_id="base_link", body_id="person_p1"), Time.of(1), Level.ENGAGED, 1.0,
+        Zone.SOCIAL, Time.of(1), None,
     )  # fmt: skip
     answered = [
         f"0{m.topic}/{ros2_types.dds_type_name(m.typename)}/RIHS01_x"
