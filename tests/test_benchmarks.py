@@ -78,3 +78,21 @@ def test_the_performance_page_shows_latest_json():
 
     page = report.PAGE.read_text()
     assert report.section(page, json.loads(report.RESULTS.read_text())) == page
+
+
+def test_the_churn_benchmark_runs_and_says_every_outage(tmp_path):
+    """benchmarks.churn, shortened: two router restarts in 24 s; both said, lost and back;
+    nothing lost outside them; the figure drawn (so the hour-long run never rots)."""
+    out, figure = tmp_path / "churn.json", tmp_path / "churn.svg"
+    proc = subprocess.run(
+        [sys.executable, "-m", "benchmarks.churn", "--minutes", "0.4", "--people", "5",
+         "--restart-every-s", "8", "--out", str(out), "--figure", str(figure)],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    result = json.loads(out.read_text())
+    assert result["restarts"] == 2
+    assert result["outages_said"]["lost"] == result["outages_said"]["back"] == 2
+    assert result["accepted"] >= result["sent_outside_outages"] > 0
+    assert result["consumer"]["out_of_order"] == 0
+    assert figure.read_text().startswith("<svg") and "<polyline" in figure.read_text()
