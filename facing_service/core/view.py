@@ -1,7 +1,8 @@
-"""The tracker as one turn of the worker leaves it, read-only: what the scenes, the ROS 2
-output and its markers read, instead of being handed the worker's methods to call back
-up. Each part is worked out once, when first asked for, and not at all on a turn that
-needs none (most turns: the scenes and the ROS tick are due a few times a second)."""
+"""The tracker and the scenes as one turn of the worker leaves them, read-only: what the
+scenes, the ROS 2 output and its markers read, instead of being handed the worker's
+methods to call back up. Each part is worked out once, when first asked for, and not at
+all on a turn that needs none (most turns: the scenes and the ROS tick are due a few
+times a second)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from ..contract.levels import Level
 from ..contract.poses import Pose
 from ..contract.stamps import ZERO, Time
 from .records import BodyState, EngagementUpdate
-from .scene import Person
+from .scene import Person, Scenes, SceneUpdate
 from .tracker import Tracker
 
 
@@ -20,9 +21,15 @@ class TurnView:
     """Made by the worker after a turn's input and expiry, before anything reads it; the
     tracker does not change while it is read (one thread owns both)."""
 
-    def __init__(self, tracker: Tracker) -> None:
+    def __init__(self, tracker: Tracker, scenes: Scenes | None = None) -> None:
         self._tracker = tracker
+        self._scenes = scenes
         self._poses: dict[str, list[tuple[str, Pose]]] = {}
+
+    @cached_property
+    def scenes(self) -> list[SceneUpdate]:
+        """Every frame's current scene (groups, who faces whom), as last worked out."""
+        return [] if self._scenes is None else self._scenes.current()
 
     @cached_property
     def engagements(self) -> list[EngagementUpdate]:

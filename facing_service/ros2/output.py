@@ -205,7 +205,7 @@ class RosOutput:
             self._said_gazing.pop(update.frame_id, None)  # bounded: frames come and go
         return scene_messages(update, said)
 
-    def tick(self, now: float, view: TurnView, scenes: list[SceneUpdate]) -> list[RosMessage]:
+    def tick(self, now: float, view: TurnView) -> list[RosMessage]:
         """Every period: each tracked person's current level, as hri_engagement does,
         each current group, and the markers (every tracked person, by frame). ``view``
         is read only when the period is due: the worker calls ``tick`` every turn."""
@@ -213,7 +213,7 @@ class RosOutput:
             return []
         self.next_tick = now + self.period_s
         out = [engagement_status(e) for e in view.engagements if e.body_id.startswith(PERSON)]
-        by_frame = {scene.frame_id: scene for scene in scenes}
+        by_frame = {scene.frame_id: scene for scene in view.scenes}
         for scene in by_frame.values():
             out += [
                 group_message(scene.frame_id, scene.stamp, g.id, g.members) for g in scene.groups

@@ -43,7 +43,7 @@ class Output(Protocol):
         """What a frame's scene update calls for."""
         ...
 
-    def tick(self, now: float, view: TurnView, scenes: list[SceneUpdate]) -> list[Publication]:
+    def tick(self, now: float, view: TurnView) -> list[Publication]:
         """What time alone calls for (periodic messages), read from the turn's view."""
         ...
 
@@ -74,7 +74,7 @@ class JsonOutput:
     def on_scene(self, update: SceneUpdate) -> list[Publication]:
         return scene_publications(update, self._namespace, self._instance)
 
-    def tick(self, now: float, view: TurnView, scenes: list[SceneUpdate]) -> list[Publication]:
+    def tick(self, now: float, view: TurnView) -> list[Publication]:
         return []
 
     def next_due(self) -> float | None:
@@ -120,8 +120,8 @@ class RosTopicsOutput:
     def on_scene(self, update: SceneUpdate) -> list[Publication]:
         return ros_publications(self._ros.on_scene(update))
 
-    def tick(self, now: float, view: TurnView, scenes: list[SceneUpdate]) -> list[Publication]:
-        return ros_publications(self._ros.tick(now, view, scenes))
+    def tick(self, now: float, view: TurnView) -> list[Publication]:
+        return ros_publications(self._ros.tick(now, view))
 
     def next_due(self) -> float | None:
         return self._ros.next_tick

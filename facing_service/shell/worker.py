@@ -67,7 +67,6 @@ class Worker:
         self._input = source
         self._outputs = outputs
         self._ledger = ledger
-        self._outbox = outbox
         self._intake = intake
         self._closing = closing
         self._settings = settings  # for the queries' answers
@@ -98,7 +97,7 @@ class Worker:
             try:
                 self._handle(batch)
                 self._expire()
-                self._time_tick(TurnView(self._tracker))
+                self._time_tick(TurnView(self._tracker, self._scenes))
                 self._input.diagnose()
                 self._ledger.rejection_log.maybe_log()
                 self._ledger.tracked = self._tracker.tracked_per_frame()
@@ -162,9 +161,9 @@ class Worker:
                 self._decisions.add(output.on_scene(update))
             if update.left_out:
                 self._ledger.count("scene_people_left_out", update.left_out)
-        now, current = self._clock(), self._scenes.current()
+        now = self._clock()
         for output in self._outputs:
-            self._decisions.add(output.tick(now, view, current))
+            self._decisions.add(output.tick(now, view))
 
     def _handle(self, batch: list[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together. An item

@@ -150,6 +150,6 @@ def test_markers_go_out_at_most_ten_times_a_second_whatever_the_rate():
     said = [
         m.topic
         for i in range(40)  # one second of ticks at 40 Hz
-        for m in out.tick(i / 40, TurnView(tracker), [])
+        for m in out.tick(i / 40, TurnView(tracker))
     ]
     assert said.count(MARKERS_TOPIC) == 10

@@ -67,11 +67,11 @@ def test_levels_go_out_on_change_and_on_every_tick_like_hri_engagement():
     assert intent.intent == "__intent_engage_with__"
     assert json.loads(intent.data) == {"recipient": "p1"}
     tracked = [update("person_p1", Level.ENGAGED, None), update("face_f1", Level.ENGAGED, None)]
-    view = SimpleNamespace(engagements=tracked, levels={}, states=[])  # nobody to draw
-    first = out.tick(0.0, view, [])
+    view = SimpleNamespace(engagements=tracked, levels={}, states=[], scenes=[])  # nobody to draw
+    first = out.tick(0.0, view)
     assert [m.topic for m in first] == ["/humans/persons/p1/engagement_status"]
-    assert out.tick(0.05, view, []) == []  # not due before 1/10 s
-    assert len(out.tick(0.1, view, [])) == 1
+    assert out.tick(0.05, view) == []  # not due before 1/10 s
+    assert len(out.tick(0.1, view)) == 1
 
 
 def test_a_lost_person_is_said_unknown_once_and_its_topic_goes():
