@@ -166,7 +166,7 @@ class RosOutput:
     def __init__(self, rate_hz: float, intents: bool) -> None:
         self.period_s = 1.0 / rate_hz
         self.intents = intents
-        self.next_tick: float | None = None
+        self.next_tick = float("-inf")  # due at once, then every period
         self._said_facing: dict[tuple[str, str], list[str]] = {}  # (frame, topic) -> ids
         self._said_gazing: dict[str, frozenset[tuple[str, str]]] = {}  # frame -> pairs
         self._drawers: dict[str, MarkerDrawer] = {}  # frame -> what its markers drew
@@ -209,7 +209,7 @@ class RosOutput:
         """Every period: each tracked person's current level, as hri_engagement does,
         each current group, and the markers (every tracked person, by frame). ``view``
         is read only when the period is due: the worker calls ``tick`` every turn."""
-        if self.next_tick is not None and now < self.next_tick:
+        if now < self.next_tick:
             return []
         self.next_tick = now + self.period_s
         out = [engagement_status(e) for e in view.engagements if e.body_id.startswith(PERSON)]

@@ -48,7 +48,8 @@ class Output(Protocol):
         ...
 
     def next_due(self) -> float | None:
-        """When ``tick`` has work next (the service's clock), if ever."""
+        """When ``tick`` has work next (the service's clock); None: never. The worker
+        calls ``tick`` only once it is due."""
         ...
 
     def start_line(self) -> str:

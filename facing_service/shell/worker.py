@@ -162,8 +162,9 @@ class Worker:
             if update.left_out:
                 self._ledger.count("scene_people_left_out", update.left_out)
         now = self._clock()
-        for output in self._outputs:
-            self._decisions.add(output.tick(now, view))
+        for output in self._outputs:  # (most turns: none due, and our JSON keys never)
+            if (due := output.next_due()) is not None and due <= now:
+                self._decisions.add(output.tick(now, view))
 
     def _handle(self, batch: list[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together. An item
