@@ -23,7 +23,6 @@ import json
 import random
 import re
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
@@ -38,9 +37,9 @@ from facing_service.config.settings import Settings
 from facing_service.contract import keys
 from facing_service.contract.poses import pose_dict, yaw_rotation
 from facing_service.contract.stamps import ZERO, Time
-from facing_service.testing import LOOPBACK_FLAGS, endpoint, running_cli, wait_until
+from facing_service.testing import LOOPBACK_FLAGS, endpoint, running_cli, wait_for_port
 
-from .common import free_port, rss_mb, status, wait_for_status
+from .common import free_port, proc_status, rss_mb, status, wait_for_status
 from .figures import line_panels
 
 #: The router is down this long at each restart; poses sent from the kill until this long
@@ -54,12 +53,9 @@ WINDOW_S = 600.0
 
 def proc_counts(pid: int) -> tuple[float, int, int]:
     """Resident MB, threads, open descriptors of a process (Linux /proc)."""
-    threads = next(
-        int(line.split()[1])
-        for line in Path(f"/proc/{pid}/status").read_text().splitlines()
-        if line.startswith("Threads:")
-    )
-    return rss_mb(pid), threads, len(list(Path(f"/proc/{pid}/fd").iterdir()))
+    status = proc_status(pid)
+    fds = len(list(Path(f"/proc/{pid}/fd").iterdir()))
+    return rss_mb(pid, status), int(status["Threads"]), fds
 
 
 class RouterProcess:
@@ -83,11 +79,7 @@ class RouterProcess:
                 "ERROR",
             ],
         )
-        wait_until(self.listens, 20.0, f"the router on port {self.port}", interval=0.02)
-
-    def listens(self) -> bool:
-        with socket.socket() as s:
-            return s.connect_ex(("127.0.0.1", self.port)) == 0
+        wait_for_port(self.port, timeout=20.0)
 
     def kill(self) -> None:
         if self.proc is not None:

@@ -21,12 +21,15 @@ from facing_service.testing import LOOPBACK_FLAGS, endpoint, free_port, loopback
 __all__ = ["free_port", "loopback_config"]  # re-exported for the scripts
 
 
-def rss_mb(pid: int) -> float:
-    """Resident memory of a process, from /proc (Linux)."""
-    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-        if line.startswith("VmRSS:"):
-            return int(line.split()[1]) / 1024
-    raise RuntimeError(f"no VmRSS for pid {pid}")
+def proc_status(pid: int) -> dict[str, str]:
+    """A process's /proc status fields (Linux), read once: ``VmRSS``, ``Threads`` ..."""
+    fields = (line.split(":", 1) for line in Path(f"/proc/{pid}/status").read_text().splitlines())
+    return {name: value.strip() for name, value in fields}
+
+
+def rss_mb(pid: int, status: dict[str, str] | None = None) -> float:
+    """Resident memory of a process (from ``status`` when already read)."""
+    return int((status or proc_status(pid))["VmRSS"].split()[0]) / 1024
 
 
 def pose_payload(body: str, frame: str, x: float, y: float, yaw_deg: float, sec: int) -> bytes:

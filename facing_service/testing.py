@@ -15,7 +15,7 @@ from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from typing import IO
 
-from .tools.loopback import endpoint, free_port, loopback_config, wait_until
+from .tools.loopback import endpoint, free_port, loopback_config, wait_for_port, wait_until
 
 __all__ = [
     "LOOPBACK_FLAGS",
@@ -23,6 +23,7 @@ __all__ = [
     "free_port",
     "loopback_config",
     "running_cli",
+    "wait_for_port",
     "wait_until",
 ]
 

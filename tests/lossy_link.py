@@ -14,17 +14,17 @@ Root and iproute2 are needed; ``unavailable()`` says why a machine cannot make o
 
 from __future__ import annotations
 
-import contextlib
 import os
 import random
 import re
-import select
 import shutil
 import socket
 import subprocess
 import threading
 import time
 from collections import deque
+
+from proxy import Proxy
 
 NFT_LOSS = """table inet lossy {{
   chain input {{ type filter hook input priority 0;
@@ -48,38 +48,21 @@ def unavailable() -> str | None:
     return None
 
 
-class JitterProxy:
-    """Forwards ``host:port`` to ``target`` (both ways), holding each chunk a random
-    0..``jitter_s`` s but never letting one overtake another (a TCP stream stays in order)."""
+class JitterProxy(Proxy):
+    """A ``Proxy`` that holds each chunk a random 0..``jitter_s`` s, never letting one
+    overtake another (a TCP stream stays in order); it is never cut."""
 
-    def __init__(self, host: str, target: tuple[str, int], jitter_s: float, seed: int = 45):
-        self._target, self._jitter = target, jitter_s
-        self._rng = random.Random(seed)
-        self._listener = socket.create_server((host, 0))
-        self.port = self._listener.getsockname()[1]
-        self._closed = threading.Event()
-        self._sockets: list[socket.socket] = [self._listener]
-        threading.Thread(target=self._accept, daemon=True).start()
+    def __init__(self, target: int, host: str, jitter_s: float, seed: int = 45) -> None:
+        self._jitter, self._rng = jitter_s, random.Random(seed)  # before connections come
+        super().__init__(target, host)
 
-    def _accept(self) -> None:
-        while not self._closed.is_set():
-            try:
-                ready, _, _ = select.select([self._listener], [], [], 0.1)
-                if not ready:
-                    continue
-                inbound, _ = self._listener.accept()
-            except OSError:  # closed
-                return
-            outbound = socket.create_connection(self._target)
-            for s in (inbound, outbound):
-                s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            self._sockets += [inbound, outbound]
-            for a, b in ((inbound, outbound), (outbound, inbound)):
-                threading.Thread(target=self._pump, args=(a, b), daemon=True).start()
+    def _pump(self, a: socket.socket, b: socket.socket) -> None:
+        for source, sink in ((a, b), (b, a)):
+            threading.Thread(target=self._delayed, args=(source, sink), daemon=True).start()
 
-    def _pump(self, source: socket.socket, sink: socket.socket) -> None:
+    def _delayed(self, source: socket.socket, sink: socket.socket) -> None:
         held: deque[tuple[float, bytes]] = deque()
-        lock, more = threading.Lock(), threading.Condition()
+        more = threading.Condition()
         last_release = 0.0
 
         def release() -> None:
@@ -108,18 +91,11 @@ class JitterProxy:
                 return
             if not chunk:
                 return
-            with lock:
-                at = max(last_release, time.monotonic() + self._rng.uniform(0, self._jitter))
-                last_release = at
+            at = max(last_release, time.monotonic() + self._rng.uniform(0, self._jitter))
+            last_release = at
             with more:
                 held.append((at, chunk))
                 more.notify()
-
-    def close(self) -> None:
-        self._closed.set()
-        for s in self._sockets:
-            with contextlib.suppress(OSError):
-                s.close()
 
 
 class LossyLink:

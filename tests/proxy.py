@@ -9,11 +9,12 @@ import threading
 
 
 class Proxy:
-    """Forwards ``127.0.0.1:<port>`` to ``127.0.0.1:<target>`` until ``cut()``."""
+    """Forwards ``<host>:<port>`` to ``<host>:<target>`` until ``cut()``; ``_pump`` moves
+    one connection's bytes both ways (a subclass may move them otherwise)."""
 
-    def __init__(self, target: int) -> None:
-        self.target = target
-        self._listener = socket.create_server(("127.0.0.1", 0))
+    def __init__(self, target: int, host: str = "127.0.0.1") -> None:
+        self.target, self.host = target, host
+        self._listener = socket.create_server((host, 0))
         self.port = self._listener.getsockname()[1]
         self._forwarding = threading.Event()
         self._forwarding.set()
@@ -39,7 +40,7 @@ class Proxy:
                 client, _ = self._listener.accept()
             except OSError:
                 return
-            upstream = socket.create_connection(("127.0.0.1", self.target))
+            upstream = socket.create_connection((self.host, self.target))
             self._sockets += [client, upstream]
             threading.Thread(target=self._pump, args=(client, upstream), daemon=True).start()
 

@@ -8,11 +8,10 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
-import socket
 
 import zenoh
 
-from facing_service.testing import wait_until
+from facing_service.testing import wait_for_port
 
 _SPAWN = multiprocessing.get_context("spawn")
 
@@ -24,14 +23,6 @@ def _serve(config_json5: str) -> None:
         signal.sigwait({signal.SIGTERM})
     finally:
         session.close()
-
-
-def wait_for_port(port: int, timeout: float = 10.0) -> None:
-    def listens() -> bool:
-        with socket.socket() as s:
-            return s.connect_ex(("127.0.0.1", port)) == 0
-
-    wait_until(listens, timeout, f"a listener on port {port}", interval=0.02)
 
 
 class Router:

@@ -52,19 +52,22 @@ class Time(int):
 
     @property
     def sec(self) -> int:
-        return int(self) // NS
+        return self // NS
 
     @property
     def nanosec(self) -> int:
-        return int(self) % NS
+        return self % NS
 
     @property
     def seconds(self) -> float:
-        """As float seconds (the engagement machine's clock); sec + nanosec * 1e-9."""
-        return self.sec + self.nanosec * 1e-9
+        """As float seconds (the engagement machine's clock), on the hot path: sec +
+        nanosec * 1e-9 as the tuples said it, from one divmod."""
+        sec, nanosec = divmod(self, NS)
+        return sec + nanosec * 1e-9
 
     def model(self) -> Stamp:
-        return Stamp.model_construct(sec=self.sec, nanosec=self.nanosec)
+        sec, nanosec = divmod(self, NS)
+        return Stamp.model_construct(sec=sec, nanosec=nanosec)
 
     def __repr__(self) -> str:
         return f"Time.of({self.sec}, {self.nanosec})"

@@ -12,10 +12,10 @@ from collections.abc import Callable, Sequence
 import zenoh
 
 
-def free_port() -> int:
-    """A TCP port free on 127.0.0.1 right now."""
+def free_port(host: str = "127.0.0.1") -> int:
+    """A TCP port free on ``host`` right now."""
     with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
+        s.bind((host, 0))
         return s.getsockname()[1]
 
 
@@ -47,3 +47,13 @@ def wait_until(
         if time.monotonic() >= deadline:
             raise TimeoutError(f"{what}: not within {timeout:g} s")
         time.sleep(interval)
+
+
+def wait_for_port(port: int, timeout: float = 10.0, host: str = "127.0.0.1") -> None:
+    """Until something listens on ``host:port`` (a router process just started)."""
+
+    def listens() -> bool:
+        with socket.socket() as s:
+            return s.connect_ex((host, port)) == 0
+
+    wait_until(listens, timeout, f"a listener on port {port}", interval=0.02)

@@ -5,7 +5,6 @@ jitter proxy where the kernel has no netem); skipped, with the reason, where it 
 
 from __future__ import annotations
 
-import socket
 import sys
 from pathlib import Path
 
@@ -23,12 +22,6 @@ pytestmark = pytest.mark.slow
 BODIES, HZ, SECONDS = 100, 30.0, 5.0
 
 
-def free_port_on(host: str) -> int:
-    with socket.socket() as s:
-        s.bind((host, 0))
-        return s.getsockname()[1]
-
-
 def test_a_lossy_jittery_link_delivers_every_result_in_order(net):
     if (why := unavailable()) is not None:
         pytest.skip(why)
@@ -38,7 +31,7 @@ def test_a_lossy_jittery_link_delivers_every_result_in_order(net):
         pytest.skip(f"this machine cannot make the link: {error}")
     proxy = None
     try:
-        on_link = f"tcp/{link.host}:{free_port_on(link.host)}"  # what crosses the pair
+        on_link = f"tcp/{link.host}:{free_port(link.host)}"  # what crosses the pair
         loopback = endpoint(free_port())
         net.service(hysteresis_deg=0.0, listen=[loopback, on_link])
         consumer = net.client(loopback)
@@ -47,8 +40,7 @@ def test_a_lossy_jittery_link_delivers_every_result_in_order(net):
         if link.netem:
             tracker_ep = on_link
         else:  # the proxy holds each chunk on the host side of the pair, then forwards
-            proxy = JitterProxy(link.host, (link.host, int(on_link.rsplit(":", 1)[1])),
-                                link.jitter_s)  # fmt: skip
+            proxy = JitterProxy(int(on_link.rsplit(":", 1)[1]), link.host, link.jitter_s)
             tracker_ep = f"tcp/{link.host}:{proxy.port}"
         tracker = link.run_inside(
             sys.executable, "-c", TRACKER, tracker_ep, str(BODIES), str(HZ), str(SECONDS),
