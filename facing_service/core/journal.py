@@ -26,36 +26,43 @@ _ABSENT: Any = object()  # a key that was not in the store: a roll-back removes 
 
 
 class Journal:
-    """The undo log of one owner's stores, open during a transaction only."""
+    """The undo log of one owner's stores, open during a transaction only: each store
+    keeps its own part (``Store._kept``), so a touch costs one dict lookup."""
 
-    __slots__ = ("_after_roll_back", "_kept")
+    __slots__ = ("_after_roll_back", "_stores", "open")
 
     def __init__(self, after_roll_back: Callable[[], None] | None = None) -> None:
-        self._kept: dict[tuple[int, object], tuple[Store[Any, Any], object, object]] | None
-        self._kept = None
+        self._stores: list[Store[Any, Any]] = []
         self._after_roll_back = after_roll_back
+        self.open = False
 
     def transaction(self) -> _Transaction:
         """Changes made inside apply whole, or not at all: on an exception every store is
         put back as it was, then the exception goes on."""
         return _Transaction(self)
 
-    def keep(self, store: Store[Any, Any], key: object) -> None:
-        """``key``'s value in ``store``, kept before its first touch in a transaction."""
-        kept = self._kept
-        if kept is None or (slot := (id(store), key)) in kept:
-            return
-        value = OrderedDict.get(store, key, _ABSENT)
-        copy = getattr(value, "__copy__", None)
-        kept[slot] = (store, key, value if copy is None else copy())
+    def register(self, store: Store[Any, Any]) -> None:
+        self._stores.append(store)
 
-    def _roll_back(self, kept: Iterable[tuple[Store[Any, Any], object, object]]) -> None:
-        for store, key, value in kept:
-            if value is _ABSENT:
-                OrderedDict.pop(store, key, None)
-            else:
-                OrderedDict.__setitem__(store, key, value)
-        if self._after_roll_back is not None:
+    def _begin(self) -> None:
+        assert not self.open, "transactions do not nest"
+        self.open = True
+        for store in self._stores:
+            store._kept = {}
+
+    def _end(self, failed: bool) -> None:
+        self.open = False
+        touched = False
+        for store in self._stores:
+            kept, store._kept = store._kept, None
+            if failed and kept:
+                touched = True
+                for key, value in kept.items():
+                    if value is _ABSENT:
+                        OrderedDict.pop(store, key, None)
+                    else:
+                        OrderedDict.__setitem__(store, key, value)
+        if touched and self._after_roll_back is not None:
             self._after_roll_back()
 
 
@@ -70,13 +77,10 @@ class _Transaction:
         self._journal = journal
 
     def __enter__(self) -> None:
-        assert self._journal._kept is None, "transactions do not nest"
-        self._journal._kept = {}
+        self._journal._begin()
 
     def __exit__(self, kind: type[BaseException] | None, *_: object) -> None:
-        kept, self._journal._kept = self._journal._kept, None
-        if kind is not None and kept:
-            self._journal._roll_back(kept.values())  # then the exception goes on
+        self._journal._end(kind is not None)  # then any exception goes on
 
 
 class Store(OrderedDict[K, V], Generic[K, V]):
@@ -86,44 +90,56 @@ class Store(OrderedDict[K, V], Generic[K, V]):
 
     def __init__(self, journal: Journal, items: Iterable[tuple[K, V]] = ()) -> None:
         super().__init__()
-        self._journal = journal
+        #: Each touched key's value before the transaction's first touch; None outside one.
+        self._kept: dict[K, object] | None = None
+        journal.register(self)
         for key, value in items:
             OrderedDict.__setitem__(self, key, value)
 
+    def _keep(self, key: K) -> None:
+        """``key``'s value, kept before its first touch in a transaction."""
+        kept = self._kept
+        if kept is None or key in kept:
+            return
+        value = OrderedDict.get(self, key, _ABSENT)
+        copy = getattr(value, "__copy__", None)
+        kept[key] = value if copy is None else copy()
+
     def __getitem__(self, key: K) -> V:
-        self._journal.keep(self, key)
+        self._keep(key)
         return super().__getitem__(key)
 
     def get(self, key: K, default: Any = None) -> Any:  # type: ignore[override]
-        if self._journal._kept is None or key not in self:  # nothing to keep: the hot path
+        kept = self._kept
+        if kept is None or key in kept or key not in self:  # nothing to keep: the hot path
             return super().get(key, default)
-        self._journal.keep(self, key)
+        self._keep(key)
         return super().get(key, default)
 
     def __setitem__(self, key: K, value: V) -> None:
-        self._journal.keep(self, key)
+        self._keep(key)
         super().__setitem__(key, value)
 
     def __delitem__(self, key: K) -> None:
-        self._journal.keep(self, key)
+        self._keep(key)
         super().__delitem__(key)
 
     def pop(self, key: K, *default: Any) -> Any:  # type: ignore[override]
-        self._journal.keep(self, key)
+        self._keep(key)
         return super().pop(key, *default)
 
     def popitem(self, last: bool = True) -> tuple[K, V]:
         if self:
-            self._journal.keep(self, next(reversed(self)) if last else next(iter(self)))
+            self._keep(next(reversed(self)) if last else next(iter(self)))
         return super().popitem(last)
 
     def setdefault(self, key: K, default: V) -> V:  # type: ignore[override]
-        self._journal.keep(self, key)
+        self._keep(key)
         return super().setdefault(key, default)
 
     def clear(self) -> None:
         for key in list(self):
-            self._journal.keep(self, key)
+            self._keep(key)
         super().clear()
 
     def update(self, *_: Any, **__: Any) -> None:
