@@ -360,7 +360,9 @@ class Tracker:
             track.profile = profile
         self._tracks.move_to_end(key)
         update = self._engage(track, state, now)
-        frame = self._frames.setdefault(sample.frame_id, Frame())
+        frame = self._frames.get(sample.frame_id)
+        if frame is None:  # (not setdefault: a Frame built for every pose cost 0.4 us)
+            frame = self._frames[sample.frame_id] = Frame()
         frame.update(sample.body_id, state.facing)
         if frame.stamp is None or sample.pose.stamp > frame.stamp:
             frame.stamp = sample.pose.stamp
@@ -385,8 +387,8 @@ class Tracker:
         if track.engagement.level is Level.DISENGAGING:  # dwell running: due even if silent
             left = track.engagement.since + p.disengage_dwell_s - t
             self._due[key] = now + max(0.0, left)
-        else:
-            self._due.pop(key, None)
+        elif key in self._due:
+            del self._due[key]
         if not changed and now - track.engagement_published < self.engagement_period_s:
             return None
         track.engagement_published = now
