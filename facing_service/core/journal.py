@@ -105,6 +105,10 @@ class Store(OrderedDict[K, V], Generic[K, V]):
         copy = getattr(value, "__copy__", None)
         kept[key] = value if copy is None else copy()
 
+    def peek(self, key: K) -> V | None:
+        """A read that changes nothing through what it returns (a stamp, say): not kept."""
+        return OrderedDict.get(self, key)
+
     def __getitem__(self, key: K) -> V:
         self._keep(key)
         return super().__getitem__(key)

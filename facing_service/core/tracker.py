@@ -126,8 +126,8 @@ class Tracker:
                 changes.restarted.append(sample)
                 continue
             last = newest.get(key)
-            if last is None and (track := self._tracks.get(key)) is not None:
-                last = track.pose.stamp
+            if last is None and (track := self._tracks.peek(key)) is not None:
+                last = track.pose.stamp  # (read only: kept when _store changes it)
             if last is None and (tomb := self._tombstones.get(key)) is not None:
                 if sample.pose.stamp <= tomb[0]:  # a late pose of a deleted body
                     if self._clock_restarted(key, sample.pose.stamp, tomb[0]):

@@ -106,13 +106,11 @@ class JsonInput:
         if parsed is None:
             self._ledger.reject(Rejection.INVALID_KEY, key, "not NS/bodies/<id>/pose/<frame>")
             return None
-        limit = self._limit
-        if len(item.payload) > limit:  # refuse before copying a huge payload
-            self._ledger.reject(
-                Rejection.PAYLOAD_TOO_LARGE, key, f"{len(item.payload)} bytes > {limit}"
-            )
+        limit, payload = self._limit, item.payload  # (each .payload is a new ZBytes)
+        if len(payload) > limit:  # refuse before copying a huge payload
+            self._ledger.reject(Rejection.PAYLOAD_TOO_LARGE, key, f"{len(payload)} bytes > {limit}")
             return None
-        decoded = decode_pose(item.payload.to_bytes(), parsed.body_id, parsed.frame_id, limit)
+        decoded = decode_pose(payload.to_bytes(), parsed.body_id, parsed.frame_id, limit)
         if isinstance(decoded, Rejected):
             self._ledger.reject(decoded.reason, key, decoded.detail)
             return None

@@ -132,3 +132,18 @@ def test_any_sequence_of_changes_is_undone_whole(start, ops):
 
     failing(journal, change)
     assert dict(store) == before
+
+
+def test_a_peek_keeps_nothing_and_a_later_change_is_still_undone():
+    """``peek`` is for reads that change nothing (the tracker reads a last stamp): the
+    first real touch after it still keeps the value as it was."""
+    journal = Journal()
+    store: Store[str, Record] = Store(journal, [("a", Record(1))])
+
+    def change() -> None:
+        assert store.peek("a") == Record(1) and store.peek("nobody") is None
+        assert store._kept == {}
+        store["a"].n = 10
+
+    failing(journal, change)
+    assert store["a"] == Record(1)
