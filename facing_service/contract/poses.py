@@ -253,8 +253,8 @@ def _plainly_valid(payload: bytes, body_id: str, frame_id: str) -> Pose | None:
     this accepts, the model accepts and decodes identically."""
     try:
         msg = _FAST.decode(payload)
-    except msgspec.DecodeError:
-        return None  # not JSON, a field missing or mistyped, a bound crossed
+    except (msgspec.DecodeError, UnicodeDecodeError):
+        return None  # not JSON (nor UTF-8), a field missing or mistyped, a bound crossed
     header, child = msg.header, msg.child_frame_id
     if header.frame_id != frame_id or (child != "" and child != f"body_{body_id}"):
         return None
