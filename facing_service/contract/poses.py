@@ -202,13 +202,15 @@ def _decode_with_model(payload: bytes, body_id: str, frame_id: str) -> Pose | Re
     )
 
 
-class _FastStamp(msgspec.Struct, gc=False):
+class FastStamp(msgspec.Struct, gc=False):
+    """A stamp for msgspec: bounds checked when decoding (the results encode it too)."""
+
     sec: Annotated[int, msgspec.Meta(ge=0, le=MAX_SEC)]
     nanosec: Annotated[int, msgspec.Meta(ge=0, le=MAX_NANOSEC)]
 
 
 class _FastHeader(msgspec.Struct, gc=False):
-    stamp: _FastStamp
+    stamp: FastStamp
     frame_id: str
 
 
@@ -216,7 +218,7 @@ _Metres = Annotated[float, msgspec.Meta(ge=-MAX_TRANSLATION_M, le=MAX_TRANSLATIO
 _Component = Annotated[float, msgspec.Meta(ge=-2.0, le=2.0)]
 
 
-class _FastVector3(msgspec.Struct, gc=False):
+class FastVector3(msgspec.Struct, gc=False):
     x: _Metres
     y: _Metres
     z: _Metres
@@ -230,7 +232,7 @@ class _FastQuaternion(msgspec.Struct, gc=False):
 
 
 class _FastTransform(msgspec.Struct, gc=False):
-    translation: _FastVector3
+    translation: FastVector3
     rotation: _FastQuaternion
 
 

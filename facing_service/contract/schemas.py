@@ -11,7 +11,7 @@ from typing import Any
 import msgspec
 from pydantic import BaseModel, Field
 
-from .poses import TransformStamped
+from .poses import FastStamp, FastVector3, TransformStamped
 from .stamps import NS, Stamp
 
 
@@ -52,29 +52,18 @@ class FacingState(BaseModel):
     )
 
 
-class _FastStamp(msgspec.Struct, gc=False):
-    sec: int
-    nanosec: int
-
-
-class _FastPoint(msgspec.Struct, gc=False):
-    x: float
-    y: float
-    z: float
-
-
 class _FastFacingState(msgspec.Struct, gc=False):
     """``FacingState``'s fields in its order, for msgspec's encoder (the hot path)."""
 
     body_id: str
     frame_id: str
-    stamp: _FastStamp
+    stamp: FastStamp
     facing: bool
     angle_deg: float | None
     distance_m: float | None
-    robot_in_body: _FastPoint
+    robot_in_body: FastVector3
     threshold_deg: float
-    position: _FastPoint
+    position: FastVector3
     heading_deg: float
     instance: str | None
 
@@ -107,13 +96,13 @@ def facing_state_json(
         _FastFacingState(
             body_id,
             frame_id,
-            _FastStamp(sec, nanosec),
+            FastStamp(sec, nanosec),
             facing,
             angle_deg,
             distance_m,
-            _FastPoint(r[0] + 0.0, r[1] + 0.0, r[2] + 0.0),
+            FastVector3(r[0] + 0.0, r[1] + 0.0, r[2] + 0.0),
             threshold_deg,
-            _FastPoint(p[0] + 0.0, p[1] + 0.0, p[2] + 0.0),
+            FastVector3(p[0] + 0.0, p[1] + 0.0, p[2] + 0.0),
             heading_deg + 0.0,
             instance,
         )
