@@ -98,7 +98,7 @@ def run_through(worker: Worker, outbox: Outbox, taken: list[zenoh.Sample], batch
     step = 1.0 / (hz * bodies)
     spent = 0.0
     for start in range(0, len(taken), batch):
-        chunk = list(taken[start : start + batch])
+        chunk = taken[start : start + batch]
         clock.now += step * len(chunk)
         began = time.process_time()
         worker.turn(chunk)
