@@ -137,7 +137,8 @@ def render(
         style = "bold green" if person.facing else "yellow"
         grid[row][col] = arrow(person.yaw_deg)
         styles[(row, col)] = style
-        for i, char in enumerate(person.label[: width - col - 2]):  # every arrow named
+        room = width - col - 1  # the columns right of the arrow, up to the map's edge
+        for i, char in enumerate(person.label[:room]):  # every arrow named, as far as fits
             grid[row][col + 1 + i] = char
             styles[(row, col + 1 + i)] = "green" if person.facing else "yellow"
     canvas = Text()
