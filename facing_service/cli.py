@@ -24,7 +24,8 @@ from .client.client import FacingClient
 from .client.sim import Scene, TrackerPublisher, simulate
 from .client.watch import Watcher, natural_order
 from .config.disclosure import zenoh_failure
-from .config.session import zenoh_config
+from .config.patience import open_patiently
+from .config.session import waiting_for_router, zenoh_config
 from .config.settings import Settings
 from .config.sources import load_settings
 from .contract import keys
@@ -167,25 +168,33 @@ def _say(line: str) -> None:
     print(line, flush=True)
 
 
-def _viewer(args: argparse.Namespace, command: str) -> FacingClient | int:
+def _viewer(args: argparse.Namespace, command: str, stop: threading.Event) -> FacingClient | int:
     """The open client a view of ``--base-frame`` reads (``watch``, ``view``), or the
-    exit code when the settings or the session are refused (said in one line)."""
+    exit code when the settings or the session are refused (said in one line). A live
+    view waits for its router like ``run`` (a robot's processes start in any order);
+    ``watch --once`` is one shot and says at once that nothing answers."""
     settings = _session_settings(args)
     if settings is None:
         return 2
+    if not getattr(args, "once", False):
+        settings = waiting_for_router(settings)
     client = FacingClient(
         settings.namespace, args.base_frame, session_config=zenoh_config(settings)
     )
     try:
-        return client.open()
+        opened = open_patiently(client.open, settings, stop)
     except zenoh.ZError as error:
         print(zenoh_failure(command, error), file=sys.stderr)
         return 1
+    if opened is None:  # stopped while zenoh.open waits for the router, in native code
+        logging.shutdown()
+        os._exit(0)
+    return opened
 
 
 def _watch(args: argparse.Namespace) -> int:
     stop = _stop_on_signals()
-    client = _viewer(args, "watch")
+    client = _viewer(args, "watch", stop)
     if isinstance(client, int):
         return client
     watcher = Watcher(client, args.base_frame)
@@ -206,7 +215,7 @@ def _watch(args: argparse.Namespace) -> int:
 
 def _view(args: argparse.Namespace) -> int:
     stop = _stop_on_signals()
-    client = _viewer(args, "view")
+    client = _viewer(args, "view", stop)
     if isinstance(client, int):
         return client
     from .client.view.live import run_view  # aiohttp: loaded by the command that serves

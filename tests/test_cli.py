@@ -222,6 +222,42 @@ def test_run_in_client_mode_waits_for_its_router_and_says_so(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("viewer", [("watch",), ("view", "--port", "0")])
+def test_a_live_viewer_waits_for_its_router_like_run(viewer):
+    """Issue 55: watch and view in client mode exited 1 when the router was not up yet,
+    while run waited; a live viewer now waits too, says so, and opens once it answers."""
+    port = free_port()
+    ep = endpoint(port)
+    with running_cli(*viewer, "-m", "client", "-e", ep, "--no-multicast-scouting") as proc:
+        time.sleep(2.0)
+        assert proc.poll() is None, proc.communicate()[0]
+        router = Router(str(loopback_config(listen=[ep], mode="router")), port).start()
+        try:
+            time.sleep(3.0)  # the session opens, the client looks for a service (2 s)
+            assert proc.poll() is None, proc.communicate()[0]
+        finally:
+            proc.send_signal(signal.SIGTERM)
+            output, _ = proc.communicate(timeout=10)
+            router.stop()
+    assert proc.returncode == 0, output
+    assert "still waiting for a router at " + ep in output
+    assert "Traceback" not in output
+    if viewer[0] == "watch":  # its last frame, drawn once the session opened
+        assert "0 of 0 facing the robot" in output
+
+
+@pytest.mark.slow
+def test_watch_once_says_at_once_that_no_router_answers():
+    """One shot: no waiting, one line naming the command, exit 1."""
+    flags = ("-m", "client", "-e", endpoint(free_port()), "--no-multicast-scouting")
+    started = time.monotonic()
+    with running_cli("watch", "--once", *flags) as proc:
+        output, _ = proc.communicate(timeout=20)
+    assert proc.returncode == 1 and time.monotonic() - started < 15, output
+    assert output.startswith("facing-service watch:") and len(output.splitlines()) == 1, output
+
+
+@pytest.mark.slow
 def test_log_level_reaches_zenohs_own_log_but_never_its_debug(monkeypatch):
     """--log-level DEBUG shows zenoh's own log (its info level), never zenoh's debug,
     which prints the session's config, secrets included (see test_router_secure)."""
@@ -363,16 +399,16 @@ def test_help_log_and_status_say_the_same(net, tmp_path, caplog):
 def test_a_client_waiting_for_its_router_says_so(monkeypatch, caplog):
     """compose.yaml's client waits for its router inside zenoh.open (connect/timeout_ms
     -1), where zenoh says nothing: run warns every period all the same."""
+    from facing_service.config import patience
     from facing_service.config.settings import Settings
-    from facing_service.shell import run as shell
 
-    monkeypatch.setattr(shell, "UNREACHABLE_WARNING_S", 0.2)
+    monkeypatch.setattr(patience, "UNREACHABLE_WARNING_S", 0.2)
     nobody = endpoint(free_port())
     settings = Settings(mode="client", connect=[nobody], cfg=["connect/timeout_ms:-1"])
     never_opens, stop = threading.Event(), threading.Event()
     timer = threading.Timer(0.7, stop.set)
     timer.start()
-    assert shell.wait_until_open(never_opens, settings, stop) is False
+    assert patience.wait_until_open(never_opens, settings, stop) is False
     warnings = [
         r.getMessage() for r in caplog.records if "still waiting for a router" in r.getMessage()
     ]
