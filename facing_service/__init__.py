@@ -18,7 +18,14 @@ from .contract import (
     GroupState,
     ServiceStatus,
 )
-from .errors import ClientNotOpen, FacingError, QueryRefused, SettingsError, UnknownFrame
+from .errors import (
+    ClientNotOpen,
+    FacingError,
+    NoService,
+    QueryRefused,
+    SettingsError,
+    UnknownFrame,
+)
 
 __all__ = [
     "BodyRef",
@@ -31,6 +38,7 @@ __all__ = [
     "FrameFacing",
     "GazePair",
     "GroupState",
+    "NoService",
     "QueryRefused",
     "ServiceStatus",
     "SettingsError",

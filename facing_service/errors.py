@@ -3,9 +3,17 @@
 from .contract.errors import (
     ClientNotOpen,
     FacingError,
+    NoService,
     QueryRefused,
     SettingsError,
     UnknownFrame,
 )
 
-__all__ = ["ClientNotOpen", "FacingError", "QueryRefused", "SettingsError", "UnknownFrame"]
+__all__ = [
+    "ClientNotOpen",
+    "FacingError",
+    "NoService",
+    "QueryRefused",
+    "SettingsError",
+    "UnknownFrame",
+]

@@ -30,10 +30,17 @@ import zenoh
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
-from ..contract.errors import ClientNotOpen, QueryRefused, UnknownFrame
+from ..contract.errors import ClientNotOpen, FacingError, NoService, QueryRefused, UnknownFrame
 from ..contract.levels import Level
-from ..contract.schemas import EngagementEvent, FacingState, GazePair, GroupState, QueryError
-from ..contract.stamps import Time
+from ..contract.schemas import (
+    EngagementEvent,
+    EngagementState,
+    FacingState,
+    GazePair,
+    GroupState,
+    QueryError,
+)
+from ..contract.stamps import Stamp, Time
 from .scene import SCENE_EVENTS, Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
@@ -43,6 +50,9 @@ EventCallback = Callable[[EngagementEvent], Any]
 LostCallback = Callable[[keys.BodyRef], Any]
 
 _STOP = object()
+
+#: The levels at which a body counts as engaged: ``on_disengaged`` follows only these.
+_ENGAGED_LEVELS = (Level.ENGAGED, Level.DISENGAGING)
 
 
 class FacingClient:
@@ -90,7 +100,8 @@ class FacingClient:
         # instance vouches for is lost: a dead service leaves no ghost.
         self._live: set[str] = set()
         self._vouchers: dict[keys.BodyRef, set[str]] = {}
-        self._engaged: dict[keys.BodyRef, EngagementEvent] = {}  # last ENGAGED event
+        # Each body's latest engagement change (seeded at start as previous UNKNOWN).
+        self._levels: dict[keys.BodyRef, EngagementEvent] = {}
         self.dropped_from_dead = 0  # results of an instance with no live token, refused
 
     # -- lifecycle -------------------------------------------------------------------
@@ -189,6 +200,12 @@ class FacingClient:
         with self._lock:
             return sorted(b for (f, b), s in self._states.items() if f == frame and s.facing)
 
+    def engagement(self, frame: str) -> dict[str, Level]:
+        """Every body's current engagement level in ``frame``, by id (bodies whose level
+        the service has not said yet are absent)."""
+        with self._lock:
+            return {b: Level[e.level] for (f, b), e in self._levels.items() if f == frame}
+
     def groups(self, frame: str) -> list[GroupState]:
         """The groups in ``frame`` as the service last said them (``robot``: the robot
         is one of the members)."""
@@ -236,8 +253,15 @@ class FacingClient:
         return callback
 
     def on_engaged(self, callback: EventCallback) -> EventCallback:
-        """``callback(event)`` when a body becomes ENGAGED (see README, Engagement)."""
-        self._on["engaged"].append(callback)
+        """``callback(event)`` when a body becomes ENGAGED (docs/engagement.md). Bodies
+        already ENGAGED when it is registered are reported at once, as ``on_facing`` does
+        (``previous`` is then the level the client last saw: UNKNOWN for a body that was
+        ENGAGED before the client opened)."""
+        with self._lock:
+            current = [e for e in self._levels.values() if e.level == Level.ENGAGED.name]
+            self._on["engaged"].append(callback)
+        for event in current:
+            self._events.put((callback, (event,)))
         return callback
 
     def on_disengaged(self, callback: EventCallback) -> EventCallback:
@@ -250,25 +274,37 @@ class FacingClient:
     def query(self, frame: str, threshold_deg: float | None = None) -> list[FacingState]:
         """The service's current results for ``frame``, optionally re-decided under
         another cone (``threshold_deg``, without hysteresis): ``[]`` when nobody is there.
-        Raises ``UnknownFrame`` for a frame the service does not know (a typo), and
-        ``QueryRefused`` when it refuses the parameter (both ``ValueError``s)."""
+        Raises ``UnknownFrame`` for a frame no service knows (a typo), ``QueryRefused``
+        when the service refuses the parameter (both ``ValueError``s), and ``NoService``
+        when no service answers at all."""
         return sorted(self._ask(frame, threshold_deg), key=lambda s: s.body_id)
 
     def _ask(self, frame: str | None, threshold_deg: float | None) -> list[FacingState]:
+        """Every service's answer: a frame is unknown only when no answer knew it."""
         session = self._open_session()
         selector = keys.facing_key(self.namespace, keys.ALL_FRAMES, frame or self.frame)
         if threshold_deg is not None:
             selector += f"?threshold_deg={threshold_deg}"
-        states = []
+        states, unknown, answers = [], [], 0
         for reply in session.get(selector, timeout=self.timeout_s):
+            answers += 1
             if reply.ok is not None:
                 states.append(FacingState.model_validate_json(reply.ok.payload.to_bytes()))
                 continue
             error = QueryError.model_validate_json(reply.err.payload.to_bytes())
             if error.error in ("empty_frame", "not_tracked"):  # a known frame: nobody there
                 continue
-            refused = UnknownFrame if error.error == "unknown_frame" else QueryRefused
-            raise refused(error.error, error.detail)
+            if error.error != "unknown_frame":
+                raise QueryRefused(error.error, error.detail)
+            unknown.append(error)
+        if unknown and len(unknown) == answers:
+            raise UnknownFrame(unknown[0].error, unknown[0].detail)
+        if not answers and not self.live_instances:  # a wildcard frame with nobody: no reply
+            raise NoService(
+                f"no facing service answered {selector!r} within {self.timeout_s:g} s "
+                f"(none seen under the namespace {self.namespace!r}: is one running, and "
+                "does this client's endpoint reach it?)"
+            )
         return states
 
     @property
@@ -299,10 +335,10 @@ class FacingClient:
             lost = [(key, self._forget(key)) for key in orphans]
             lost_callbacks = list(self._on["lost"])
             disengaged_callbacks = list(self._on["disengaged"])
-        for body, engaged in lost:
-            if engaged is not None:
-                gone = engaged.model_copy(
-                    update={"previous": engaged.level, "level": "UNKNOWN", "level_value": 0}
+        for body, last in lost:
+            if last is not None and Level[last.level] in _ENGAGED_LEVELS:
+                gone = last.model_copy(
+                    update={"previous": last.level, "level": "UNKNOWN", "level_value": 0}
                 )
                 self._queue(disengaged_callbacks, (gone,))
             self._queue(lost_callbacks, (body,))
@@ -316,21 +352,43 @@ class FacingClient:
             self._queue(list(self._on[name]), args)
 
     def _forget(self, key: keys.BodyRef) -> EngagementEvent | None:
-        """Drop a body from the cache (lock held); its last ENGAGED event, if engaged."""
+        """Drop a body from the cache (lock held); its last engagement change."""
         self._states.pop(key, None)
         self._vouchers.pop(key, None)
-        return self._engaged.pop(key, None)
+        return self._levels.pop(key, None)
 
     def _reseed(self) -> None:
-        """The cache from a query: at start, and when a service (re)appears."""
+        """The cache from queries: at start, and when a service (re)appears. A service
+        with nobody in this client's frame yet is normal, not an error (it answers
+        ``unknown_frame`` until someone is tracked there)."""
         try:
-            states = self._ask(None, None)
+            try:
+                states = self._ask(None, None)
+            except UnknownFrame:
+                states = []
             self._scene.seed(self.session, self.timeout_s)
+            levels = self._engagement_now()
+        except FacingError as error:  # said in one line: the cache fills as results arrive
+            log.warning("facing client: could not query the service: %s", error)
+            return
         except Exception:
             log.exception("facing client: could not query the service")
             return
         for state in states:
             self._apply(state)
+        for level in levels:
+            self._take_event(
+                EngagementEvent(previous=Level.UNKNOWN.name, **level.model_dump()),
+            )
+
+    def _engagement_now(self) -> list[EngagementState]:
+        """Each body's engagement as the services hold it now (their queryables)."""
+        selector = keys.engagement_key(self.namespace, keys.ALL_FRAMES, self.frame)
+        return [
+            EngagementState.model_validate_json(reply.ok.payload.to_bytes())
+            for reply in self.session.get(selector, timeout=self.timeout_s)
+            if reply.ok is not None
+        ]
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         try:
@@ -352,17 +410,26 @@ class FacingClient:
         except Exception:
             log.exception("facing client: could not read an engagement event")
             return
-        level, previous = Level[event.level], Level[event.previous]
-        was_engaged = previous in (Level.ENGAGED, Level.DISENGAGING)
+        self._take_event(event)
+
+    def _take_event(self, event: EngagementEvent) -> None:
+        """A change of level, said or seeded: kept, and the callbacks of the transition
+        from the level the client last saw (an older change, raced by the seed, is not)."""
+        level = Level[event.level]
         key = keys.BodyRef(frame_id=event.frame_id, body_id=event.body_id)
         with self._lock:
             if event.instance is not None and event.instance not in self._live:
                 self.dropped_from_dead += 1
                 return
-            if level is Level.ENGAGED:
-                self._engaged[key] = event
-            elif level in (Level.DISENGAGED, Level.UNKNOWN):
-                self._engaged.pop(key, None)
+            known = self._levels.get(key)
+            if known is not None and _time(known.stamp) > _time(event.stamp):
+                return
+            previous = known.level if known is not None else event.previous
+            was_engaged = Level[previous] in _ENGAGED_LEVELS
+            if level is Level.UNKNOWN:
+                self._levels.pop(key, None)
+            else:
+                self._levels[key] = event
         if level is Level.ENGAGED and not was_engaged:
             self._queue(list(self._on["engaged"]), (event,))
         elif level in (Level.DISENGAGED, Level.UNKNOWN) and was_engaged:
@@ -375,7 +442,7 @@ class FacingClient:
                 self.dropped_from_dead += 1  # said by an instance no longer (or not yet) alive
                 return
             previous = self._states.get(key)
-            if previous is not None and _stamp(previous) > _stamp(state):
+            if previous is not None and _time(previous.stamp) > _time(state.stamp):
                 return  # older than what we have (the seeding query raced a result)
             self._states[key] = state
             if state.instance is not None:
@@ -406,5 +473,5 @@ def _instance_of(token_key: str) -> str:
     return token_key.rsplit("/", 1)[-1]
 
 
-def _stamp(state: FacingState) -> Time:
-    return Time.from_model(state.stamp)
+def _time(stamp: Stamp) -> Time:
+    return Time.from_model(stamp)

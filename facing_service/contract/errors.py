@@ -28,5 +28,10 @@ class UnknownFrame(QueryRefused):
     a typo in a frame name, not an empty room."""
 
 
+class NoService(FacingError, ConnectionError):
+    """No facing service answered a query: none is running, or the client's endpoint,
+    namespace or access rights do not reach it (an empty service answers, with nobody)."""
+
+
 class ClientNotOpen(FacingError, RuntimeError):
     """A client was used before ``open()`` or after ``close()``."""

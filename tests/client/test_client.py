@@ -2,16 +2,18 @@
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
 
 import pytest
 
-from facing_service import FacingClient, FacingState
+from facing_service import FacingClient, FacingError, FacingState, NoService, UnknownFrame
+from facing_service.contract.levels import Level
 from facing_service.testing import loopback_config
 
-from loopback import send, send_delete, wait_until, wait_until_answered
-from poses import pose_json
+from loopback import endpoint, free_port, get, send, send_delete, wait_until, wait_until_answered
+from poses import pose_json, replay
 
 KEY = "hri/bodies/{}/pose/cam"
 
@@ -156,3 +158,60 @@ def test_query_tells_nobody_there_from_a_wrong_frame_and_a_closed_client(net):
         wait_until(lambda: client.query("cam") == [], 5, "nobody in cam")
     with pytest.raises(ClientNotOpen):
         client.query("cam")
+
+
+def test_an_empty_service_is_no_error_for_a_client_of_one_frame(net, caplog):
+    """The README's start order (the service, then a viewer before any pose): the seeding
+    query's unknown_frame was logged with a traceback; an empty service is normal."""
+    _, ep = net.service(base_frame="*")  # as `run` starts: every frame
+    tracker = net.client(ep)
+    wait_until_answered(tracker, "hri/services/facing/*/status")
+    caplog.set_level(logging.INFO, logger="facing_service")
+    client = FacingClient("hri", "base_link", session_config=loopback_config(connect=[ep]))
+    with client:
+        assert client.live_instances  # it did see the service
+        assert client.bodies("base_link") == {} and client.engagement("base_link") == {}
+        with pytest.raises(UnknownFrame, match="frames tracked: none"):
+            client.query("base_lnk")
+    said = [r for r in caplog.records if r.name.startswith("facing_service.client")]
+    assert not [r for r in said if r.exc_info or r.levelno >= logging.WARNING], [
+        r.getMessage() for r in said
+    ]
+
+
+def test_no_service_is_said_by_a_named_error(net):
+    """A wrong port returned [] for every frame, typo or not: "no service" and "nobody
+    there" looked alike."""
+    nobody = endpoint(free_port())
+    with FacingClient(session_config=loopback_config(connect=[nobody]), timeout_s=0.3) as client:
+        for frame in ("base_link", "base_lnk", "*"):
+            with pytest.raises(NoService, match="no facing service answered"):
+                client.query(frame)
+    assert issubclass(NoService, FacingError)
+
+
+def test_engagement_is_replayed_to_late_callbacks_and_read_by_a_getter(net):
+    """on_engaged was not replayed for a person ENGAGED before the client opened, yet
+    on_disengaged fired for them later ("anna disengaged" with no "anna is ENGAGED")."""
+    _, ep = net.service()
+    tracker = net.client(ep)
+    wait_until_answered(tracker, "hri/facing/cam")
+    replay(tracker, "anna", [90.0] * 30 + [0.0] * 45)  # away 1 s, then faces 1.5 s: ENGAGED
+    wait_until(lambda: _level(tracker, "anna") == "ENGAGED", 5.0, "anna ENGAGED")
+    said: list[tuple[str, str, str]] = []
+    done = threading.Event()
+    with client_for(ep) as client:
+        assert client.engagement("cam") == {"anna": Level.ENGAGED}
+        client.on_engaged(lambda e: said.append(("engaged", e.body_id, e.previous)))
+        client.on_disengaged(
+            lambda e: (said.append(("disengaged", e.body_id, e.level)), done.set())
+        )
+        replay(tracker, "anna", [90.0] * 60, start_s=102.5)  # turns away for 2 s
+        assert done.wait(5)
+        assert client.engagement("cam") == {"anna": Level.DISENGAGED}
+    assert said == [("engaged", "anna", "UNKNOWN"), ("disengaged", "anna", "DISENGAGED")]
+
+
+def _level(session, body: str) -> str | None:
+    replies = get(session, f"hri/bodies/{body}/engagement/cam")
+    return replies[0][1]["level"] if replies else None
