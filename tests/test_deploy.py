@@ -25,10 +25,13 @@ UNITS = sorted((DEPLOY / "systemd").glob("facing-service*"))
 BINARY = "/opt/facing-service/.venv/bin/facing-service"
 
 
-def env_file() -> dict[str, str]:
+SETTINGS_FILES = ("facing-service.env", "facing-service.json.env")
+
+
+def env_file(name: str = "facing-service.env") -> dict[str, str]:
     pairs = [
         line.split("=", 1)
-        for line in (DEPLOY / "facing-service.env").read_text().splitlines()
+        for line in (DEPLOY / name).read_text().splitlines()
         if line.strip() and not line.startswith("#")
     ]
     return {k: v for k, v in pairs}
@@ -45,6 +48,24 @@ def test_the_settings_file_is_valid_settings_for_a_robot():
     settings = load_settings({}, env_file())
     assert (settings.input, settings.output, settings.mode) == ("ros2", "ros2", "client")
     assert settings.no_multicast_scouting
+    plain = load_settings({}, env_file("facing-service.json.env"))  # a JSON body tracker
+    assert (plain.input, plain.output, plain.mode) == ("json", "json", "client")
+    assert plain.connect == env_file()["FACING_CONNECT"].split(",")
+
+
+@pytest.mark.parametrize("name", SETTINGS_FILES)
+def test_a_shell_reads_the_settings_file_as_systemd_does(name):
+    """Issue 55: an unquoted `;` made the shipped file fail when sourced (`set -a; .`)."""
+    done = subprocess.run(
+        ["bash", "-c", f"set -ae; . {shlex.quote(str(DEPLOY / name))}; env -0"],
+        capture_output=True,
+        text=True,
+        env={"PATH": os.environ["PATH"]},
+        timeout=10,
+    )
+    assert done.returncode == 0 and not done.stderr, done.stderr
+    sourced = dict(item.split("=", 1) for item in done.stdout.split("\0") if "=" in item)
+    assert {k: sourced.get(k) for k in env_file(name)} == env_file(name)
 
 
 def test_the_service_unit_restarts_on_failure_and_runs_a_command_the_cli_accepts():
@@ -59,6 +80,11 @@ def test_the_service_unit_restarts_on_failure_and_runs_a_command_the_cli_accepts
     assert inner[0] == BINARY and "restart" in inner and "facing-service.service" in inner
     build_parser().parse_args(inner[1 : inner.index("||")])
     assert unit("facing-service-health.timer")["Timer"]["OnUnitActiveSec"] == "15s"
+    # a oneshot with no start timeout that hangs stops its timer from firing again
+    assert unit("facing-service-health.service")["Service"]["TimeoutStartSec"] == "30"
+    router = shlex.split(unit("facing-service-router.service")["Service"]["ExecStart"])
+    assert router[0] == BINARY
+    assert build_parser().parse_args(router[1:]).listen == ["tcp/127.0.0.1:7447"]
 
 
 def test_systemd_accepts_the_units(tmp_path):

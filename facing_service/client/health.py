@@ -120,13 +120,15 @@ def check(
         settings = load_settings(flags, environ)
         if instance != "*":
             keys.validate_name(instance, "instance")
-        config = probe_config(settings)
+        config = probe_config(settings, timeout)
     except (SettingsError, ValueError) as error:
         print(f"facing-service health: invalid setting: {error}", file=sys.stderr)
         return 2
+    deadline = time.monotonic() + timeout  # the whole check, the session's opening too
     try:
         with zenoh.open(config) as session:
-            answers, alive = statuses(session, settings.namespace, instance, timeout)
+            left = max(deadline - time.monotonic(), 0.1)
+            answers, alive = statuses(session, settings.namespace, instance, left)
     except zenoh.ZError as error:
         print(zenoh_failure("health", error), file=sys.stderr)
         return 1

@@ -27,13 +27,15 @@ def _loopback(endpoint: str) -> str:
     return endpoint.replace("/0.0.0.0:", "/127.0.0.1:").replace("/[::]:", "/[::1]:")
 
 
-def probe_config(settings: Settings) -> zenoh.Config:
+def probe_config(settings: Settings, timeout_s: float) -> zenoh.Config:
     """Zenoh config of a short-lived helper session (``health``) beside a running service,
     configured from the same flags and ``FACING_*`` variables as the service.
 
     It must not take the service's ports, so it listens nowhere (even if the config file
     says otherwise); when the service is only configured to listen, the helper connects to
-    those endpoints on loopback.
+    those endpoints on loopback. It is one shot: it waits for its endpoints no longer than
+    ``timeout_s``, whatever the service's own settings say (a service beside a robot waits
+    for its router for ever, ``connect/timeout_ms: -1``: the check then hung with it).
     """
     connect = settings.connect or [_loopback(e) for e in settings.listen]
     # A router's mode would make the helper listen; otherwise the configured mode holds
@@ -42,6 +44,8 @@ def probe_config(settings: Settings) -> zenoh.Config:
     helper = settings.model_copy(update={"listen": [], "connect": connect, "mode": mode})
     conf = zenoh_config(helper)
     conf.insert_json5("listen/endpoints", "[]")
+    conf.insert_json5("connect/timeout_ms", json.dumps(max(1, round(timeout_s * 1000))))
+    conf.insert_json5("connect/exit_on_failure", "true")
     return conf
 
 

@@ -121,7 +121,7 @@ def test_health_finds_a_running_peer_mode_service_every_time(net):
         settings = load_settings({"cfg": cfg}, {})
         answered = 0
         for _ in range(100):
-            with zenoh.open(probe_config(settings)) as session:
+            with zenoh.open(probe_config(settings, 3.0)) as session:
                 answers, _alive = statuses(session, "hri", "*", timeout=3.0)
             answered += [a.instance for a in answers] == ["peer-1"]
     finally:
@@ -129,9 +129,18 @@ def test_health_finds_a_running_peer_mode_service_every_time(net):
     assert answered == 100
 
 
-def test_health_without_a_service_fails_within_its_timeout():
+@pytest.mark.parametrize(
+    "waiting",
+    [{}, {"FACING_CFG": "connect/timeout_ms:-1;connect/exit_on_failure:false"}],
+    ids=["plain", "service-waits-for-its-router"],
+)
+def test_health_without_a_service_fails_within_its_timeout(waiting):
+    """Issue 55: under the settings of a service that waits for its router for ever (the
+    shipped deploy and compose files set them), health hung until killed: one shot, it
+    bounds its own session by --timeout whatever the settings say."""
     started = time.monotonic()
-    proc = health("-e", endpoint(free_port()), env={"FACING_NO_MULTICAST_SCOUTING": "1"})
+    env = {"FACING_NO_MULTICAST_SCOUTING": "1", **waiting}
+    proc = health("-m", "client", "-e", endpoint(free_port()), env=env)
     took = time.monotonic() - started
     assert proc.returncode == 1 and len(proc.stderr.strip().splitlines()) == 1
     said = proc.stderr
