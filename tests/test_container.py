@@ -2,7 +2,7 @@
 check its health command, stop it with SIGTERM.
 
 Runs when FACING_TEST_IMAGE names a built image (and DOCKER_HOST, if needed, the engine):
-.ci/container builds one and sets FACING_REQUIRE_IMAGE=1, so in CI a missing image or
+.ci/container builds one and sets FACING_TEST_REQUIRE_IMAGE=1, so in CI a missing image or
 engine fails instead of skipping.
 """
 
@@ -24,8 +24,8 @@ pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 IMAGE = os.environ.get("FACING_TEST_IMAGE")
 
 if not IMAGE:
-    if os.environ.get("FACING_REQUIRE_IMAGE") == "1":
-        raise RuntimeError("FACING_REQUIRE_IMAGE=1 but FACING_TEST_IMAGE is not set")
+    if os.environ.get("FACING_TEST_REQUIRE_IMAGE") == "1":
+        raise RuntimeError("FACING_TEST_REQUIRE_IMAGE=1 but FACING_TEST_IMAGE is not set")
     pytest.skip("no image: set FACING_TEST_IMAGE (see .ci/container)", allow_module_level=True)
 
 

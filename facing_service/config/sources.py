@@ -5,6 +5,8 @@ variable it came from. Also the table of every setting that docs/configuration.m
 
 from __future__ import annotations
 
+import difflib
+import logging
 from collections.abc import Mapping
 from typing import Any
 
@@ -14,7 +16,13 @@ from ..contract.errors import SettingsError
 from .disclosure import public_value
 from .settings import Settings
 
+log = logging.getLogger("facing_service")
+
 ENV_PREFIX = "FACING_"
+#: ``FACING_*`` variables that are not settings: the health check's own identity
+#: (``client.health``); ``FACING_TEST_*`` is kept for the project's own test tooling.
+OTHER_VARIABLES = ("FACING_HEALTH_CONFIG",)
+TEST_PREFIX = "FACING_TEST_"
 #: In environment variables, list settings are comma-separated, except ``FACING_CFG``
 #: whose JSON5 values may hold commas: its entries are separated by ``;``.
 _LIST_SEPARATORS = {
@@ -99,10 +107,26 @@ def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Setti
                 else raw
             )
             sources[name] = env_name(name)
+    for warning in unknown_variables(environ):
+        log.warning(warning)
     try:
         return Settings(**values)
     except ValidationError as error:
         raise SettingsError(_describe(error, values, sources)) from None
+
+
+def unknown_variables(environ: Mapping[str, str]) -> list[str]:
+    """One line for each ``FACING_*`` variable that names no setting (a misspelt one
+    would otherwise be ignored without a word), with the nearest name when one is close."""
+    known = [env_name(name) for name in Settings.model_fields] + list(OTHER_VARIABLES)
+    lines = []
+    for name in sorted(environ):
+        if not name.startswith(ENV_PREFIX) or name in known or name.startswith(TEST_PREFIX):
+            continue
+        near = difflib.get_close_matches(name, known, n=1, cutoff=0.85)
+        hint = f" (did you mean {near[0]}?)" if near else " (docs/configuration.md lists them)"
+        lines.append(f"{name} names no setting and is ignored{hint}")
+    return lines
 
 
 def _describe(error: ValidationError, values: Mapping[str, Any], sources: Mapping[str, str]) -> str:

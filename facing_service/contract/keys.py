@@ -134,6 +134,20 @@ def pose_subscription(namespace: str, frame: str) -> str:
     return pose_key(namespace, ALL_FRAMES, frame)
 
 
+def mistyped_pose_keys(namespace: str) -> tuple[str, ...]:
+    """Where a tracker's poses land when their key is mistyped: no frame chunk, chunks
+    after the frame, ``body`` for ``bodies``, ``poses`` for ``pose``, the namespace left
+    out. No valid pose and no output of the service matches any of them, so the service
+    can subscribe to count and log them (they would otherwise vanish unseen)."""
+    mistakes = (
+        f"{namespace}/bodies/*/pose",
+        f"{namespace}/bodies/*/pose/*/*/**",
+        f"{namespace}/body/**",
+        f"{namespace}/bodies/*/poses/**",
+    )
+    return mistakes if namespace == "bodies" else (*mistakes, "bodies/*/pose/**")
+
+
 def result_queryables(namespace: str, frame: str) -> tuple[str, str]:
     """The two output key spaces the service answers queries on; ``frame`` may be ``*``."""
     return facing_key(namespace, ALL_FRAMES, frame), frame_key(namespace, frame)

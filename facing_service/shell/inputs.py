@@ -9,6 +9,7 @@ third form is a third class (``JsonInput`` here, ``ros_input.RosInput``), not a 
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
@@ -22,6 +23,11 @@ from ..contract.poses import Rejected, Rejection, decode_pose
 from ..contract.schemas import Ros2Status
 from ..core.records import PoseSample
 from .ledger import Ledger
+
+log = logging.getLogger("facing_service")
+
+#: How many distinct invalid keys are each said in a line of their own (then only counted).
+SAID_KEYS = 100
 
 
 @dataclass(frozen=True, slots=True)
@@ -77,7 +83,9 @@ class Input(Protocol):
 
 class JsonInput:
     """Poses as JSON on ``NS/bodies/<id>/pose/<frame>`` (docs/contract.md); a DELETE on a
-    pose key loses the body. Nothing on the side, nothing to diagnose."""
+    pose key loses the body. On the side, the keys a mistyped pose lands on
+    (``keys.mistyped_pose_keys``), refused as invalid keys: counted and logged like any
+    other rejection. Nothing to diagnose."""
 
     declares_pose_keys = True
 
@@ -87,11 +95,17 @@ class JsonInput:
         self._limit = settings.max_payload_bytes
         self._pose_key = keys.PoseKeyParser(settings.namespace, 2 * settings.max_bodies)
         self._ledger = ledger
+        self._mistyped: list[zenoh.Subscriber[None]] = []
+        self._said: set[str] = set()  # the invalid keys said in the log
 
     def hot_key(self) -> str:
         return self._subscription
 
     def open(self, session: zenoh.Session, hand_off: Callable[[object], None]) -> str:
+        self._mistyped = [
+            session.declare_subscriber(key, hand_off, allowed_origin=zenoh.Locality.REMOTE)
+            for key in keys.mistyped_pose_keys(self._namespace)
+        ]
         return self._subscription
 
     def read(self, item: object, poses: list[PoseSample]) -> Loss | None:
@@ -105,6 +119,7 @@ class JsonInput:
             return Loss([parsed])
         if parsed is None:
             self._ledger.reject(Rejection.INVALID_KEY, key, "not NS/bodies/<id>/pose/<frame>")
+            self._say_invalid_key(key)
             return None
         limit, payload = self._limit, item.payload  # (each .payload is a new ZBytes)
         if len(payload) > limit:  # refuse before copying a huge payload
@@ -116,6 +131,18 @@ class JsonInput:
             return None
         poses.append(PoseSample(parsed, decoded))
         return None
+
+    def _say_invalid_key(self, key: str) -> None:
+        """Each invalid key in a line of its own, once (the rejections' periodic summary
+        names only the first of each reason); at most ``SAID_KEYS`` of them."""
+        if key in self._said or len(self._said) >= SAID_KEYS:
+            return
+        self._said.add(key)
+        log.warning(
+            "poses on %s are refused: the key is not %s (counted as invalid_key)",
+            keys.cut(key),
+            keys.pose_key(self._namespace, "<id>", "<frame>"),
+        )
 
     def origin(self, sample: PoseSample) -> str:
         return keys.pose_key(self._namespace, sample.body_id, sample.frame_id)
@@ -133,4 +160,6 @@ class JsonInput:
         return ""
 
     def close(self) -> None:
-        return None
+        for subscriber in self._mistyped:
+            subscriber.undeclare()
+        self._mistyped = []

@@ -24,7 +24,7 @@ pytestmark = pytest.mark.slow  # a browser, a router, services
 
 NS = "hri"
 #: Set to a path (docs/view.png) to save the screenshot the docs and README show.
-SCREENSHOT = os.environ.get("FACING_VIEW_SCREENSHOT")
+SCREENSHOT = os.environ.get("FACING_TEST_VIEW_SCREENSHOT")
 
 
 class Page:

@@ -1,4 +1,5 @@
 import json
+import logging
 
 import pytest
 
@@ -87,3 +88,22 @@ def test_zenoh_config_from_flags_and_cfg(tmp_path):
 def test_zenoh_config_refuses_unknown_keys():
     with pytest.raises(SettingsError, match="--cfg no/such/key"):
         zenoh_config(load_settings({"cfg": ["no/such/key:1"]}, {}))
+
+
+def test_a_facing_variable_that_names_no_setting_is_said_in_one_line(caplog):
+    """Issue 55: FACING_TRESHOLD_DEG=30 (misspelt) was ignored without a word."""
+    environ = {
+        "FACING_TRESHOLD_DEG": "30",
+        "FACING_THRESHOLD_DEG": "25",
+        "FACING_HEALTH_CONFIG": "health.json5",  # the health check's, not a setting
+        "FACING_TEST_IMAGE": "x",  # the project's test tooling
+        "FACING_ZZZ": "1",
+        "OTHER": "1",
+    }
+    with caplog.at_level(logging.WARNING, logger="facing_service"):
+        settings = load_settings({}, environ)
+    assert settings.threshold_deg == 25
+    assert [r.getMessage() for r in caplog.records] == [
+        "FACING_TRESHOLD_DEG names no setting and is ignored (did you mean FACING_THRESHOLD_DEG?)",
+        "FACING_ZZZ names no setting and is ignored (docs/configuration.md lists them)",
+    ]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 
@@ -10,7 +11,7 @@ import pytest
 
 from facing_service.core.detector import classify
 
-from loopback import get, send, send_delete, wait_until_answered
+from loopback import get, send, send_delete, wait_until, wait_until_answered
 from poses import pose_dict, pose_json
 
 NS = "hri"
@@ -241,6 +242,37 @@ def test_bad_samples_are_counted_and_good_ones_all_processed(rig):
         "invalid_key": 5,
         "payload_too_large": 5,
     }
+
+
+def test_mistyped_pose_keys_are_counted_and_logged_not_lost_in_silence(rig, caplog):
+    """Issue 55: a tracker's poses on a mistyped key reached no subscription of the
+    service, and nothing said so; they are now refused as invalid keys, counted in the
+    status and named in the rejections' log line, and good poses still all come through."""
+    service, client, rec = rig()
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    mistyped = [
+        "hri/body/alice/pose/cam",  # body for bodies
+        "hri/bodies/alice/pose",  # no frame
+        "hri/bodies/alice/pose/cam/x",  # a chunk after the frame
+        "hri/bodies/alice/poses/cam",  # poses for pose
+        "bodies/alice/pose/cam",  # the namespace left out
+    ]
+    for sec in (1, 2):
+        for key in mistyped:
+            send(client, key, pose_json("alice", "cam", sec=sec))
+        send(client, pose_key("a"), pose_json("a", "cam", sec=sec))
+    results = rec.wait_for(is_put(body_key("a")), count=2)
+    assert [r.value["stamp"]["sec"] for r in results] == [1, 2]
+    wait_until(
+        lambda: service.status().rejected.get("invalid_key") == 2 * len(mistyped),
+        5.0,
+        "every mistyped pose counted",
+    )
+    service.close()  # the rejections' summary is said at the latest when it stops
+    said = [r.getMessage() for r in caplog.records]
+    for key in mistyped:  # each named once, in a line of its own
+        assert sum(f"poses on {key} are refused" in line for line in said) == 1, said
+    assert any("invalid_key=10" in line for line in said)  # and in the summary
 
 
 def test_a_lost_body_that_comes_back_is_said_again_through_client_declared_publishers(net):
