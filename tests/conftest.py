@@ -10,7 +10,29 @@ from facing_service.config.settings import Settings
 from facing_service.shell.service import FacingService
 
 from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, loopback_config
+from oracles import in_ci, shared_data_missing
 from routers import Router
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line(
+        "markers",
+        "shared_data: reads ../shared/data (skipped where it is absent, failed in CI)",
+    )
+
+
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    """A test of the shared data, on a machine without it: skipped with the reason on a
+    user's clone, failed in CI (which must run every test). Before its fixtures, some of
+    which read the data."""
+    if item.get_closest_marker("shared_data") is None:
+        return
+    missing = shared_data_missing()
+    if missing is None:
+        return
+    if in_ci():
+        pytest.fail(f"{missing}; CI runs every test, so it must be there")
+    pytest.skip(missing)
 
 
 class Network:

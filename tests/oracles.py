@@ -4,6 +4,7 @@ own tf2 BufferCore (Debian's python3-tf2 on the system Python, through ``tf2_ora
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 from pathlib import Path
@@ -12,8 +13,34 @@ import pytest
 
 ORACLE = Path(__file__).resolve().parent / "tf2_oracle.py"
 SYSTEM_PYTHON = "/usr/bin/python3"
-#: The shared real recordings (../shared beside the project).
-BAGS = Path(__file__).resolve().parents[2] / "shared" / "data" / "hri_engagement_bags"
+#: The team's shared data (../shared/data beside the project: recordings, F-formation
+#: sequences). A user's clone has none: tests marked ``shared_data`` skip there, saying so,
+#: and fail in CI (``CI=true``), which must run every test (see conftest.py).
+SHARED_DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+#: The shared real recordings.
+BAGS = SHARED_DATA / "hri_engagement_bags"
+
+
+def shared_data_missing() -> str | None:
+    """Why the tests that read ../shared/data cannot run here, or None when they can."""
+    if SHARED_DATA.is_dir():
+        return None
+    return (
+        f"needs the team's shared data at {SHARED_DATA} (recordings and F-formation "
+        "sequences, not part of a clone)"
+    )
+
+
+def in_ci() -> bool:
+    return os.environ.get("CI", "").lower() == "true"
+
+
+def recording_names() -> list[str]:
+    """The shared recordings' names, to parametrize over; one placeholder where there
+    are none (its test is skipped, or failed in CI, before it runs)."""
+    if not BAGS.is_dir():
+        return ["no-shared-data"]
+    return sorted(p.name for p in BAGS.iterdir() if p.is_dir())
 
 
 def oracle(scenarios: list[list[list]]) -> list[list[dict]]:

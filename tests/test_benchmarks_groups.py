@@ -33,6 +33,7 @@ def test_evalgroups_is_gcffs_on_its_edge_cases():
         ("GDet/S2", 0.94),
     ],
 )
+@pytest.mark.shared_data
 def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
     """GCFF's own per-scene parameters, read from the sequence's settings_gc.mat (stride
     in cm, MDL in cm², converted to metres): F1 (T = 2/3) within two points of GCFF's

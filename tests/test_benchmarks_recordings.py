@@ -10,7 +10,8 @@ import pytest
 
 from benchmarks.recordings import REFERENCE_FIGURES, evaluate, first_folder_summary, print_table
 
-pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
+# processes, recordings or seconds-long scenarios; they read ../shared/data
+pytestmark = [pytest.mark.slow, pytest.mark.shared_data]
 
 
 @pytest.fixture(scope="module")

@@ -68,6 +68,7 @@ def test_the_ceiling_row_is_summarised_apart():
     assert both["without_ceiling"]["missed"] is None
 
 
+@pytest.mark.shared_data
 def test_the_shared_folders_are_one_set_and_a_name_twice_is_refused(tmp_path):
     found = scoring.labelled()
     assert len(found) == 10

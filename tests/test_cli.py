@@ -28,6 +28,7 @@ from loopback import (
     wait_until,
     wait_until_answered,
 )
+from oracles import BAGS
 from poses import pose_json
 from routers import Router
 
@@ -344,7 +345,7 @@ def test_the_watch_table_and_the_demo_order_ids_as_numbers():
         ["watch", "--once"],
         ["simulate", "--duration-s", "1"],
         ["run"],
-        ["replay", "../shared/data/hri_engagement_bags/1p_AA_eng_1"],
+        pytest.param(["replay", str(BAGS / "1p_AA_eng_1")], marks=pytest.mark.shared_data),
         ["inspect", "--seconds", "1"],
     ],
     ids=lambda c: c[0],

@@ -30,17 +30,11 @@ import zenoh
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
-from ..contract.errors import ClientNotOpen, FacingError, NoService, QueryRefused, UnknownFrame
+from ..contract.errors import ClientNotOpen, FacingError, UnknownFrame
 from ..contract.levels import Level
-from ..contract.schemas import (
-    EngagementEvent,
-    EngagementState,
-    FacingState,
-    GazePair,
-    GroupState,
-    QueryError,
-)
+from ..contract.schemas import EngagementEvent, FacingState, GazePair, GroupState
 from ..contract.stamps import Stamp, Time
+from .replies import engagement_states, facing_states
 from .scene import SCENE_EVENTS, Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
@@ -280,32 +274,11 @@ class FacingClient:
         return sorted(self._ask(frame, threshold_deg), key=lambda s: s.body_id)
 
     def _ask(self, frame: str | None, threshold_deg: float | None) -> list[FacingState]:
-        """Every service's answer: a frame is unknown only when no answer knew it."""
-        session = self._open_session()
         selector = keys.facing_key(self.namespace, keys.ALL_FRAMES, frame or self.frame)
         if threshold_deg is not None:
             selector += f"?threshold_deg={threshold_deg}"
-        states, unknown, answers = [], [], 0
-        for reply in session.get(selector, timeout=self.timeout_s):
-            answers += 1
-            if reply.ok is not None:
-                states.append(FacingState.model_validate_json(reply.ok.payload.to_bytes()))
-                continue
-            error = QueryError.model_validate_json(reply.err.payload.to_bytes())
-            if error.error in ("empty_frame", "not_tracked"):  # a known frame: nobody there
-                continue
-            if error.error != "unknown_frame":
-                raise QueryRefused(error.error, error.detail)
-            unknown.append(error)
-        if unknown and len(unknown) == answers:
-            raise UnknownFrame(unknown[0].error, unknown[0].detail)
-        if not answers and not self.live_instances:  # a wildcard frame with nobody: no reply
-            raise NoService(
-                f"no facing service answered {selector!r} within {self.timeout_s:g} s "
-                f"(none seen under the namespace {self.namespace!r}: is one running, and "
-                "does this client's endpoint reach it?)"
-            )
-        return states
+        replies = self._open_session().get(selector, timeout=self.timeout_s)
+        return facing_states(replies, selector, bool(self.live_instances), self.timeout_s)
 
     @property
     def live_instances(self) -> set[str]:
@@ -367,7 +340,8 @@ class FacingClient:
             except UnknownFrame:
                 states = []
             self._scene.seed(self.session, self.timeout_s)
-            levels = self._engagement_now()
+            selector = keys.engagement_key(self.namespace, keys.ALL_FRAMES, self.frame)
+            levels = engagement_states(self.session.get(selector, timeout=self.timeout_s))
         except FacingError as error:  # said in one line: the cache fills as results arrive
             log.warning("facing client: could not query the service: %s", error)
             return
@@ -380,15 +354,6 @@ class FacingClient:
             self._take_event(
                 EngagementEvent(previous=Level.UNKNOWN.name, **level.model_dump()),
             )
-
-    def _engagement_now(self) -> list[EngagementState]:
-        """Each body's engagement as the services hold it now (their queryables)."""
-        selector = keys.engagement_key(self.namespace, keys.ALL_FRAMES, self.frame)
-        return [
-            EngagementState.model_validate_json(reply.ok.payload.to_bytes())
-            for reply in self.session.get(selector, timeout=self.timeout_s)
-            if reply.ok is not None
-        ]
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         try:

@@ -7,7 +7,6 @@ import math
 import random
 
 import pytest
-from oracles import BAGS, oracle
 
 from benchmarks.bags import read_bag
 from facing_service.core.tf_buffer import TfBuffer
@@ -19,6 +18,8 @@ from facing_service.core.tf_errors import (
     TfError,
 )
 from facing_service.core.tf_math import RigidTransform
+
+from oracles import BAGS, oracle, recording_names
 
 S = 1_000_000_000
 TF_TOPICS = ("/tf", "/tf_static")
@@ -232,7 +233,8 @@ def recording_ops(name: str) -> list[list]:
     return ops
 
 
-@pytest.mark.parametrize("name", sorted(p.name for p in BAGS.iterdir() if p.is_dir()))
+@pytest.mark.shared_data
+@pytest.mark.parametrize("name", recording_names())
 def test_the_recordings_answer_as_tf2_does(name):
     ops = recording_ops(name)
     assert sum(op[0] == "lookup" for op in ops) > 100

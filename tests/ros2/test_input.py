@@ -9,7 +9,6 @@ import math
 import time
 
 import pytest
-from oracles import oracle
 
 from facing_service.contract.poses import Rejected, Rejection
 from facing_service.contract.stamps import Time
@@ -32,6 +31,7 @@ from facing_service.ros2.wire import (
 
 import rmw_zenoh
 from loopback import endpoint
+from oracles import oracle
 from rmw_zenoh import Release, Robot
 from ros_messages import S, ids_list, string, tf_message, transform, type_of, yaw_q
 

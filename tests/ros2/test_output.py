@@ -12,7 +12,6 @@ from types import SimpleNamespace
 
 import pytest
 import zenoh
-from oracles import BAGS
 from upstream import STANDARD_MSGS, definition
 
 from benchmarks.bags import read_bag
@@ -29,6 +28,7 @@ from facing_service.tools.replay import Replay
 
 import rmw_zenoh
 from loopback import endpoint
+from oracles import BAGS
 from rmw_zenoh import JAZZY_0_2_10 as JAZZY
 
 pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
@@ -157,6 +157,7 @@ def run_recording(net, fmt: RosFormat, recording: Path = RECORDING, **settings):
     return router.port, service, play
 
 
+@pytest.mark.shared_data
 def test_rmw_zenoh_subscribers_get_engagement_status_with_valid_attachments(net, sdk):
     from zenoh_ros2_sdk import ROS2Subscriber
     from zenoh_ros2_sdk.discovery import get_topic_names_and_types
@@ -223,6 +224,7 @@ def test_rmw_zenoh_subscribers_get_engagement_status_with_valid_attachments(net,
     assert levels[:common] == raw_levels[:common] and Level.ENGAGED in levels[:common]
 
 
+@pytest.mark.shared_data
 def test_bridge_subscribers_get_engagement_status_as_raw_cdr(net):
     port, _service, play = run_recording(net, RosFormat.BRIDGE)
     consumer = net.client(endpoint(port), mode="client")
@@ -241,6 +243,7 @@ def test_bridge_subscribers_get_engagement_status_as_raw_cdr(net):
     )
 
 
+@pytest.mark.shared_data
 def test_replay_records_what_the_service_published(net, tmp_path):
     """--record: the service's ROS 2 output written into a bag that ROS tools (and
     rosbags) open afterwards."""
@@ -264,6 +267,7 @@ def test_replay_records_what_the_service_published(net, tmp_path):
     assert Path(out, "metadata.yaml").is_file()
 
 
+@pytest.mark.shared_data
 def test_a_recording_written_as_mcap_replays(net, tmp_path):
     """--record OUT.mcap writes an mcap bag; replay reads it back (both storage formats
     rosbag2 uses: the shared recordings are sqlite3)."""

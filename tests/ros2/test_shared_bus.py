@@ -12,7 +12,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import pytest
-from oracles import BAGS
 
 from benchmarks.bags import read_bag_raw
 from facing_service.contract.levels import Level
@@ -21,10 +20,12 @@ from facing_service.ros2.wire import Wire, attachment
 
 import rmw_zenoh
 from loopback import endpoint
+from oracles import BAGS
 from rmw_zenoh import Robot, Subscription
 from ros_messages import ids_list, string, tf_message, transform
 
-pytestmark = pytest.mark.slow  # a router and a recording streamed at its pace, per attack
+# a router and a recording streamed at its pace, per attack; they read ../shared/data
+pytestmark = [pytest.mark.slow, pytest.mark.shared_data]
 
 TF, IDS, STRING = ros2_types.TF_MESSAGE, ros2_types.IDS_LIST, ros2_types.STRING
 LEVEL = "hri_msgs/msg/EngagementLevel"

@@ -7,11 +7,11 @@ import subprocess
 import sys
 
 import pytest
-from oracles import BAGS
 
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint
+from oracles import BAGS
 
 RECORDING = BAGS / "1p_AA_eng_1"
 
@@ -22,7 +22,11 @@ RECORDING = BAGS / "1p_AA_eng_1"
         (["/no/such/bag"], "BAG '/no/such/bag': no such file or folder"),
         ([str(RECORDING), "--rate", "0"], "argument --rate: must be a number > 0, got 0"),
         ([str(RECORDING), "--rate", "nan"], "argument --rate: must be a number > 0, got nan"),
-        ([str(RECORDING), "--ros-domain-id", "-1"], "--ros-domain-id=-1: "),
+        pytest.param(  # the bag is read before the setting is checked
+            [str(RECORDING), "--ros-domain-id", "-1"],
+            "--ros-domain-id=-1: ",
+            marks=pytest.mark.shared_data,
+        ),
     ],
 )
 def test_bad_arguments_exit_2_with_one_line(args, message):
@@ -37,6 +41,7 @@ def test_bad_arguments_exit_2_with_one_line(args, message):
 
 
 @pytest.mark.slow
+@pytest.mark.shared_data
 def test_replay_feeds_the_service_like_the_robot_did(net):
     """Bridge format this time (the evaluation runs rmw_zenoh's): the recording's person
     becomes ENGAGED, and nothing the robot sent is refused."""
@@ -57,6 +62,7 @@ def test_replay_feeds_the_service_like_the_robot_did(net):
 
 
 @pytest.mark.slow
+@pytest.mark.shared_data
 def test_recording_nothing_says_why(net, tmp_path):
     """--record against a service without --output ros2: not 'recorded 0 messages' and
     exit 0, but why, and a failure."""
