@@ -50,9 +50,12 @@ class Greeter:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("-e", "--connect", action="append", default=[])
-    parser.add_argument("--frame", default="base_link")
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    parser.add_argument(
+        "-e", "--connect", action="append", default=[], metavar="ENDPOINT",
+        help="the service's (or its router's) endpoint, e.g. tcp/127.0.0.1:7447; repeatable",
+    )  # fmt: skip
+    parser.add_argument("--frame", default="base_link", help="the base frame (default base_link)")
     parser.add_argument("--duration-s", type=float, help="stop after this long")
     args = parser.parse_args()
 

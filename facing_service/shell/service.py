@@ -66,6 +66,10 @@ log = logging.getLogger("facing_service")
 #: the same throughput, since batches are at most MAX_BATCH anyway.
 INBOX_SIZE = 1024
 
+#: How long closing waits for the service's threads, all of them together (then the
+#: session's close releases any still blocked): SIGTERM ends the process within 2 s.
+CLOSE_JOIN_S = 1.0
+
 
 def tracker_for(settings: Settings) -> Tracker:
     """The tracker a service with these settings runs (also the offline evaluation's, in
@@ -217,8 +221,9 @@ class FacingService:
         if self._intake is not None:  # a waiting worker wakes; a busy one sees the flag
             self._intake.close()
         self._outbox.close()
+        deadline = time.monotonic() + CLOSE_JOIN_S  # one budget (0.7 s each was 2.1 s)
         for thread in self._threads:
-            thread.join(timeout=0.7)
+            thread.join(timeout=max(deadline - time.monotonic(), 0.0))
         self._threads = []
         if self._session is not None:
             self._session.close()

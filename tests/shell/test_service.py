@@ -339,3 +339,35 @@ def test_a_query_on_a_body_not_tracked_beside_others_says_so(rig):
     rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == ["a"])
     ((kind, error),) = get(client, f"{NS}/bodies/b/facing/cam")
     assert (kind, error["error"]) == ("error", "not_tracked") and "'cam'" in error["detail"]
+
+
+def test_closing_gives_the_threads_one_budget_together(net):
+    """Issue 55: each thread had 0.7 s to stop, one after the other (2.1 s in all, over
+    the 2 s SIGTERM promises); they now share CLOSE_JOIN_S. The first thread is joined
+    through a stand-in that stays stuck for all the time it is given; the others (real)
+    are then given nothing more."""
+    from facing_service.shell.service import CLOSE_JOIN_S
+
+    service, _ = net.service()
+    given: list[float] = []
+    real = list(service._threads)
+
+    class Noted:
+        def __init__(self, thread, stuck: bool) -> None:
+            self.thread, self.stuck = thread, stuck
+
+        def join(self, timeout: float | None = None) -> None:
+            assert timeout is not None
+            given.append(timeout)
+            if self.stuck:
+                time.sleep(timeout)  # a thread that does not stop in time
+            else:
+                self.thread.join(timeout)
+
+    service._threads = [Noted(t, stuck=i == 0) for i, t in enumerate(real)]
+    assert len(real) >= 3
+    service.close()
+    assert 0 < given[0] <= CLOSE_JOIN_S and given[1:] == [0.0] * (len(real) - 1)
+    for thread in real:  # they all stop: the session is closed
+        thread.join(5)
+        assert not thread.is_alive()
