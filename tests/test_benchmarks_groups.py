@@ -4,9 +4,14 @@ GCFF's own per-scene parameters, where it must give GCFF's figures."""
 
 from __future__ import annotations
 
+import json
+from dataclasses import asdict
+
+import numpy as np
 import pytest
 
-from benchmarks.groups import SHARED, evalgroups, f1, gcff_params, load, run
+from benchmarks.groups import RESULTS, SHARED, evalgroups, f1, gcff_params, load, run
+from facing_service.core.groups import GroupParams, ScaleParams
 
 G = frozenset
 
@@ -31,6 +36,7 @@ def test_evalgroups_is_gcffs_on_its_edge_cases():
         ("Synth", 0.97),
         ("GDet/S1", 0.93),
         ("GDet/S2", 0.94),
+        ("SALSA/CocktailParty", 0.82),  # every third frame, as GCFF's figure (issue 51)
     ],
 )
 @pytest.mark.shared_data
@@ -45,3 +51,32 @@ def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
     frames = load(sequence)
     found = run(frames, gcff_params(stride, mdl))
     assert f1(frames, found, 2 / 3) == pytest.approx(gcff, abs=0.02)
+
+
+def test_the_shipped_defaults_are_the_set_chosen_on_all_six_sequences():
+    """What `python -m benchmarks.groups` chose on every shared sequence (its committed
+    results) is what the service runs: a default changed by hand fails here."""
+    chosen = json.loads(RESULTS.read_text())["default"]["room"]
+    assert chosen["groups"] == asdict(GroupParams())
+    assert chosen["scale"] == asdict(ScaleParams())
+
+
+def test_the_scenes_made_for_the_failures_are_what_they_say():
+    """The stress scenes (benchmarks/group_scenes.py): loners hold no group, the wide
+    circle one of five, the posters a crowd denser than its groups."""
+    from benchmarks.group_scenes import scenes
+    from facing_service.core.groups import nearest_distances
+
+    made = scenes()
+    assert all(not frame.truth for frame in made["loners"])
+    assert all([len(g) for g in frame.truth] == [5] for frame in made["wide circle"])
+    poster = made["posters"][0]
+    nearest = float(np.median(nearest_distances(poster.positions)))
+    within = [
+        np.hypot(*(poster.positions[a] - poster.positions[b]))
+        for group in poster.truth
+        for a in group
+        for b in group
+        if a < b
+    ]
+    assert nearest < float(np.median(within))  # denser than its groups

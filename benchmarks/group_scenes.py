@@ -1,0 +1,94 @@
+"""Scenes made here, each modelled on one way the grouping failed on scenes kept outside the
+project (issue 51): a dense room of posters, a wide circle of five with 90-degree headings,
+loners standing near each other. Not data, and not used to choose: printed beside the
+shared sequences' figures so a choice that fails one of them is seen to.
+
+Deterministic for a seed. Positions in metres, headings in radians, in ``groups.Frame``'s
+layout (the robot is added by ``groups.run`` at the origin, as everywhere).
+"""
+
+from __future__ import annotations
+
+import math
+import random
+
+import numpy as np
+
+from .groups import Frame
+
+QUARTER = math.pi / 2
+
+
+def _facing(source: tuple[float, float], target: tuple[float, float]) -> float:
+    return math.atan2(target[1] - source[1], target[0] - source[0])
+
+
+def posters(rng: random.Random, frames: int = 40, noise_deg: float = 25.0) -> list[Frame]:
+    """Five posters side by side, 1.9 m apart: at each a presenter faces an audience of
+    two or three standing in an arc 1.1 m away, who face the presenter; neighbouring
+    audiences stand about 0.6 m apart, so the crowd is denser than its groups. Headings
+    continuous, with ``noise_deg`` of noise (body orientation from a tracker)."""
+    out = []
+    for _ in range(frames):
+        positions: list[tuple[float, float]] = []
+        headings: list[float] = []
+        truth = []
+        for poster in range(5):
+            presenter = (1.5 + 1.9 * poster, 2.0)
+            size = 3 if poster % 2 == 0 else 2
+            audience = [
+                (
+                    presenter[0] + 1.1 * math.cos(math.radians(-90 + (a - (size - 1) / 2) * 40)),
+                    presenter[1] + 1.1 * math.sin(math.radians(-90 + (a - (size - 1) / 2) * 40)),
+                )
+                for a in range(size)
+            ]
+            middle = tuple(np.mean(audience, axis=0))
+            truth.append(frozenset(range(len(positions), len(positions) + size + 1)))
+            for person, target in [(presenter, middle), *((a, presenter) for a in audience)]:
+                positions.append(person)
+                headings.append(_facing(person, target) + math.radians(rng.gauss(0, noise_deg)))
+        out.append(Frame(tuple(range(len(positions))), np.array(positions), np.array(headings),
+                         tuple(truth)))  # fmt: skip
+    return out
+
+
+def wide_circle(rng: random.Random, frames: int = 40) -> list[Frame]:
+    """Five people on a circle of 1.5 m radius facing its centre, headings quantised to
+    90 degrees (as GDet annotates them), and two loners 3 m or more away."""
+    out = []
+    for _ in range(frames):
+        start = rng.uniform(0, 2 * math.pi)
+        positions, headings = [], []
+        for k in range(5):
+            a = start + 2 * math.pi * k / 5 + rng.gauss(0, 0.1)
+            p = (3.0 + 1.5 * math.cos(a), 1.5 * math.sin(a))
+            true = _facing(p, (3.0, 0.0)) + math.radians(rng.gauss(0, 10.0))
+            positions.append(p)
+            headings.append(round(true / QUARTER) * QUARTER)
+        positions += [(3.0, 4.5), (6.5, -3.0)]
+        headings += [rng.randrange(4) * QUARTER for _ in range(2)]
+        out.append(Frame(tuple(range(7)), np.array(positions), np.array(headings),
+                         (frozenset(range(5)),)))  # fmt: skip
+    return out
+
+
+def loners(rng: random.Random, frames: int = 60) -> list[Frame]:
+    """Two to eight people at least 1.2 m apart, each facing a random one of four ways:
+    nobody is in a group (the "no groups" answer scores 1)."""
+    out = []
+    for _ in range(frames):
+        count = rng.randint(2, 8)
+        positions: list[tuple[float, float]] = []
+        while len(positions) < count:
+            q = (rng.uniform(1.0, 6.0), rng.uniform(-3.0, 3.0))
+            if all(math.dist(q, o) >= 1.2 for o in positions):
+                positions.append(q)
+        headings = [rng.randrange(4) * QUARTER for _ in positions]
+        out.append(Frame(tuple(range(count)), np.array(positions), np.array(headings), ()))
+    return out
+
+
+def scenes(seed: int = 51) -> dict[str, list[Frame]]:
+    rng = random.Random(seed)
+    return {"posters": posters(rng), "wide circle": wide_circle(rng), "loners": loners(rng)}
