@@ -120,6 +120,7 @@ def crossval_section(cv: dict[str, Any]) -> list[str]:
     out += ["", *_table(["challenger", "incumbent", "advantage [95 % interval]", ""], steps)]
     best = cv["preferred"]
     folds = {f["held_out"]: _choice(f["choice"]) for f in best["folds"]}
+    rule = {(r["recording"], r["person"]): r["engaged_or_not"] for r in cv["rule"]}
     held = [
         [
             r["recording"] + (" (ceiling)" if (r["recording"], r["person"]) == CEILING else ""),
@@ -133,13 +134,16 @@ def crossval_section(cv: dict[str, Any]) -> list[str]:
             _s(r["first_engaging_s"]),
             _s(r["first_engaged_s"]),
             f"{r['changes_per_min']:.1f}",
+            _pct(rule[r["recording"], r["person"]]),
+            f"{100 * (r['engaged_or_not'] - rule[r['recording'], r['person']]):+.0f}",
             folds[r["person"]],
         ]
         for r in best["rows"]
     ]
     head = [
         "held out", "person", "label", "level", "ENGAGED or not", "false ENGAGED", "missed",
-        "final", "1st ENGAGING", "1st ENGAGED", "changes/min", "chosen without them",
+        "final", "1st ENGAGING", "1st ENGAGED", "changes/min", "rule: ENGAGED or not",
+        "beside the rule (points)", "chosen without them",
     ]  # fmt: skip
     out += ["", *_table(head, held)]
     said = zip([*FIGURE_HEAD, "changes/min"], _figures(best["by_person"]["all"]), strict=True)

@@ -40,14 +40,15 @@ TICK_NS = 100_000_000  # hri_engagement's rate: 10 Hz
 WARM_UP_S = 2.0
 #: (recording, person) beyond any method: printed, left out of targets and choices.
 CEILING = ("2p_AA_FV_eng_1", "ghfbv")
-#: The issue's targets (42), by-person cross-validated, without the ceiling row: the error
-#: a robot acts on (greeting someone who is not engaging) on average and at worst, the
-#: rest, and the two speeds.
+#: The issue's targets (52), by-person cross-validated, without the ceiling row: the error
+#: a robot acts on (greeting someone who is not engaging) on average and for the worst
+#: DISENGAGED person-recording, the level, and the two speeds. ENGAGED-or-not is held to
+#: hri_engagement's rule: above its mean, and no row more than ``crossval.BELOW_RULE``
+#: below the rule's figure on that row; the final level right on more rows than the rule.
 TARGETS = {
-    "false_engaged": 0.10,
-    "false_engaged_worst": 0.20,
-    "engaged_or_not": 0.90,
-    "level": 0.80,
+    "false_engaged": 0.05,
+    "false_engaged_worst": 0.15,
+    "level": 0.72,
     "first_engaging_s": 1.5,
     "first_engaged_s": 2.6,
 }

@@ -49,6 +49,9 @@ def head_profile(settings: Settings) -> Profile:
         steady_deg=s.head_steady_deg or None,
         steady_tau_s=s.head_steady_tau_s,
         sustain_s=s.head_engaged_after_s or None,
+        vote_deg=s.head_vote_deg or None,
+        vote_tau_s=s.head_vote_tau_s,
+        vote_share=s.head_vote_share,
     )
     return Profile(s.head_threshold_deg, s.hysteresis_deg, s.head_cone == "3d", engagement)
 

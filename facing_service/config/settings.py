@@ -139,7 +139,7 @@ class Settings(BaseModel):
         "3d", **_flag("how a face's angle to the robot is measured: `3d` or `planar`", HEADS)
     )
     head_threshold_deg: float = Field(
-        24.0,
+        20.0,
         gt=0.0,
         lt=180.0,
         **_flag(
@@ -163,7 +163,7 @@ class Settings(BaseModel):
         **_flag("a face's ENGAGING and DISENGAGING must hold this long", HEADS),
     )
     head_engaged_after_s: float = Field(
-        2.0,
+        0.0,
         ge=0.0,
         le=60.0,
         allow_inf_nan=False,
@@ -188,6 +188,32 @@ class Settings(BaseModel):
         gt=0.0,
         allow_inf_nan=False,
         **_flag("time constant of a face's recent direction (steadiness)", HEADS),
+    )
+    head_vote_deg: float = Field(
+        24.0,
+        ge=0.0,
+        lt=180.0,
+        allow_inf_nan=False,
+        **_flag(
+            'a face votes "attending" within this angle of the robot; attending (the share '
+            "of recent votes at --head-vote-share) makes it ENGAGED and holds it there "
+            "(0: the vote off)",
+            HEADS,
+        ),
+    )
+    head_vote_tau_s: float = Field(
+        1.5,
+        gt=0.0,
+        le=60.0,
+        allow_inf_nan=False,
+        **_flag("time constant of a face's share of recent votes", HEADS),
+    )
+    head_vote_share: float = Field(
+        0.75,
+        gt=0.0,
+        le=1.0,
+        allow_inf_nan=False,
+        **_flag("the share of recent votes from which a face is attending", HEADS),
     )
     group_hold_s: float = Field(
         0.3,

@@ -34,6 +34,16 @@ the cone. The machine keeps the recent mean direction of the robot in the frame 
 exponentially weighted average with time constant ``steady_tau_s``); the score is scaled
 by 1 while the direction stays within ``steady_deg`` of it, falling to 0 at twice that.
 Off (``steady_deg`` None) unless asked for.
+
+**A soft vote** (heads, issue 52): hri_engagement's rule votes every tick whether the face
+is within its wide field and near enough, and engages on the mean of the last 10 s. Here
+the vote is whether the face is within ``vote_deg`` of the robot, kept as an exponentially
+weighted share of recent samples (time constant ``vote_tau_s``, starting from 0, so it
+needs about ``vote_tau_s * ln(1 / (1 - vote_share))`` of votes to reach ``vote_share``);
+while the share is at ``vote_share`` or above the person is *attending*: ENGAGED too (the
+latest sample voting), and held there, however their head roams within the field. It
+tolerates a person's own offset where one cone cannot (an engaged head that sits at 29°,
+or roams in and out of the cone). Off (``vote_deg`` None) unless asked for.
 """
 
 from __future__ import annotations
@@ -76,6 +86,17 @@ class EngagementParams:
     # ENGAGED only once every sample of the last this long scored at least engage_above
     # (sustained attention); None: once ENGAGING has held engage_dwell_s.
     sustain_s: float | None = None
+    vote_deg: float | None = None  # a sample votes "attending" within this angle (None: off)
+    vote_tau_s: float = 3.0  # time constant of the share of recent votes
+    vote_share: float = 0.75  # attending from this share (the rule's mean vote 0.5)
+
+
+def vote(angle_deg: float | None, distance_m: float | None, p: EngagementParams) -> float:
+    """1.0 when the sample votes "attending": the face within ``vote_deg`` of the robot,
+    nearer than ``far_m`` (as the rule votes "not engaged" beyond its distance)."""
+    if p.vote_deg is None or angle_deg is None or distance_m is None:
+        return 0.0
+    return 1.0 if angle_deg < p.vote_deg and distance_m < p.far_m else 0.0
 
 
 def facing_score(angle_deg: float | None, distance_m: float | None, p: EngagementParams) -> float:
@@ -138,6 +159,8 @@ class Engagement:
     last: float | None = None  # time of the last sample
     heading: Vector | None = None  # recent mean direction of the robot (with steadiness)
     facing_since: float | None = None  # every sample since then scored >= engage_above
+    attention: float = 0.0  # the share of recent samples that voted (with the soft vote)
+    voted: float = 0.0  # the latest sample's vote
 
 
 def step(
@@ -146,9 +169,11 @@ def step(
     raw_score: float,
     p: EngagementParams,
     direction: Vector | None = None,
+    voted: float = 0.0,
 ) -> Engagement:
     """Fold one scored sample at time ``t`` into the state; ``direction`` (the robot in
-    the frame) scales the score by the head's steadiness when that is on."""
+    the frame) scales the score by the head's steadiness when that is on; ``voted``: the
+    sample's ``vote`` (with the soft vote on)."""
     dt = 0.0 if state.last is None else max(0.0, t - state.last)
     heading = state.heading
     if direction is not None and p.steady_deg is not None and (unit := _unit(direction)):
@@ -157,17 +182,24 @@ def step(
         else:
             wander, heading = _wander(heading, unit, 1.0 - math.exp(-dt / p.steady_tau_s))
             raw_score *= steadiness(wander, p.steady_deg)
+    attention = state.attention
     if state.last is None:
         score, level, since = raw_score, Level.DISENGAGED, t
     else:
         alpha = 1.0 - math.exp(-dt / p.tau_s)
         score = state.score + alpha * (raw_score - state.score)
         level, since = state.level, state.since
+        if p.vote_deg is not None:  # the share starts from 0: one vote is no attention
+            attention += (1.0 - math.exp(-dt / p.vote_tau_s)) * (voted - attention)
     facing_since = None
     if raw_score >= p.engage_above:
         facing_since = t if state.facing_since is None else state.facing_since
     # the constructor, not dataclasses.replace: this runs for every sample
-    return advance(Engagement(level, score, raw_score, since, t, heading, facing_since), t, p)
+    return advance(
+        Engagement(level, score, raw_score, since, t, heading, facing_since, attention, voted),
+        t,
+        p,
+    )
 
 
 def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
@@ -182,24 +214,41 @@ def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
         and state.last is not None
         and t - state.last <= p.fresh_s  # a tracker gone silent is no evidence
     )
+    # The soft vote (when on): attending holds the person in, and engages them with the
+    # latest sample voting, however the smoothed score of the cone moves.
+    attending = p.vote_deg is not None and state.attention >= p.vote_share
+    voting_now = (
+        attending and state.voted > 0.0 and state.last is not None and t - state.last <= p.fresh_s
+    )
+    falling = score < p.disengage_below and not attending
     nxt = level
-    if level is Level.DISENGAGED and score >= p.engage_above:
+    if level is Level.DISENGAGED and (score >= p.engage_above or attending):
         nxt = Level.ENGAGING
     elif level is Level.ENGAGING:
-        if score < p.disengage_below:
+        if falling:
             nxt = Level.DISENGAGED
-        elif now_facing and _held(state, t, p):
+        elif (now_facing and _held(state, t, p)) or voting_now:
             nxt = Level.ENGAGED
-    elif level is Level.ENGAGED and score < p.disengage_below:
+    elif level is Level.ENGAGED and falling:
         nxt = Level.DISENGAGING
     elif level is Level.DISENGAGING:
-        if now_facing:
+        if now_facing or voting_now:
             nxt = Level.ENGAGED
         elif t - since >= p.disengage_dwell_s:
             nxt = Level.DISENGAGED
     if nxt is level:
         return state
-    return Engagement(nxt, state.score, state.raw, t, state.last, state.heading, state.facing_since)
+    return Engagement(
+        nxt,
+        state.score,
+        state.raw,
+        t,
+        state.last,
+        state.heading,
+        state.facing_since,
+        state.attention,
+        state.voted,
+    )
 
 
 def _held(state: Engagement, t: float, p: EngagementParams) -> bool:

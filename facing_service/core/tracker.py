@@ -16,7 +16,7 @@ from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing
 from ..contract.stamps import NS, Time
 from . import detector
-from .engagement import EngagementParams, Level, advance, facing_score, step
+from .engagement import EngagementParams, Level, advance, facing_score, step, vote
 from .journal import Journal, Store
 from .records import (
     BodyState,
@@ -381,6 +381,7 @@ class Tracker:
             facing_score(state.angle_deg, state.distance_m, p),
             p,
             state.robot_in_body,
+            vote(state.angle_deg, state.distance_m, p),
         )
         changed = track.engagement.level is not before
         key = state.body

@@ -19,6 +19,7 @@ from facing_service.core.engagement import (
     advance,
     facing_score,
     step,
+    vote,
     zone,
 )
 
@@ -199,3 +200,47 @@ def _trace(scores: list[float], p: EngagementParams, dt: float = 1 / 30) -> dict
         state = step(state, t, score, p)
         first.setdefault(state.level, t)
     return first
+
+
+def _angles(angles_deg: list[float], p: EngagementParams, dt: float = 0.1) -> list[Level]:
+    """The levels of a face seen at ``angles_deg`` from the robot (1 m away), every ``dt``,
+    scored and voted as the tracker does."""
+    state, seen = Engagement(), []
+    for i, angle in enumerate(angles_deg):
+        state = step(state, (i + 1) * dt, facing_score(angle, 1.0, p), p, None, vote(angle, 1.0, p))
+        seen.append(state.level)
+    return seen
+
+
+#: The head's shipped parameters, with the soft vote at 36 degrees over 1.5 s (issue 52).
+VOTING = replace(head_profile(Settings()).engagement, vote_deg=36.0, vote_tau_s=1.5)
+
+
+def test_the_soft_vote_engages_a_head_that_roams_around_the_cone():
+    """Issue 52: an engaged person whose head roams in and out of the cone (here 16-32
+    degrees, 24 the cone) was never ENGAGED by sustained attention alone; voting within a
+    wider field, they are ENGAGED within a few seconds and stay so while they attend."""
+    roaming = [24.0 + 8.0 * math.sin(i / 4.0) for i in range(150)]  # 15 s at 10 Hz
+    without = _angles(roaming, replace(VOTING, vote_deg=None))
+    assert Level.ENGAGED not in without[:60]  # not within 6 s
+    levels = _angles(roaming, VOTING)
+    first = levels.index(Level.ENGAGED)
+    assert first <= 40  # within 4 s
+    assert all(level is Level.ENGAGED for level in levels[first:])  # held while attending
+
+
+def test_the_soft_vote_starts_from_nothing_and_a_glance_does_not_reach_it():
+    """The share starts at 0: one vote, or a glance of a second, is no attention; looking
+    away ends it (DISENGAGING, then DISENGAGED)."""
+    glance = [70.0] * 20 + [10.0] * 10 + [70.0] * 40
+    assert Level.ENGAGED not in _angles(glance, replace(VOTING, sustain_s=10.0))
+    away = [30.0] * 60 + [80.0] * 40  # attends at 30 degrees (outside the cone), then leaves
+    levels = _angles(away, replace(VOTING, sustain_s=10.0))
+    assert Level.ENGAGED in levels[:60] and levels[-1] is Level.DISENGAGED
+
+
+def test_the_soft_vote_is_off_unless_asked_for():
+    assert P.vote_deg is None and vote(10.0, 1.0, P) == 0.0
+    assert vote(35.0, 1.0, VOTING) == 1.0 and vote(37.0, 1.0, VOTING) == 0.0
+    assert vote(10.0, 5.0, VOTING) == 0.0  # beyond far_m: no vote, as the rule's distance
+    assert vote(None, None, VOTING) == 0.0
