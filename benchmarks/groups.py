@@ -42,7 +42,7 @@ import numpy as np
 
 from facing_service.core.groups import GroupParams, RoomScale, ScaleParams, detect, groups
 
-from .pages import replace_section
+from .pages import generate
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "fformations"
@@ -464,16 +464,8 @@ END = "<!-- end of measured -->"
 
 
 def page(check: bool) -> int:
-    """docs/groups.md's tables from groups.json; with ``check``, 1 when they differ."""
-    text = PAGE.read_text()
-    new = replace_section(text, BEGIN, END, tables(json.loads(RESULTS.read_text())))
-    if new == text:
-        return 0
-    if check:
-        print("docs/groups.md is stale against groups.json (python -m benchmarks.groups --page)")
-        return 1
-    PAGE.write_text(new)
-    return 0
+    """The page's measured section from the committed results (``pages.generate``)."""
+    return generate(PAGE, RESULTS, BEGIN, END, tables, check, "python -m benchmarks.groups --page")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -15,7 +15,9 @@ from .contract import (
     FacingState,
     FrameFacing,
     GazePair,
+    Greeting,
     GroupState,
+    Place,
     ServiceStatus,
 )
 from .errors import (
@@ -37,8 +39,10 @@ __all__ = [
     "FacingState",
     "FrameFacing",
     "GazePair",
+    "Greeting",
     "GroupState",
     "NoService",
+    "Place",
     "QueryRefused",
     "ServiceStatus",
     "SettingsError",

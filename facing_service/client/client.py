@@ -32,7 +32,7 @@ from ..config.settings import Settings
 from ..contract import keys
 from ..contract.errors import ClientNotOpen, FacingError, UnknownFrame
 from ..contract.levels import Level
-from ..contract.schemas import EngagementEvent, FacingState, GazePair, GroupState
+from ..contract.schemas import EngagementEvent, FacingState, GazePair, Greeting, GroupState
 from ..contract.stamps import Stamp, Time
 from .replies import engagement_states, facing_states
 from .scene import SCENE_EVENTS, Event, SceneListener
@@ -202,8 +202,14 @@ class FacingClient:
 
     def groups(self, frame: str) -> list[GroupState]:
         """The groups in ``frame`` as the service last said them (``robot``: the robot
-        is one of the members)."""
+        is one of the members; ``join``: where the robot should stand to join a group it
+        is not in, None when it has no room)."""
         return self._scene.groups(frame)
+
+    def greetings(self, frame: str) -> list[Greeting]:
+        """The people ENGAGING or ENGAGED in ``frame`` and in no group, each with where
+        the robot should stand to greet them."""
+        return self._scene.greetings(frame)
 
     def gazing(self, frame: str) -> list[GazePair]:
         """Who faces whom in ``frame`` (``""`` is the robot)."""

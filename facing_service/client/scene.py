@@ -18,7 +18,7 @@ from typing import Any
 import zenoh
 
 from ..contract import keys
-from ..contract.schemas import FrameGazing, FrameGroups, GazePair, GroupState
+from ..contract.schemas import FrameGazing, FrameGroups, GazePair, Greeting, GroupState
 from ..contract.stamps import Time
 
 log = logging.getLogger("facing_service.client")
@@ -43,11 +43,15 @@ class SceneCache:
         said = self._gazing.get(frame)
         return [] if said is None else list(said.pairs)
 
+    def greetings(self, frame: str) -> list[Greeting]:
+        said = self._groups.get(frame)
+        return [] if said is None else list(said.greetings)
+
     def apply_groups(self, said: FrameGroups) -> list[Event]:
         before = self._groups.get(said.frame)
         if before is not None and _stamp(before) > _stamp(said):
             return []
-        if said.groups:
+        if said.groups or said.greetings:
             self._groups[said.frame] = said
         else:  # nobody grouped: forgotten (the service forgets an empty frame, and its
             self._groups.pop(said.frame, None)  # stamps may start over when it returns)
@@ -116,6 +120,10 @@ class SceneListener:
     def gazing(self, frame: str) -> list[GazePair]:
         with self._lock:
             return self._cache.gazing(frame)
+
+    def greetings(self, frame: str) -> list[Greeting]:
+        with self._lock:
+            return self._cache.greetings(frame)
 
     def forget(self, instance: str) -> None:
         with self._lock:

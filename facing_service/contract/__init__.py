@@ -9,7 +9,9 @@ from .schemas import (
     FacingState,
     FrameFacing,
     GazePair,
+    Greeting,
     GroupState,
+    Place,
     ServiceStatus,
 )
 
@@ -20,7 +22,9 @@ __all__ = [
     "FacingState",
     "FrameFacing",
     "GazePair",
+    "Greeting",
     "GroupState",
+    "Place",
     "Rejection",
     "ServiceStatus",
 ]

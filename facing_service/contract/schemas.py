@@ -173,6 +173,14 @@ class Centre(BaseModel):
     y: float
 
 
+class Place(BaseModel):
+    """Where the robot should stand, and which way it should face, in the base frame."""
+
+    x: float = Field(description="Metres.")
+    y: float = Field(description="Metres.")
+    yaw: float = Field(description="Radians from the base frame's +x, counter-clockwise.")
+
+
 class GroupState(BaseModel):
     """One F-formation, on ``NS/groups/<frame>/<id>`` (DELETE when it dissolves) and in
     its frame's list."""
@@ -181,6 +189,20 @@ class GroupState(BaseModel):
     members: list[str] = Field(description="Body ids, sorted; the robot is not one (see robot).")
     robot: bool = Field(description="The robot (the base frame's origin) is in the group.")
     centre: Centre = Field(description="The o-space centre in the base frame, metres.")
+    join: Place | None = Field(
+        default=None,
+        description="Where the robot should stand to join the group: on its ring, clear of "
+        "everyone, the free place nearest the robot, facing into the group. null when the "
+        "robot is in the group (robot true), or when the ring has no room for it.",
+    )
+
+
+class Greeting(BaseModel):
+    """A person ENGAGING or ENGAGED and in no group, and where the robot should stand to
+    greet them: in front of them at a social distance, facing them."""
+
+    body_id: str
+    place: Place
 
 
 class FrameGroups(BaseModel):
@@ -193,6 +215,11 @@ class FrameGroups(BaseModel):
     people_left_out: int = Field(
         description="People beyond --group-max-people (the farthest from the robot), "
         "not considered."
+    )
+    greetings: list[Greeting] = Field(
+        default_factory=list,
+        description="Each person ENGAGING or ENGAGED and in no group, with where to greet "
+        "them (none where someone else stands in that place).",
     )
     instance: str | None = Field(default=None, description=INSTANCE_DESCRIPTION)
 

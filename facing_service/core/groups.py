@@ -35,10 +35,14 @@ above 0.75), converted to m² (1e-4 times the number), in the room's unit square
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
+
+from .join import JoinPose
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -275,12 +279,22 @@ def groups(labels: IntArray) -> list[list[int]]:
 
 @dataclass(frozen=True, slots=True)
 class Group:
-    """A group as said: a stable id, its members, whether the robot is one, its centre."""
+    """A group as said: a stable id, its members, whether the robot is one, its centre, and
+    where the robot should stand to join it (None: the robot is in it, or it has no room)."""
 
     id: int
     members: frozenset[str]
     robot: bool
     centre: tuple[float, float]
+    join: JoinPose | None = None
+
+
+class Found(NamedTuple):
+    """A group as one computation found it (``join``: ``core.join.join_pose``'s)."""
+
+    members: frozenset[str]
+    centre: tuple[float, float]
+    join: JoinPose | None = None
 
 
 class GroupTracker:
@@ -309,34 +323,34 @@ class GroupTracker:
         return self._candidate is not None and self._candidate != self._announced
 
     def update(
-        self, found: list[tuple[frozenset[str], tuple[float, float]]], now: float
+        self, found: Sequence[tuple[frozenset[str], tuple[float, float]] | Found], now: float
     ) -> tuple[list[Group], list[int]]:
-        """The groups ``detect`` found now (members, centre); what changed: the groups
-        formed or changed, and the ids dissolved (both empty while nothing changed)."""
-        partition = frozenset(members for members, _ in found if len(members) > 1)
+        """The groups ``detect`` found now (members, centre, where to join); what changed:
+        the groups formed or changed, and the ids dissolved (both empty while nothing
+        changed). A group's centre and join follow its people without being a change."""
+        said = [Found(*f) for f in found]
+        partition = frozenset(f.members for f in said if len(f.members) > 1)
         if partition != self._candidate:
             self._candidate, self._since = partition, now
         if partition == self._announced or now - self._since < self.hold_s:
-            self._recentre(found)
+            self._recentre(said)
             return [], []
-        return self._adopt(found)
+        return self._adopt(said)
 
-    def _recentre(self, found: list[tuple[frozenset[str], tuple[float, float]]]) -> None:
-        by_members = dict(found)
+    def _recentre(self, found: list[Found]) -> None:
+        by_members = {f.members: f for f in found}
         for gid, group in self.groups.items():
-            if (centre := by_members.get(group.members)) is not None:
-                self.groups[gid] = Group(gid, group.members, group.robot, centre)
+            if (now := by_members.get(group.members)) is not None:
+                self.groups[gid] = Group(gid, group.members, group.robot, now.centre, now.join)
 
-    def _adopt(
-        self, found: list[tuple[frozenset[str], tuple[float, float]]]
-    ) -> tuple[list[Group], list[int]]:
+    def _adopt(self, found: list[Found]) -> tuple[list[Group], list[int]]:
         old = dict(self.groups)
         new: dict[int, Group] = {}
         # Most overlap first: the group that keeps most of an old group's members keeps its id.
         pairs = sorted(
             (
                 (len(members & g.members), gid, i)
-                for i, (members, _) in enumerate(found)
+                for i, (members, _, _) in enumerate(found)
                 for gid, g in old.items()
                 if len(members) > 1 and 2 * len(members & g.members) >= len(g.members)
             ),
@@ -347,7 +361,7 @@ class GroupTracker:
             if i not in taken and gid not in taken.values():
                 taken[i] = gid
         changed = []
-        for i, (members, centre) in enumerate(found):
+        for i, (members, centre, join) in enumerate(found):
             if len(members) < 2:
                 continue
             known = taken.get(i)
@@ -355,7 +369,7 @@ class GroupTracker:
                 gid, self._next_id = self._next_id, self._next_id + 1
             else:
                 gid = known
-            group = Group(gid, members, self.ROBOT in members, centre)
+            group = Group(gid, members, self.ROBOT in members, centre, join)
             new[gid] = group
             if gid not in old or old[gid].members != members:
                 changed.append(group)

@@ -6,10 +6,17 @@ Pure: the caller gives the people and the clock. Bounded: a frame's scene is wor
 most once a ``period_s`` (pairwise work is O(N²)), on its ``max_people`` nearest the robot
 (the rest counted in ``left_out``), and said only when it changed: a pair that starts or
 stops facing (with the facing rule's hysteresis), a grouping that has held ``hold_s``.
+
+Where the robot should stand (issue 53): for each group it is not in, the place on the
+group's ring to join it (``core.join``); for each person ENGAGING or ENGAGED and in no
+group, a place in front of them at ``greet_m``, facing them. Both follow the people
+without being changes of their own (a query, or the next update, says where they are
+now); a person to greet who appears or goes is a change of the frame's groups.
 """
 
 from __future__ import annotations
 
+import math
 from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -20,6 +27,7 @@ import numpy as np
 from ..contract.stamps import ZERO, Time
 from . import detector
 from .groups import (
+    Found,
     Group,
     GroupParams,
     GroupTracker,
@@ -29,6 +37,7 @@ from .groups import (
     members,
     on_the_ring,
 )
+from .join import JoinParams, JoinPose, join_pose
 
 ROBOT = GroupTracker.ROBOT
 _ROBOT_POSE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
@@ -43,6 +52,8 @@ class SceneParams:
     hold_s: float  # a new grouping is said once it has held this long
     period_s: float  # a frame's scene is worked out at most once a period
     max_people: int  # the people of one frame considered (nearest the robot first)
+    join: JoinParams = field(default_factory=JoinParams)  # where to stand to join a group
+    greet_m: float = 1.2  # how far in front of a person the robot stands to greet them
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,6 +61,7 @@ class Person:
     id: str
     translation: tuple[float, float, float]
     rotation: tuple[float, float, float, float]  # (x, y, z, w): x is where the person faces
+    engaging: bool = False  # ENGAGING or ENGAGED: one the robot may go and greet
 
 
 class PeopleOf(Protocol):
@@ -59,6 +71,14 @@ class PeopleOf(Protocol):
 
 
 Pair = tuple[str, str]  # (sender, receiver): the sender faces the receiver
+
+
+@dataclass(frozen=True, slots=True)
+class Greeting:
+    """Where the robot should stand to greet a person engaging with it, in no group."""
+
+    body_id: str
+    pose: JoinPose
 
 
 @dataclass(frozen=True, slots=True)
@@ -74,6 +94,7 @@ class SceneUpdate:
     groups_changed: bool  # the frame's groups are to be said (changed, or said first)
     gazing_changed: bool  # who faces whom is to be said
     left_out: int  # people beyond max_people, not considered
+    greetings: tuple[Greeting, ...] = ()  # people engaging, in no group: where to greet them
 
 
 #: Nobody moved when no position changed by more than this (m) and no rotation by more
@@ -88,11 +109,14 @@ class LastComputation:
     ids: list[str]
     t: np.ndarray
     q: np.ndarray
-    found: list[tuple[frozenset[str], tuple[float, float]]]
+    engaging: list[bool]
+    found: list[Found]
+    greetings: tuple[Greeting, ...]
 
-    def still(self, ids: list[str], t: np.ndarray, q: np.ndarray) -> bool:
+    def still(self, ids: list[str], t: np.ndarray, q: np.ndarray, engaging: list[bool]) -> bool:
         return (
             ids == self.ids
+            and engaging == self.engaging
             and bool(np.all(np.abs(t - self.t) <= STILL_M))
             and bool(np.all(np.abs(q - self.q) <= STILL_Q))
         )
@@ -108,6 +132,7 @@ class FrameScene:
     room: RoomScale = field(init=False)
     gazing: frozenset[Pair] = frozenset()
     left_out: int = 0
+    greetings: tuple[Greeting, ...] = ()
     stamp: Time = ZERO
     said_once: bool = False
     _worked: LastComputation | None = None
@@ -128,8 +153,10 @@ class FrameScene:
         ids = [person.id for person in people] + [ROBOT]
         t = np.array([person.translation for person in people] + [_ROBOT_POSE[0]])
         q = np.array([person.rotation for person in people] + [_ROBOT_POSE[1]])
-        if self._worked is not None and self._worked.still(ids, t, q):
+        engaging = [person.engaging for person in people]
+        if self._worked is not None and self._worked.still(ids, t, q, engaging):
             gazing, found = self.gazing, self._worked.found  # nobody moved: nothing to redo
+            greetings = self._worked.greetings
         else:
             gazing = self._who_faces_whom(ids, t, q)
             scale = self.room.observe(t[:-1, :2], now)  # the people's spacing, not the robot's
@@ -139,20 +166,24 @@ class FrameScene:
             ringed = on_the_ring(labels, t[:, :2], heading, p.groups, scale, robot)
             if not np.array_equal(ringed, labels):  # the robot left: its centre is its own
                 labels, centre = ringed, np.vstack([centre, t[robot, :2]])
+            xy = t[:, :2]
             found = [
-                (frozenset(ids[i] for i in m), (x, y))
+                Found(frozenset(ids[i] for i in m), (x, y), self._join(m, robot, xy, heading))
                 for m, (x, y) in zip(members(labels), centre.tolist(), strict=True)
             ]
-            self._worked = LastComputation(ids, t, q, found)
+            greetings = _greetings(ids, xy, heading, engaging, labels, p)
+            self._worked = LastComputation(ids, t, q, engaging, found, greetings)
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
         anew = not self.said_once or left_out != self.left_out
-        groups_changed = anew or bool(changed or dissolved)
+        greeted = {g.body_id for g in greetings} != {g.body_id for g in self.greetings}
+        groups_changed = anew or bool(changed or dissolved) or greeted
         gazing_changed = anew or gazing != self.gazing
         # The newest stamp behind the scene, kept while nothing changes too: people who
         # stood still and then left are said gone at their last pose's stamp, not at the
         # stamp of the last change (issue 46). Never back: a person with the newest stamp
         # leaving does not make the scene older than what was said.
         self.stamp = max(self.stamp, stamp)
+        self.greetings = greetings  # they follow the people: no change of their own
         if not (groups_changed or gazing_changed):
             return None
         self.gazing, self.left_out, self.said_once = gazing, left_out, True
@@ -176,6 +207,20 @@ class FrameScene:
             groups_changed,
             gazing_changed,
             self.left_out,
+            self.greetings,
+        )
+
+    def _join(
+        self, group: list[int], robot: int, xy: np.ndarray, heading: np.ndarray
+    ) -> JoinPose | None:
+        """Where the robot should stand to join a group of people it is not in (None: it
+        is in it, or the group has no room); everyone else but the robot is in the way."""
+        if len(group) < 2 or robot in group:
+            return None
+        people = np.array(group)
+        others = np.array([i for i in range(robot) if i not in group], dtype=int)
+        return join_pose(
+            xy[people], heading[people], xy[others], (xy[robot, 0], xy[robot, 1]), self.params.join
         )
 
     def _who_faces_whom(self, ids: list[str], t: np.ndarray, q: np.ndarray) -> frozenset[Pair]:
@@ -190,6 +235,32 @@ class FrameScene:
                 threshold[index[a], index[b]] += p.hysteresis_deg
         facing = detector.facing_matrix(t, q, threshold)
         return frozenset((ids[a], ids[b]) for a, b in zip(*np.nonzero(facing), strict=True))
+
+
+def _greetings(
+    ids: list[str],
+    xy: np.ndarray,
+    heading: np.ndarray,
+    engaging: list[bool],
+    labels: np.ndarray,
+    p: SceneParams,
+) -> tuple[Greeting, ...]:
+    """For each person engaging (the robot last in ``ids``) and in no group: the place
+    ``greet_m`` in front of them, facing them, when nobody else stands nearer to it than
+    the join's least clearance."""
+    out = []
+    alone = np.bincount(labels)[labels] == 1
+    for i, person in enumerate(ids[:-1]):
+        if not (engaging[i] and alone[i]):
+            continue
+        ahead = np.array([math.cos(heading[i]), math.sin(heading[i])])
+        place = xy[i] + p.greet_m * ahead
+        others = np.delete(xy[:-1], i, axis=0)
+        if len(others) and np.hypot(*(others - place).T).min() < p.join.min_clearance_m:
+            continue
+        yaw = math.atan2(-ahead[1], -ahead[0])
+        out.append(Greeting(person, JoinPose(float(place[0]), float(place[1]), yaw)))
+    return tuple(out)
 
 
 def nearest(people: Sequence[Person], most: int) -> tuple[list[Person], int]:
@@ -277,4 +348,4 @@ class Scenes:
 
 def nobody(frame_id: str, stamp: Time) -> SceneUpdate:
     """A frame's scene with nobody in it: no group, no pair."""
-    return SceneUpdate(frame_id, stamp, (), (), (), frozenset(), False, False, 0)
+    return SceneUpdate(frame_id, stamp, (), (), (), frozenset(), False, False, 0, ())

@@ -16,6 +16,9 @@ from .records import BodyState, EngagementUpdate
 from .scene import Person, Scenes, SceneUpdate
 from .tracker import Tracker
 
+#: The levels at which the robot may go and greet a person (in no group).
+_ENGAGING = (Level.ENGAGING, Level.ENGAGED)
+
 
 class TurnView:
     """Made by the worker after a turn's input and expiry, before anything reads it; the
@@ -55,5 +58,14 @@ class TurnView:
     def people(self, frame_id: str) -> tuple[list[Person], Time]:
         """A frame's people, as the scene sees them, and their newest stamp."""
         poses = self.poses(frame_id)
-        people = [Person(body, p.translation, p.rotation) for body, p in poses]
+        levels = self.levels
+        people = [
+            Person(
+                body,
+                p.translation,
+                p.rotation,
+                levels.get(BodyRef(frame_id=frame_id, body_id=body)) in _ENGAGING,
+            )
+            for body, p in poses
+        ]
         return people, max((p.stamp for _, p in poses), default=ZERO)

@@ -6,9 +6,11 @@ the threshold, 1.5 m long), 1 an arrow along the body's or head's heading, 2 a t
 (id, level, angle, distance); coloured by level: ENGAGED green, ENGAGING and DISENGAGING
 amber, DISENGAGED red, UNKNOWN grey. Per group (``group/<id>``): 0 its o-space (a circle
 at its centre), 1 lines from the centre to its members (to the robot's origin too when
-it is one). Whatever was drawn and is gone is DELETEd by its (namespace, id), so people
-who leave vanish at once; every marker also has a lifetime, so a service that stops
-leaves nothing behind. Pure: messages from plain data.
+it is one), 2 an arrow where the robot should stand to join it, pointing into the group.
+Per person engaging in no group (``greet/<id>``): 0 an arrow where the robot should stand
+to greet them, pointing at them. Whatever was drawn and is gone is DELETEd by its
+(namespace, id), so people who leave vanish at once; every marker also has a lifetime, so
+a service that stops leaves nothing behind. Pure: messages from plain data.
 """
 
 from __future__ import annotations
@@ -24,7 +26,8 @@ from ..contract.levels import Level
 from ..contract.poses import Pose
 from ..contract.stamps import ZERO, Time
 from ..core.groups import Group
-from ..core.scene import ROBOT
+from ..core.join import JoinPose
+from ..core.scene import ROBOT, Greeting
 from ..core.view import TurnView
 from . import types as ros2_types
 
@@ -43,6 +46,7 @@ COLOURS = {
     Level.UNKNOWN: (0.6, 0.6, 0.6),
 }
 GROUP_COLOUR = (0.8, 0.2, 0.8)
+PLACE_COLOUR = (0.1, 0.5, 1.0)  # where the robot should stand
 
 
 @dataclass(frozen=True, slots=True)
@@ -174,12 +178,28 @@ def group_markers(
         x, y = (0.0, 0.0) if member == ROBOT else where.get(member, (cx, cy))
         lines += [_point(cx, cy), _point(x, y)]
     ns = f"group/{group.id}"
-    return [
+    drawn = [
         _marker(frame, stamp, ns, 0, m.LINE_STRIP, points=circle, scale=(0.04, 0, 0),
                 colour=GROUP_COLOUR),
         _marker(frame, stamp, ns, 1, m.LINE_LIST, points=lines, scale=(0.02, 0, 0),
                 colour=GROUP_COLOUR, alpha=0.7),
     ]  # fmt: skip
+    if group.join is not None and not group.robot:
+        drawn.append(place_marker(frame, stamp, ns, 2, group.join))
+    return drawn
+
+
+def place_marker(frame: str, stamp: Time, ns: str, mid: int, place: JoinPose) -> Any:
+    """Where the robot should stand: an arrow at the place, along the way to face."""
+    m = _t("visualization_msgs/msg/Marker")
+    return _marker(frame, stamp, ns, mid, m.ARROW, pose=place_pose(place),
+                   scale=(0.5, 0.08, 0.08), colour=PLACE_COLOUR)  # fmt: skip
+
+
+def place_pose(place: JoinPose) -> Any:
+    """A place as a ``geometry_msgs/Pose`` on the floor (yaw about z)."""
+    half = place.yaw / 2
+    return _pose((place.x, place.y, 0.0), (0.0, 0.0, math.sin(half), math.cos(half)))
 
 
 def deletion(frame: str, stamp: Time, ns: str, mid: int) -> Any:
@@ -199,10 +219,12 @@ class MarkerDrawer:
         stamp: Time,
         people: Sequence[PersonMarker],
         groups: Sequence[Group],
+        greetings: Sequence[Greeting] = (),
     ) -> bytes:
         where = {p.id: (p.translation[0], p.translation[1]) for p in people}
         markers = [mk for p in people for mk in person_markers(frame, stamp, p)]
         markers += [mk for g in groups for mk in group_markers(frame, stamp, g, where)]
+        markers += [place_marker(frame, stamp, f"greet/{g.body_id}", 0, g.pose) for g in greetings]
         now = {(mk.ns, mk.id) for mk in markers}
         markers += [deletion(frame, stamp, ns, mid) for ns, mid in sorted(self._drawn - now)]
         self._drawn = now

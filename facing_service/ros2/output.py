@@ -17,6 +17,15 @@ Topics (under ``--ros-namespace``; messages from the upstream ``.msg`` files in 
         a group, is the member "" (REP 155's id for it in Gaze).
     /humans/interactions/gazing              hri_msgs/msg/Gaze
         each pair (sender faces receiver; "" is the robot) when it starts facing.
+    /humans/interactions/groups/<id>/join    geometry_msgs/msg/PoseStamped
+        where the robot should stand to join a group it is not in (issue 53): on the
+        group's ring, facing into it; every period while the group has room, the
+        publisher undeclared when it no longer has (or the robot joined, or it dissolved).
+        A PoseStamped in the base frame is what a navigation goal is (Nav2's
+        NavigateToPose, RViz's goal tool): no TF lookup between seeing it and going.
+    /humans/{persons,bodies,faces}/<id>/greet geometry_msgs/msg/PoseStamped
+        where the robot should stand to greet a person ENGAGING or ENGAGED in no group:
+        in front of them at a social distance, facing them; likewise every period.
 
 This pure part (``RosOutput``) turns the tracker's changes into messages;
 ``shell.ros_bus.RobotPublishers`` (the publisher thread's) sends them in the robot's
@@ -34,17 +43,26 @@ from typing import Any
 from ..contract.levels import Level
 from ..contract.schemas import FrameFacing
 from ..contract.stamps import ZERO, Time
+from ..core.join import JoinPose
 from ..core.records import Changes, EngagementUpdate
 from ..core.scene import SceneUpdate
 from ..core.view import TurnView
 from . import types as ros2_types
-from .markers import MARKER_ARRAY, MARKERS_TOPIC, MarkerDrawer, PersonMarker, drawn
+from .markers import (
+    MARKER_ARRAY,
+    MARKERS_TOPIC,
+    MarkerDrawer,
+    PersonMarker,
+    drawn,
+    place_pose,
+)
 
 ENGAGEMENT_LEVEL = "hri_msgs/msg/EngagementLevel"
 INTENT = "hri_actions_msgs/msg/Intent"
 GROUP = "hri_msgs/msg/Group"
 GAZE = "hri_msgs/msg/Gaze"
 GROUPS_TOPIC = "/humans/interactions/groups"
+POSE_STAMPED = "geometry_msgs/msg/PoseStamped"
 #: RViz markers at most 10 Hz, whatever --ros-engagement-rate-hz (RViz draws no faster
 #: usefully, and a MarkerArray of many people is the largest message we send).
 MARKER_PERIOD_S = 0.1
@@ -147,6 +165,29 @@ def gaze_message(frame_id: str, stamp: Time, sender: str, receiver: str) -> RosM
     return RosMessage(GAZING_TOPIC, GAZE, ros2_types.serialize(message, GAZE))
 
 
+def place_message(topic: str, frame_id: str, stamp: Time, place: JoinPose) -> RosMessage:
+    message = ros2_types.message_type(POSE_STAMPED)(
+        header=ros2_types.header(frame_id, stamp), pose=place_pose(place)
+    )
+    return RosMessage(topic, POSE_STAMPED, ros2_types.serialize(message, POSE_STAMPED))
+
+
+def places(scene: SceneUpdate) -> list[RosMessage]:
+    """Where the robot should stand in one frame: to join each group it is not in, to
+    greet each person engaging in no group."""
+    frame, stamp = scene.frame_id, scene.stamp
+    out = [
+        place_message(f"{GROUPS_TOPIC}/{g.id}/join", frame, stamp, g.join)
+        for g in scene.groups
+        if g.join is not None and not g.robot
+    ]
+    for greeting in scene.greetings:
+        kind = _kind(greeting.body_id) or "body_"
+        topic = f"/humans/{kind[:-1]}s/{ros_id(greeting.body_id)}/greet"
+        out.append(place_message(topic, frame, stamp, greeting.pose))
+    return out
+
+
 def scene_messages(
     update: SceneUpdate, said_gazing: frozenset[tuple[str, str]]
 ) -> list[RosMessage]:
@@ -170,6 +211,7 @@ class RosOutput:
         self._said_facing: dict[tuple[str, str], list[str]] = {}  # (frame, topic) -> ids
         self._said_gazing: dict[str, frozenset[tuple[str, str]]] = {}  # frame -> pairs
         self._drawers: dict[str, MarkerDrawer] = {}  # frame -> what its markers drew
+        self._places: set[str] = set()  # the place topics said last period
         self._next_markers = float("-inf")  # markers at most every MARKER_PERIOD_S
 
     def on_changes(self, changes: Changes) -> list[RosMessage]:
@@ -214,10 +256,15 @@ class RosOutput:
         self.next_tick = now + self.period_s
         out = [engagement_status(e) for e in view.engagements if e.body_id.startswith(PERSON)]
         by_frame = {scene.frame_id: scene for scene in view.scenes}
+        placed: list[RosMessage] = []
         for scene in by_frame.values():
             out += [
                 group_message(scene.frame_id, scene.stamp, g.id, g.members) for g in scene.groups
             ]
+            placed += places(scene)
+        now_said = {m.topic for m in placed}
+        out += placed + [RosMessage(t, POSE_STAMPED, None) for t in sorted(self._places - now_said)]
+        self._places = now_said
         if now < self._next_markers:
             return out
         self._next_markers = now + MARKER_PERIOD_S
@@ -234,7 +281,8 @@ class RosOutput:
             scene = scenes.get(frame)
             stamp = scene.stamp if scene is not None else ZERO
             groups = scene.groups if scene is not None else ()
-            payload = drawer.draw(frame, stamp, people.get(frame, []), groups)
+            greetings = scene.greetings if scene is not None else ()
+            payload = drawer.draw(frame, stamp, people.get(frame, []), groups, greetings)
             out.append(RosMessage(MARKERS_TOPIC, MARKER_ARRAY, payload))
             if frame not in people:
                 del self._drawers[frame]

@@ -19,9 +19,12 @@ from ..contract.schemas import (
     FrameGazing,
     FrameGroups,
     GazePair,
+    Greeting,
     GroupState,
+    Place,
 )
 from ..core.groups import Group
+from ..core.join import JoinPose
 from ..core.records import BodyState, Changes, EngagementUpdate
 from ..core.scene import ROBOT, SceneUpdate
 from ..ros2.output import RosMessage
@@ -108,12 +111,17 @@ def scene_publications(update: SceneUpdate, namespace: str, instance: str) -> li
     return out
 
 
+def place(pose: JoinPose) -> Place:
+    return Place(x=pose.x, y=pose.y, yaw=pose.yaw)
+
+
 def group_state(group: Group) -> GroupState:
     return GroupState(
         id=str(group.id),
         members=sorted(group.members - {ROBOT}),
         robot=group.robot,
         centre=Centre(x=group.centre[0], y=group.centre[1]),
+        join=None if group.robot or group.join is None else place(group.join),
     )
 
 
@@ -124,6 +132,7 @@ def groups_json(update: SceneUpdate, instance: str) -> bytes:
             stamp=update.stamp.model(),
             groups=[group_state(g) for g in update.groups],
             people_left_out=update.left_out,
+            greetings=[Greeting(body_id=g.body_id, place=place(g.pose)) for g in update.greetings],
             instance=instance,
         )
         .model_dump_json()

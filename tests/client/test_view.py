@@ -109,6 +109,9 @@ def test_the_page_draws_the_scene_and_says_when_the_service_is_lost(net, browser
             "document.body.innerText.includes('group') && document.body.innerText"
         )
         assert "ann, bob" in text and "cat and the robot" in text and "connected" in text
+        # where the robot should stand to join ann and bob (issue 53): drawn, and said
+        browser.wait_for("document.querySelectorAll('g.join').length === 1")
+        assert browser.wait_for("document.getElementById('groups').innerText.includes('join at (')")
         assert browser.evaluate("document.querySelectorAll('line.gaze').length") >= 2
         if SCREENSHOT:
             Path(SCREENSHOT).write_bytes(b"")  # the path is writable before the browser tries

@@ -116,3 +116,51 @@ def test_a_group_dissolving_after_standing_still_is_said_at_its_last_pose_not_it
     gone = scene.update([], ZERO, 2.4)
     assert gone is not None and gone.groups == () and gone.dissolved
     assert gone.stamp == Time.of(6, 500_000_000)  # the last pose seen, not (1, 5e8)
+
+
+def test_a_group_the_robot_is_not_in_says_where_to_join_it_and_follows_its_people():
+    """Issue 53: a pair talking 3 m ahead; the robot should stand on their ring, on its
+    own side, facing into the group; when they move, the place moves with them (not a
+    change of its own: nothing is said until the grouping changes, and a snapshot has it)."""
+    scene = FrameScene("map", PARAMS)
+    pair = [person("a", 3.0, 0.6, -90), person("b", 3.0, -0.6, 90)]
+    scene.update(pair, Time.of(1), 0.0)
+    held = scene.update(pair, Time.of(2), 0.4)
+    assert held is not None
+    (group,) = held.groups
+    assert not group.robot and group.join is not None
+    assert group.join.x < 3.0 and abs(group.join.y) < 0.3  # the robot's side, between them
+    assert abs(math.degrees(group.join.yaw)) < 10  # facing into the group (+x)
+    moved = [person("a", 3.5, 0.6, -90), person("b", 3.5, -0.6, 90)]
+    assert scene.update(moved, Time.of(3), 0.6) is None
+    (now,) = scene.snapshot().groups
+    assert now.join is not None and now.join.x == __import__("pytest").approx(
+        group.join.x + 0.5, abs=0.05
+    )
+
+
+def test_the_robot_in_a_group_has_no_place_to_join_it():
+    scene = FrameScene("base_link", PARAMS)
+    scene.update([person("alice", 1.0, 0.0, 180)], Time.of(1), 0.0)
+    held = scene.update([person("alice", 1.0, 0.0, 180)], Time.of(1), 0.4)
+    assert held is not None and held.groups[0].robot and held.groups[0].join is None
+
+
+def test_a_person_engaging_alone_is_greeted_in_front_of_them_facing_them():
+    """A person ENGAGING or ENGAGED and in no group: the place 1.2 m in front of them,
+    facing them; nobody for a person not engaging, or one in a group, or when someone
+    else stands there."""
+    scene = FrameScene("map", PARAMS)
+    cara = Person("cara", (3.0, 2.0, 0.0), (0.0, 0.0, 1.0, 0.0), engaging=True)  # faces -x
+    update = scene.update([cara], Time.of(1), 0.0)
+    assert update is not None
+    (greeting,) = update.greetings
+    assert greeting.body_id == "cara"
+    assert (greeting.pose.x, greeting.pose.y) == __import__("pytest").approx((1.8, 2.0))
+    assert abs(math.degrees(greeting.pose.yaw)) < 1e-6  # facing +x: toward cara
+    idle = Person("cara", (3.0, 2.0, 0.0), (0.0, 0.0, 1.0, 0.0), engaging=False)
+    gone = scene.update([idle], Time.of(2), 0.2)  # someone to greet who goes is a change
+    assert gone is not None and gone.greetings == () and gone.groups_changed
+    blocking = person("dan", 1.8, 2.1, 90)  # stands where the robot would
+    scene.update([cara, blocking], Time.of(3), 0.4)
+    assert scene.snapshot().greetings == ()

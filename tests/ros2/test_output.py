@@ -15,6 +15,7 @@ import zenoh
 from upstream import STANDARD_MSGS, definition
 
 from benchmarks.bags import read_bag
+from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.poses import Stamp
 from facing_service.contract.schemas import FrameFacing
@@ -22,13 +23,20 @@ from facing_service.contract.stamps import Time
 from facing_service.core.engagement import Level, Zone
 from facing_service.core.records import Changes, EngagementUpdate
 from facing_service.ros2 import types as ros2_types
-from facing_service.ros2.output import ENGAGEMENT_LEVEL, INTENT, RosOutput, engage_intent
+from facing_service.ros2.output import (
+    ENGAGEMENT_LEVEL,
+    INTENT,
+    RosMessage,
+    RosOutput,
+    engage_intent,
+)
 from facing_service.ros2.wire import RosFormat, Wire
 from facing_service.tools.replay import Replay
 
 import rmw_zenoh
 from loopback import endpoint
 from oracles import BAGS
+from poses import pose_json
 from rmw_zenoh import JAZZY_0_2_10 as JAZZY
 
 pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
@@ -295,3 +303,39 @@ def test_a_recording_written_as_mcap_replays(net, tmp_path):
     with Replay(robot, bag, Wire(RosFormat.BRIDGE)) as replay:
         stats = replay.run(rate=50.0)
     assert stats.messages == recorded
+
+
+def test_where_to_stand_goes_out_as_pose_stamped_and_its_topic_goes_with_it():
+    """Issue 53 on a ROS 2 robot: the place to join a group the robot is not in, as a
+    geometry_msgs/PoseStamped in the base frame (a navigation goal as it is), every period
+    while the group has room; its publisher undeclared once the group is gone."""
+    from facing_service.config.profiles import scene_params
+    from facing_service.contract.keys import BodyRef
+    from facing_service.contract.poses import decode_pose
+    from facing_service.core.records import PoseSample
+    from facing_service.core.scene import Scenes
+    from facing_service.core.view import TurnView
+    from facing_service.ros2.output import POSE_STAMPED, RosOutput
+    from facing_service.shell.service import tracker_for
+
+    settings = Settings(base_frame="base_link", group_hold_s=0.0)
+    tracker, scenes = tracker_for(settings), Scenes(scene_params(settings))
+    people = {"ann": (3.0, 0.6, -90.0), "bob": (3.0, -0.6, 90.0)}
+    for name, (x, y, yaw) in people.items():
+        raw = pose_json(name, "base_link", x=x, y=y, yaw_deg=yaw)
+        pose = decode_pose(raw, name, "base_link", 1 << 16)
+        tracker.ingest([PoseSample(BodyRef(frame_id="base_link", body_id=name), pose)], 0.0)
+    scenes.touch({"base_link"})
+    scenes.tick(0.0, TurnView(tracker, scenes))
+    out = RosOutput(rate_hz=10.0, intents=False)
+    (join,) = [m for m in out.tick(1.0, TurnView(tracker, scenes)) if m.typename == POSE_STAMPED]
+    assert join.topic.startswith("/humans/interactions/groups/") and join.topic.endswith("/join")
+    message = ros2_types.deserialize(join.payload, POSE_STAMPED)
+    assert message.header.frame_id == "base_link"
+    assert message.pose.position.x < 3.0 and abs(message.pose.position.y) < 0.3
+    assert abs(message.pose.orientation.z) < 0.1  # facing +x, into the group
+    tracker.lose([BodyRef(frame_id="base_link", body_id="bob")], 2.0)
+    scenes.touch({"base_link"})
+    scenes.tick(2.0, TurnView(tracker, scenes))
+    gone = [m for m in out.tick(2.0, TurnView(tracker, scenes)) if m.typename == POSE_STAMPED]
+    assert gone == [RosMessage(join.topic, POSE_STAMPED, None)]

@@ -4,6 +4,8 @@ participant. Real zenoh sessions on loopback."""
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from loopback import get, send, send_delete, wait_until, wait_until_answered
@@ -160,3 +162,24 @@ def test_a_query_naming_a_frame_always_answers_even_after_the_room_emptied(net, 
     else:  # it serves "cam" alone: another frame is another service's (scale-out)
         assert get(client, f"{NS}/groups/cma") == []
     assert get(client, f"{NS}/bodies/*/facing/*") == []  # a wildcard: nothing to refuse
+
+
+def test_where_to_stand_goes_out_with_the_groups(scene):
+    """Issue 53 on the wire: a pair talking ahead carries where the robot should join them;
+    a person engaging from 2.4 m away, in no group, where to greet them; both queryable."""
+    _, client, groups, _ = scene
+    send(client, pose_key("ann"), pose_json("ann", "cam", x=3.0, y=0.6, yaw_deg=-90.0))
+    send(client, pose_key("bob"), pose_json("bob", "cam", x=3.0, y=-0.6, yaw_deg=90.0))
+    said = groups.wait_for(lambda i: i.key == GROUPS and i.value["groups"])[-1].value
+    (group,) = said["groups"]
+    join = group["join"]
+    assert join["x"] < 3.0 and abs(join["y"]) < 0.3 and abs(join["yaw"]) < 0.2
+    send(client, pose_key("cy"), pose_json("cy", "cam", x=-2.4, y=0.0, yaw_deg=0.0))  # faces us
+    wait_until(
+        lambda: [g["body_id"] for g in dict(get(client, GROUPS))[GROUPS]["greetings"]] == ["cy"],
+        5.0,
+        "cy greeted",
+    )
+    (greeting,) = dict(get(client, GROUPS))[GROUPS]["greetings"]
+    assert greeting["place"]["x"] == pytest.approx(-1.2, abs=0.05)
+    assert abs(greeting["place"]["yaw"]) == pytest.approx(math.pi, abs=0.05)  # facing cy (-x)

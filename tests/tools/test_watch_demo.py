@@ -229,3 +229,32 @@ def test_a_person_and_their_face_are_one_human_in_the_view():
     ]  # fmt: skip
     text = text_of(render(people, "base_link"))
     assert "4 of 4 facing the robot" in text and "person_rorql = face_959e0" in text
+
+
+def test_where_to_stand_prints_the_places_to_join_and_to_greet(net):
+    """Issue 53's example: a pair talking 3 m ahead, a person engaging 2.4 m behind: where
+    to join the pair, where to greet the person."""
+    port = free_port()
+    net.service(listen=[endpoint(port)], base_frame="base_link", group_hold_s=0.2)
+    tracker = net.client(endpoint(port))
+    wait_until_answered(tracker, "hri/facing/base_link")
+    people = {
+        "ann": dict(x=3.0, y=0.6, yaw_deg=-90.0),
+        "bob": dict(x=3.0, y=-0.6, yaw_deg=90.0),
+        "cy": dict(x=-2.4, y=0.0, yaw_deg=0.0),  # faces the robot from behind it
+    }
+    example = run_example("where_to_stand.py", port, 6)
+    try:
+        for second in range(1, 6):
+            for name, where in people.items():
+                send(tracker, f"hri/bodies/{name}/pose/base_link",
+                     pose_json(name, "base_link", sec=second, **where))  # fmt: skip
+            time.sleep(1.0)
+        printed, _ = example.communicate(timeout=30)
+    finally:
+        if example.poll() is None:
+            example.kill()
+    assert re.search(
+        r"to join ann, bob: stand at \((2|1)\.\d\d, -?0\.\d\d\) facing -?\d°", printed
+    ), printed
+    assert re.search(r"to greet cy: stand at \(-1\.20, -?0\.00\) facing -?180°", printed), printed

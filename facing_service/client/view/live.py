@@ -32,6 +32,7 @@ def run_view(
             client.gazing(frame),
             bool(client.live_instances),
             watcher.frames(),
+            client.greetings(frame),
         )
 
     try:

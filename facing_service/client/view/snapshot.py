@@ -9,7 +9,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from ...contract.schemas import GazePair, GroupState
+from ...contract.schemas import GazePair, Greeting, GroupState
 from ..watch import PersonView, natural_order
 
 #: People sent to the page at most: a crowd of thousands renders bounded.
@@ -23,9 +23,11 @@ def snapshot(
     gazing: Sequence[GazePair],
     service_live: bool,
     elsewhere: Mapping[str, int],
+    greetings: Sequence[Greeting] = (),
 ) -> dict[str, Any]:
-    """The page's model: the frame, its people (nearest first, bounded), groups, who faces
-    whom, whether a service is alive, and the frames that have people."""
+    """The page's model: the frame, its people (nearest first, bounded), groups (with where
+    to join each), who faces whom, where to greet whom, whether a service is alive, and
+    the frames that have people."""
     nearest = sorted(people, key=lambda p: (math.hypot(p.x, p.y), natural_order(p.body_id)))
     drawn = nearest[:MAX_DRAWN]
     shown = {p.body_id for p in drawn}
@@ -49,6 +51,7 @@ def snapshot(
         ],
         "not_drawn": len(people) - len(drawn),
         "groups": [g.model_dump() for g in groups],
+        "greetings": [g.model_dump() for g in greetings if g.body_id in shown],
         "gazing": [g.model_dump() for g in gazing if {g.sender, g.receiver} - {""} <= shown],
         "elsewhere": {f: n for f, n in sorted(elsewhere.items()) if f != frame and n},
     }

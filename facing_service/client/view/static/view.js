@@ -5,6 +5,7 @@ const SVG = "http://www.w3.org/2000/svg";
 const COLOUR = { ENGAGED: "#22aa22", ENGAGING: "#e6a800", DISENGAGING: "#e6a800",
                  DISENGAGED: "#dd2222", UNKNOWN: "#999999" };
 const GROUP = "#bb33bb";
+const PLACE = "#1a80ff";  // where the robot should stand
 const radar = document.getElementById("radar");
 const connection = document.getElementById("connection");
 
@@ -16,6 +17,15 @@ function el(name, attrs, parent) {
 }
 // Base frame (x ahead, y left) to the screen (up, left): sx = -y, sy = -x.
 const sx = (p) => -p.y, sy = (p) => -p.x;
+
+// Where the robot should stand (a place: x, y, yaw in radians): a triangle pointing the
+// way to face.
+function place(p, cls, id) {
+  const shape = el("g", { class: cls, "data-id": id,
+                          transform: `translate(${sx(p)} ${sy(p)}) rotate(${-(p.yaw * 180) / Math.PI - 90})` }, radar);
+  el("polygon", { points: "0.3,0 -0.15,0.15 -0.15,-0.15", fill: PLACE, "fill-opacity": 0.85 }, shape);
+}
+const at2 = (p) => `(${p.x.toFixed(1)}, ${p.y.toFixed(1)})`;
 
 // Where a label goes: beside its person, else the first free line below it (a line is
 // 0.4 high at font size 0.3, a character about 0.17 wide), so that the names of people
@@ -61,7 +71,9 @@ function draw(model) {
       if (p) el("line", { x1: sx(c), y1: sy(c), x2: sx(p), y2: sy(p), stroke: GROUP,
                           "stroke-width": 0.025 }, shape);
     }
+    if (g.join) place(g.join, "join", g.id);
   }
+  for (const g of model.greetings || []) place(g.place, "greet", g.body_id);
   el("polygon", { points: "0,-0.25 0.18,0.15 -0.18,0.15", fill: "#223", class: "robot" }, radar);
   el("text", { x: 0.25, y: 0.35, "font-size": 0.3, fill: "#223" }, radar).textContent = "robot";
   const placed = [];  // label boxes drawn: people standing close get labels apart
@@ -100,7 +112,13 @@ function draw(model) {
   list.replaceChildren();
   for (const g of model.groups) {
     const item = document.createElement("li");
-    item.textContent = `group ${g.id}: ${g.members.join(", ")}${g.robot ? " and the robot" : ""}`;
+    const join = g.robot ? "" : g.join ? `; join at ${at2(g.join)}` : "; no room to join";
+    item.textContent = `group ${g.id}: ${g.members.join(", ")}${g.robot ? " and the robot" : ""}${join}`;
+    list.appendChild(item);
+  }
+  for (const g of model.greetings || []) {
+    const item = document.createElement("li");
+    item.textContent = `greet ${g.body_id} at ${at2(g.place)}`;
     list.appendChild(item);
   }
   const notes = [];
