@@ -9,21 +9,15 @@ here the facing-service does the geometry and the client keeps the answer up to 
 
 from __future__ import annotations
 
-import argparse
 import time
+
+from common import arguments
 
 from facing_service import FacingClient
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
-    parser.add_argument(
-        "-e", "--connect", action="append", default=[], metavar="ENDPOINT",
-        help="the service's (or its router's) endpoint, e.g. tcp/127.0.0.1:7447; repeatable",
-    )  # fmt: skip
-    parser.add_argument("--frame", default="base_link", help="the base frame (default base_link)")
-    parser.add_argument("--duration-s", type=float, help="stop after this long")
-    args = parser.parse_args()
+    args = arguments(__doc__)
 
     with FacingClient(connect=args.connect, frame=args.frame) as hri:
         started = time.monotonic()

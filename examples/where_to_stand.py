@@ -10,9 +10,10 @@ stand"); a robot sends the one it chooses to its navigation as a goal.
 
 from __future__ import annotations
 
-import argparse
 import math
 import time
+
+from common import arguments
 
 from facing_service import FacingClient, Place
 
@@ -22,14 +23,7 @@ def said(place: Place) -> str:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
-    parser.add_argument(
-        "-e", "--connect", action="append", default=[], metavar="ENDPOINT",
-        help="the service's (or its router's) endpoint, e.g. tcp/127.0.0.1:7447; repeatable",
-    )  # fmt: skip
-    parser.add_argument("--frame", default="base_link", help="the base frame (default base_link)")
-    parser.add_argument("--duration-s", type=float, help="stop after this long")
-    args = parser.parse_args()
+    args = arguments(__doc__)
 
     with FacingClient(connect=args.connect, frame=args.frame) as hri:
         started = time.monotonic()
