@@ -35,9 +35,7 @@ above 0.75), converted to m² (1e-4 times the number), in the room's unit square
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -280,19 +278,12 @@ def groups(labels: IntArray) -> list[list[int]]:
 @dataclass(frozen=True, slots=True)
 class Group:
     """A group as said: a stable id, its members, whether the robot is one, its centre, and
-    where the robot should stand to join it (None: the robot is in it, or it has no room)."""
+    where the robot should stand to join it (None: the robot is in it, it has no room, or
+    it was not asked: ``scene.FrameScene`` works it out when the group is said or read)."""
 
     id: int
     members: frozenset[str]
     robot: bool
-    centre: tuple[float, float]
-    join: JoinPose | None = None
-
-
-class Found(NamedTuple):
-    """A group as one computation found it (``join``: ``core.join.join_pose``'s)."""
-
-    members: frozenset[str]
     centre: tuple[float, float]
     join: JoinPose | None = None
 
@@ -323,34 +314,34 @@ class GroupTracker:
         return self._candidate is not None and self._candidate != self._announced
 
     def update(
-        self, found: Sequence[tuple[frozenset[str], tuple[float, float]] | Found], now: float
+        self, found: list[tuple[frozenset[str], tuple[float, float]]], now: float
     ) -> tuple[list[Group], list[int]]:
-        """The groups ``detect`` found now (members, centre, where to join); what changed:
-        the groups formed or changed, and the ids dissolved (both empty while nothing
-        changed). A group's centre and join follow its people without being a change."""
-        said = [Found(*f) for f in found]
-        partition = frozenset(f.members for f in said if len(f.members) > 1)
+        """The groups ``detect`` found now (members, centre); what changed: the groups
+        formed or changed, and the ids dissolved (both empty while nothing changed)."""
+        partition = frozenset(members for members, _ in found if len(members) > 1)
         if partition != self._candidate:
             self._candidate, self._since = partition, now
         if partition == self._announced or now - self._since < self.hold_s:
-            self._recentre(said)
+            self._recentre(found)
             return [], []
-        return self._adopt(said)
+        return self._adopt(found)
 
-    def _recentre(self, found: list[Found]) -> None:
-        by_members = {f.members: f for f in found}
+    def _recentre(self, found: list[tuple[frozenset[str], tuple[float, float]]]) -> None:
+        by_members = dict(found)
         for gid, group in self.groups.items():
-            if (now := by_members.get(group.members)) is not None:
-                self.groups[gid] = Group(gid, group.members, group.robot, now.centre, now.join)
+            if (centre := by_members.get(group.members)) is not None:
+                self.groups[gid] = Group(gid, group.members, group.robot, centre)
 
-    def _adopt(self, found: list[Found]) -> tuple[list[Group], list[int]]:
+    def _adopt(
+        self, found: list[tuple[frozenset[str], tuple[float, float]]]
+    ) -> tuple[list[Group], list[int]]:
         old = dict(self.groups)
         new: dict[int, Group] = {}
         # Most overlap first: the group that keeps most of an old group's members keeps its id.
         pairs = sorted(
             (
                 (len(members & g.members), gid, i)
-                for i, (members, _, _) in enumerate(found)
+                for i, (members, _) in enumerate(found)
                 for gid, g in old.items()
                 if len(members) > 1 and 2 * len(members & g.members) >= len(g.members)
             ),
@@ -361,7 +352,7 @@ class GroupTracker:
             if i not in taken and gid not in taken.values():
                 taken[i] = gid
         changed = []
-        for i, (members, centre, join) in enumerate(found):
+        for i, (members, centre) in enumerate(found):
             if len(members) < 2:
                 continue
             known = taken.get(i)
@@ -369,7 +360,7 @@ class GroupTracker:
                 gid, self._next_id = self._next_id, self._next_id + 1
             else:
                 gid = known
-            group = Group(gid, members, self.ROBOT in members, centre, join)
+            group = Group(gid, members, self.ROBOT in members, centre)
             new[gid] = group
             if gid not in old or old[gid].members != members:
                 changed.append(group)

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from collections import OrderedDict
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Protocol
 
 import numpy as np
@@ -27,7 +27,6 @@ import numpy as np
 from ..contract.stamps import ZERO, Time
 from . import detector
 from .groups import (
-    Found,
     Group,
     GroupParams,
     GroupTracker,
@@ -110,7 +109,8 @@ class LastComputation:
     t: np.ndarray
     q: np.ndarray
     engaging: list[bool]
-    found: list[Found]
+    heading: np.ndarray
+    found: list[tuple[frozenset[str], tuple[float, float]]]
     greetings: tuple[Greeting, ...]
 
     def still(self, ids: list[str], t: np.ndarray, q: np.ndarray, engaging: list[bool]) -> bool:
@@ -136,6 +136,9 @@ class FrameScene:
     stamp: Time = ZERO
     said_once: bool = False
     _worked: LastComputation | None = None
+    # Where to join each group, worked out from the last computation's people when a
+    # group is said or read (most computations are neither), then kept until the next.
+    _joins: dict[frozenset[str], JoinPose | None] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.tracker = GroupTracker(self.params.hold_s)
@@ -166,13 +169,13 @@ class FrameScene:
             ringed = on_the_ring(labels, t[:, :2], heading, p.groups, scale, robot)
             if not np.array_equal(ringed, labels):  # the robot left: its centre is its own
                 labels, centre = ringed, np.vstack([centre, t[robot, :2]])
-            xy = t[:, :2]
             found = [
-                Found(frozenset(ids[i] for i in m), (x, y), self._join(m, robot, xy, heading))
+                (frozenset(ids[i] for i in m), (x, y))
                 for m, (x, y) in zip(members(labels), centre.tolist(), strict=True)
             ]
-            greetings = _greetings(ids, xy, heading, engaging, labels, p)
-            self._worked = LastComputation(ids, t, q, engaging, found, greetings)
+            greetings = _greetings(ids, t[:, :2], heading, engaging, labels, p)
+            self._worked = LastComputation(ids, t, q, engaging, heading, found, greetings)
+            self._joins = {}
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
         anew = not self.said_once or left_out != self.left_out
         greeted = {g.body_id for g in greetings} != {g.body_id for g in self.greetings}
@@ -187,7 +190,7 @@ class FrameScene:
         if not (groups_changed or gazing_changed):
             return None
         self.gazing, self.left_out, self.said_once = gazing, left_out, True
-        return self.snapshot(changed, dissolved, groups_changed, gazing_changed)
+        return self.snapshot(changed, dissolved, groups_changed, gazing_changed, groups_changed)
 
     def snapshot(
         self,
@@ -195,13 +198,21 @@ class FrameScene:
         dissolved: Sequence[int] = (),
         groups_changed: bool = False,
         gazing_changed: bool = False,
+        joins: bool = True,
     ) -> SceneUpdate:
-        """The scene as last said, with what its last update changed."""
+        """The scene as last said, with what its last update changed; each group with
+        where to join it, unless ``joins`` is off (an update that says only who faces
+        whom: its groups are not said, and working the places out would cost for nothing)."""
+
+        def placed(group: Group) -> Group:
+            return replace(group, join=self._join(group.members)) if joins else group
+
+        groups = sorted(self.tracker.groups.values(), key=lambda g: g.id)
         return SceneUpdate(
             self.frame_id,
             self.stamp,
-            tuple(sorted(self.tracker.groups.values(), key=lambda g: g.id)),
-            tuple(changed),
+            tuple(map(placed, groups)),
+            tuple(map(placed, changed)),
             tuple(dissolved),
             self.gazing,
             groups_changed,
@@ -210,18 +221,26 @@ class FrameScene:
             self.greetings,
         )
 
-    def _join(
-        self, group: list[int], robot: int, xy: np.ndarray, heading: np.ndarray
-    ) -> JoinPose | None:
-        """Where the robot should stand to join a group of people it is not in (None: it
-        is in it, or the group has no room); everyone else but the robot is in the way."""
-        if len(group) < 2 or robot in group:
+    def _join(self, group: frozenset[str]) -> JoinPose | None:
+        """Where the robot should stand to join a group it is not in (None: it is in it,
+        or the group has no room), from the last computation's people: everyone else but
+        the robot is in the way. Worked out once per computation, when asked."""
+        worked = self._worked
+        if ROBOT in group or worked is None:
             return None
-        people = np.array(group)
-        others = np.array([i for i in range(robot) if i not in group], dtype=int)
-        return join_pose(
-            xy[people], heading[people], xy[others], (xy[robot, 0], xy[robot, 1]), self.params.join
-        )
+        if group not in self._joins:
+            xy = worked.t[:, :2]
+            index = {person: i for i, person in enumerate(worked.ids[:-1])}  # the robot last
+            inside = [index[m] for m in sorted(group) if m in index]
+            others = [i for i in index.values() if i not in inside]
+            self._joins[group] = (
+                None
+                if len(inside) < 2
+                else join_pose(
+                    xy[inside], worked.heading[inside], xy[others], (0.0, 0.0), self.params.join
+                )
+            )
+        return self._joins[group]
 
     def _who_faces_whom(self, ids: list[str], t: np.ndarray, q: np.ndarray) -> frozenset[Pair]:
         """Pairs (a, b) with b in a's cone; a pair already said keeps facing within the
