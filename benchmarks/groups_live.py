@@ -31,6 +31,15 @@ BLOCK = zenoh.CongestionControl.BLOCK
 
 def live(frames: Sequence, hold_s: float = 1.0) -> list[list[frozenset[int]]]:
     """The groups the service says at the end of each frame's hold (person ids)."""
+    return [
+        [frozenset(int(m.removeprefix("p")) for m in g["members"]) for g in said]
+        for said in live_said(frames, hold_s)
+    ]
+
+
+def live_said(frames: Sequence, hold_s: float = 1.0) -> list[list[dict]]:
+    """The groups the service says at the end of each frame's hold, as said (JSON: members
+    as ``p<id>``, centre, join), the robot's own groups left out."""
     ep = endpoint(free_port())
     settings = Settings(
         listen=[ep],
@@ -40,7 +49,7 @@ def live(frames: Sequence, hold_s: float = 1.0) -> list[list[frozenset[int]]]:
         instance="groups-evaluation",
         log_level="WARNING",
     )
-    found: list[list[frozenset[int]]] = []
+    found: list[list[dict]] = []
     with FacingService(settings), zenoh.open(loopback_config(connect=[ep])) as tracker:
         wait_until(
             lambda: any(r.ok for r in tracker.get(keys.frame_key("hri", FRAME), timeout=0.5)),
@@ -70,14 +79,10 @@ def live(frames: Sequence, hold_s: float = 1.0) -> list[list[frozenset[int]]]:
     return found
 
 
-def _groups(session: zenoh.Session) -> list[frozenset[int]]:
-    """The service's groups now, as sets of person ids (the robot is not a person)."""
+def _groups(session: zenoh.Session) -> list[dict]:
+    """The service's groups of two people or more now, as said (the robot is no person)."""
     for reply in session.get(keys.groups_key("hri", FRAME), timeout=2.0):
         if reply.ok is not None:
             said = json.loads(reply.ok.payload.to_bytes())
-            return [
-                frozenset(int(m.removeprefix("p")) for m in g["members"])
-                for g in said["groups"]
-                if len(g["members"]) > 1
-            ]
+            return [g for g in said["groups"] if len(g["members"]) > 1]
     return []

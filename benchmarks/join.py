@@ -227,6 +227,22 @@ def tables(results: dict[str, Any]) -> list[str]:
             f" | {_m(c['median_m'])} | {_m(n['median_m'])} | {n['within_half_m']:.0%}"
             f" | {_deg(n['heading_deg'])} |"
         )
+    if "live" in results:
+        lines += [
+            "",
+            "The shipped join through the live service (each case's frame, the member left out,"
+            " held 0.6 s as JSON poses at 30 Hz; `hri/groups/<frame>` queried at its end), on the"
+            " group the service found holding the remaining members: its place against where"
+            " the member stood, and against the core's place for the same people:",
+            "",
+            "| sequence | cases | given a place | median m | live - core, worst m |",
+            "| --- | ---: | ---: | ---: | ---: |",
+        ]
+        for s, r in results["live"].items():
+            lines.append(
+                f"| {s} | {r['cases']} | {r['placed']:.0%} | {_m(r['median_m'])}"
+                f" | {_m(r['live_minus_core_m'])} |"
+            )
     d = results["chosen_on_all"]
     lines += [
         "",
@@ -251,15 +267,82 @@ def page(check: bool) -> int:
     return generate(PAGE, RESULTS, BEGIN, END, tables, check, "python -m benchmarks.join --page")
 
 
+def live_cases(frames: Sequence[Frame], most: int) -> list[tuple[Frame, Case, frozenset[int]]]:
+    """At most ``most`` leave-one-out cases, evenly spread: each with its frame minus the
+    member left out (what the live service is shown) and the remaining members' ids."""
+    every = []
+    for f in frames:
+        for case, (out, rest) in zip(cases([f]), _left_out(f), strict=True):
+            keep = [i for i, pid in enumerate(f.ids) if pid != out]
+            shown = Frame(tuple(f.ids[i] for i in keep), f.positions[keep], f.headings[keep], ())
+            every.append((shown, case, rest))
+    step = max(1, len(every) // most)
+    return every[::step][:most]
+
+
+def _left_out(f: Frame) -> Iterator[tuple[int, frozenset[int]]]:
+    """The member each of ``cases([f])`` leaves out, and the others, in the same order."""
+    present = set(f.ids)
+    for group in f.truth:
+        if len(group) < 3:
+            continue
+        for out in sorted(group):
+            rest = frozenset(m for m in group if m != out and m in present)
+            if out in present and len(rest) >= 2:
+                yield out, rest
+
+
+def evaluate_live(most: int, hold_s: float, root: Path = SHARED) -> dict[str, Any]:
+    """The shipped join through the live service (JSON poses at 30 Hz, each case's frame
+    held ``hold_s``, ``hri/groups/<frame>`` queried at its end) beside the core on the
+    group the service found: where the service says to stand is where the core says, for
+    the same people; and how far from where the member stood."""
+    from .groups_live import live_said
+
+    out: dict[str, Any] = {}
+    for s in SEQUENCES:
+        picked = live_cases(load(s, root, every=1), most)
+        said = live_said([shown for shown, _, _ in picked], hold_s)
+        to_truth, to_core, placed = [], [], 0
+        for (shown, case, rest), groups in zip(picked, said, strict=True):
+            group = next((g for g in groups if rest <= {int(m[1:]) for m in g["members"]}), None)
+            if group is None or group["join"] is None:
+                continue
+            placed += 1
+            join = group["join"]
+            to_truth.append(math.hypot(join["x"] - case.truth[0], join["y"] - case.truth[1]))
+            inside = [i for i, pid in enumerate(shown.ids) if f"p{pid}" in group["members"]]
+            others = [i for i in range(len(shown.ids)) if i not in inside]
+            core_pose = join_pose(shown.positions[inside], shown.headings[inside],
+                                  shown.positions[others], ROBOT, JoinParams())  # fmt: skip
+            if core_pose is not None:
+                to_core.append(math.hypot(join["x"] - core_pose.x, join["y"] - core_pose.y))
+        out[s] = {
+            "cases": len(picked),
+            "placed": placed / len(picked),
+            "median_m": float(np.median(to_truth)) if to_truth else None,
+            "live_minus_core_m": float(np.max(to_core)) if to_core else None,
+            "hold_s": hold_s,
+        }
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, help="write the results as JSON")
+    parser.add_argument(
+        "--live", type=int, metavar="N", help="also N cases a sequence through the live service"
+    )
     parser.add_argument("--page", action="store_true", help="rewrite docs/groups.md's join table")
     parser.add_argument("--check", action="store_true", help="with --page: exit 1 if stale")
     args = parser.parse_args(argv)
     if args.page:
         return page(args.check)
+    if args.live is not None and not 1 <= args.live <= 1000:
+        parser.error(f"--live must be a number of cases from 1 to 1000, got {args.live}")
     results = evaluate()
+    if args.live:
+        results["live"] = evaluate_live(args.live, hold_s=0.6)
     print("\n".join(tables(results)))
     if args.out is not None:
         args.out.write_text(json.dumps(results, indent=2) + "\n")
