@@ -187,9 +187,8 @@ def _viewer(args: argparse.Namespace, command: str, stop: threading.Event) -> Fa
     except zenoh.ZError as error:
         print(zenoh_failure(command, error), file=sys.stderr)
         return 1
-    if opened is None:  # stopped while zenoh.open waits for the router, in native code
-        logging.shutdown()
-        os._exit(0)
+    if opened is None:  # stopped while zenoh.open waits for the router, in native code:
+        return 0  # entry() ends the process without waiting for it
     return opened
 
 

@@ -31,8 +31,8 @@ UNREACHABLE_WARNING_S = 10.0
 
 def open_patiently(open_: Callable[[], T], settings: Settings, stop: threading.Event) -> T | None:
     """What ``open_`` returns once zenoh has opened, or None if ``stop`` came first (the
-    helper thread is then still inside zenoh.open: the caller exits the process rather
-    than wait for it). zenoh's own refusal is raised here, on the caller's thread."""
+    helper thread is then still inside zenoh.open: the process ends without waiting for
+    it, ``cli.entry``). zenoh's own refusal is raised here, on the caller's thread."""
     opened = threading.Event()
     result: list[T] = []
     failure: list[zenoh.ZError] = []

@@ -208,18 +208,12 @@ def advance(state: Engagement, t: float, p: EngagementParams) -> Engagement:
     # Becoming (or again) ENGAGED also needs the person to face the robot *now*: the
     # smoothed score lags, and a 0.6 s glance would otherwise turn ENGAGED just after it
     # ended (seen in the evaluation: 16 of 21 spurious changes).
-    now_facing = (
-        score >= p.engage_above
-        and state.raw >= p.engage_above
-        and state.last is not None
-        and t - state.last <= p.fresh_s  # a tracker gone silent is no evidence
-    )
+    fresh = state.last is not None and t - state.last <= p.fresh_s  # silence is no evidence
+    now_facing = score >= p.engage_above and state.raw >= p.engage_above and fresh
     # The soft vote (when on): attending holds the person in, and engages them with the
     # latest sample voting, however the smoothed score of the cone moves.
     attending = p.vote_deg is not None and state.attention >= p.vote_share
-    voting_now = (
-        attending and state.voted > 0.0 and state.last is not None and t - state.last <= p.fresh_s
-    )
+    voting_now = attending and state.voted > 0.0 and fresh
     falling = score < p.disengage_below and not attending
     nxt = level
     if level is Level.DISENGAGED and (score >= p.engage_above or attending):

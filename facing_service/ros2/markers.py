@@ -184,7 +184,7 @@ def group_markers(
         _marker(frame, stamp, ns, 1, m.LINE_LIST, points=lines, scale=(0.02, 0, 0),
                 colour=GROUP_COLOUR, alpha=0.7),
     ]  # fmt: skip
-    if group.join is not None and not group.robot:
+    if group.join is not None:  # (None with the robot in the group)
         drawn.append(place_marker(frame, stamp, ns, 2, group.join))
     return drawn
 

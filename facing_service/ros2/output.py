@@ -179,7 +179,7 @@ def places(scene: SceneUpdate) -> list[RosMessage]:
     out = [
         place_message(f"{GROUPS_TOPIC}/{g.id}/join", frame, stamp, g.join)
         for g in scene.groups
-        if g.join is not None and not g.robot
+        if g.join is not None  # (None with the robot in the group)
     ]
     for greeting in scene.greetings:
         kind = _kind(greeting.body_id) or "body_"

@@ -121,7 +121,7 @@ def group_state(group: Group) -> GroupState:
         members=sorted(group.members - {ROBOT}),
         robot=group.robot,
         centre=Centre(x=group.centre[0], y=group.centre[1]),
-        join=None if group.robot or group.join is None else place(group.join),
+        join=None if group.join is None else place(group.join),  # (None with the robot in)
     )
 
 

@@ -5,7 +5,6 @@ Ctrl-C while zenoh opens (``config.patience``: it may wait in native code for a 
 from __future__ import annotations
 
 import logging
-import os
 import sys
 import threading
 
@@ -29,10 +28,9 @@ def run_until(settings: Settings, stop: threading.Event) -> int:
     except zenoh.ZError as error:
         print(zenoh_failure("run", error), file=sys.stderr)
         return 1
-    if started is None:  # nothing is open yet, nothing to close
-        log.info("stopped before zenoh connected")
-        logging.shutdown()
-        os._exit(0)  # the helper thread is stuck in zenoh.open; do not wait for it
+    if started is None:  # nothing is open yet, nothing to close; the helper thread stuck
+        log.info("stopped before zenoh connected")  # in zenoh.open ends with the process
+        return 0  # (cli.entry ends it without waiting)
     try:
         stop.wait()  # the service's own threads work and say what happens to its links
     finally:
