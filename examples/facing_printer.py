@@ -22,7 +22,7 @@ def main() -> None:
     with FacingClient(connect=args.connect, frame=args.frame) as hri:
         started = time.monotonic()
         while args.duration_s is None or time.monotonic() - started < args.duration_s:
-            facing = hri.bodies_facing(args.frame)
+            facing = hri.bodies_facing()
             print(f"facing the robot: {' '.join(facing) if facing else '-'}", flush=True)
             time.sleep(1.0)
 

@@ -29,7 +29,7 @@ def main() -> None:
         started = time.monotonic()
         while args.duration_s is None or time.monotonic() - started < args.duration_s:
             lines = []
-            for group in hri.groups(args.frame):
+            for group in hri.groups():
                 who = ", ".join(group.members)
                 if group.robot:
                     lines.append(f"in a group with {who}: stay")
@@ -37,7 +37,7 @@ def main() -> None:
                     lines.append(f"group of {who}: no room to join")
                 else:
                     lines.append(f"to join {who}: stand at {said(group.join)}")
-            for greeting in hri.greetings(args.frame):
+            for greeting in hri.greetings():
                 lines.append(f"to greet {greeting.body_id}: stand at {said(greeting.place)}")
             print("; ".join(lines) or "nobody to join or greet", flush=True)
             time.sleep(1.0)

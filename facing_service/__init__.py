@@ -7,7 +7,7 @@ try:
 except PackageNotFoundError:  # running from a source tree that was never installed
     __version__ = "0.0.0+unknown"
 
-from .client import FacingClient
+from .client import ClientOptions, FacingClient
 from .contract import (
     BodyRef,
     EngagementEvent,
@@ -20,6 +20,7 @@ from .contract import (
     Place,
     ServiceStatus,
 )
+from .contract.levels import Level
 from .errors import (
     ClientNotOpen,
     FacingError,
@@ -32,6 +33,7 @@ from .errors import (
 __all__ = [
     "BodyRef",
     "ClientNotOpen",
+    "ClientOptions",
     "EngagementEvent",
     "EngagementState",
     "FacingClient",
@@ -41,6 +43,7 @@ __all__ = [
     "GazePair",
     "Greeting",
     "GroupState",
+    "Level",
     "NoService",
     "Place",
     "QueryRefused",

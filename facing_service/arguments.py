@@ -23,8 +23,8 @@ class _Parser(argparse.ArgumentParser):
     """One line for a bad argument, naming it (argparse would print the whole usage
     first); no abbreviated flags (``--threshold 30`` is not ``--threshold-deg 30``)."""
 
-    def __init__(self, *args: object, **kwargs: object) -> None:
-        super().__init__(*args, allow_abbrev=False, **kwargs)  # type: ignore[arg-type]
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **{**kwargs, "allow_abbrev": False})
         self.commands: dict[str, argparse.ArgumentParser] = {}  # the top level's commands
 
     def error(self, message: str) -> NoReturn:

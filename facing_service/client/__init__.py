@@ -3,5 +3,6 @@ topic in sight), ``watch`` (a live table), ``sim`` (a tracker to test against) a
 ``health`` (is a service answering, and why not)."""
 
 from .client import FacingClient
+from .options import ClientOptions
 
-__all__ = ["FacingClient"]
+__all__ = ["ClientOptions", "FacingClient"]

@@ -2,18 +2,19 @@
 
     from facing_service import FacingClient
 
-    with FacingClient(connect=["tcp/192.168.1.10:7447"]) as hri:
+    with FacingClient(frame="base_link", connect=["tcp/192.168.1.10:7447"]) as hri:
         hri.on_facing(lambda state: print("hello", state.body_id))
-        print(hri.bodies_facing("base_link"))
+        print(hri.bodies_facing())
 
 The application never sees a key expression. A local cache, seeded by a query when the
 client starts and kept live by a subscription, answers ``bodies`` / ``bodies_facing``
 without a network round trip; ``groups`` / ``gazing`` say who stands in a group with whom
 (the robot too) and who faces whom. Callbacks fire on transitions only (``on_facing``,
-``on_not_facing``, ``on_lost``, ``on_group``: formed, changed, dissolved, the robot joined
-or left) or on every result (``on_change``); they run, in order,
-on the client's own dispatcher thread, never on zenoh's, so a slow behaviour cannot stall
-the session. ``query`` asks the service directly, e.g. with another facing cone.
+``on_not_facing``, ``on_lost``, ``on_engaged``, ``on_disengaged``, ``on_group_formed`` and
+the other group events) or on every result (``on_change``); they run, in order, on the
+client's own dispatcher thread, never on zenoh's, so a slow behaviour cannot stall the
+session. ``query`` asks the service directly, e.g. with another facing cone; ``status``
+says which services answer, and how they are.
 """
 
 from __future__ import annotations
@@ -23,39 +24,54 @@ import queue
 import threading
 import time
 from collections.abc import Callable, Iterable
-from typing import Any
+from typing import TypeVar
 
 import zenoh
+from typing_extensions import Unpack
 
-from ..config.session import zenoh_config
-from ..config.settings import Settings
 from ..contract import keys
-from ..contract.errors import ClientNotOpen, FacingError, UnknownFrame
+from ..contract.errors import ClientNotOpen, FacingError, NoService, UnknownFrame
+from ..contract.keys import BodyRef
 from ..contract.levels import Level
-from ..contract.schemas import EngagementEvent, FacingState, GazePair, Greeting, GroupState
-from ..contract.stamps import Stamp, Time
+from ..contract.schemas import (
+    EngagementEvent,
+    FacingState,
+    GazePair,
+    Greeting,
+    GroupState,
+    ServiceStatus,
+)
+from .bodies import BodyCache
+from .health import ask
+from .options import ClientOptionFields, client_options
 from .replies import engagement_states, facing_states
-from .scene import SCENE_EVENTS, Event, SceneListener
+from .scene import Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
 
-StateCallback = Callable[[FacingState], Any]
-EventCallback = Callable[[EngagementEvent], Any]
-LostCallback = Callable[[keys.BodyRef], Any]
+StateCallback = Callable[[FacingState], object]
+LevelCallback = Callable[[EngagementEvent], object]
+LostCallback = Callable[[BodyRef], object]
+#: ``callback(frame, group)``; a change also gets the group as it was before.
+GroupCallback = Callable[[str, GroupState], object]
+GroupChangeCallback = Callable[[str, GroupState, GroupState], object]
 
-_STOP = object()
+#: A callback and its arguments, queued for the dispatcher.
+_Call = tuple[Callable[..., object], tuple[object, ...]]
 
-#: The levels at which a body counts as engaged: ``on_disengaged`` follows only these.
-_ENGAGED_LEVELS = (Level.ENGAGED, Level.DISENGAGING)
+C = TypeVar("C", bound=Callable[..., object])
 
 
 class FacingClient:
     """Live view of the facing service's results. Use as a context manager.
 
-    ``namespace`` is the service's; ``frame`` restricts the view to one base frame (``*``:
-    all). The session is configured like the service's (``mode``, ``connect``,
-    ``listen``, ``config``, ``cfg``, ``no_multicast_scouting``), or by a ready
-    ``session_config``.
+    ``namespace`` is the service's; ``frame`` the base frame the application works in,
+    given once (``*``: every frame, and then each read names one). The options say how
+    the session reaches the service (``ClientOptions``: ``mode``, ``connect``, ``listen``,
+    ``config``, ``cfg``, ``no_multicast_scouting``, ``reconnect_s``, ``timeout_s``, the
+    ``tls_*`` files); a ready ``session_config`` replaces the session's. An option the
+    client does not take, or a bad value, is a ``SettingsError`` (a ``FacingError``)
+    naming it.
     """
 
     def __init__(
@@ -64,44 +80,26 @@ class FacingClient:
         frame: str = keys.ALL_FRAMES,
         *,
         session_config: zenoh.Config | None = None,
-        timeout_s: float = 2.0,
-        **session_flags: Any,
+        **options: Unpack[ClientOptionFields],
     ) -> None:
-        self.namespace = keys.validate_namespace(namespace)
-        self.frame = keys.validate_frame_filter(frame)
-        self.timeout_s = timeout_s
-        self._config = session_config or zenoh_config(Settings(**session_flags))
+        self.options = client_options({"namespace": namespace, "frame": frame, **options})
+        self.namespace = self.options.namespace
+        self.frame = self.options.frame
+        self.timeout_s = self.options.timeout_s
+        self._config = session_config or self.options.zenoh_config()
         self._lock = threading.Lock()
-        self._states: dict[keys.BodyRef, FacingState] = {}  # the latest result of each body
-        self._on: dict[str, list[Callable[..., Any]]] = {
-            "facing": [],
-            "not_facing": [],
-            "lost": [],
-            "change": [],
-            "engaged": [],
-            "disengaged": [],
-            **{event: [] for event in SCENE_EVENTS},
-        }
+        self._bodies = BodyCache()  # under the lock
+        self._on: dict[str, list[Callable[..., object]]] = {}
         self._scene = SceneListener(self.namespace, self.frame, self._is_live, self._emit)
-        self._events: queue.SimpleQueue[object] = queue.SimpleQueue()
+        self._events: queue.SimpleQueue[_Call | None] = queue.SimpleQueue()  # None: stop
         self._session: zenoh.Session | None = None
-        self._subscriber: zenoh.Subscriber[None] | None = None
-        self._events_subscriber: zenoh.Subscriber[None] | None = None
-        self._liveliness_subscriber: zenoh.Subscriber[None] | None = None
+        self._subscribers: list[zenoh.Subscriber[None]] = []
         self._dispatcher: threading.Thread | None = None
-        # Who vouches for what: the live service instances (their liveliness tokens), and
-        # for each cached body the instances whose results it came from. A body no live
-        # instance vouches for is lost: a dead service leaves no ghost.
-        self._live: set[str] = set()
-        self._vouchers: dict[keys.BodyRef, set[str]] = {}
-        # Each body's latest engagement change (seeded at start as previous UNKNOWN).
-        self._levels: dict[keys.BodyRef, EngagementEvent] = {}
-        self.dropped_from_dead = 0  # results of an instance with no live token, refused
 
     # -- lifecycle -------------------------------------------------------------------
 
     def open(self) -> FacingClient:
-        self._session = zenoh.open(self._config)
+        session = self._session = zenoh.open(self._config)
         self._dispatcher = threading.Thread(
             target=self._dispatch, name="facing-client", daemon=True
         )
@@ -109,16 +107,16 @@ class FacingClient:
         # Liveliness first (with the tokens already there), so results are judged by
         # who is alive; then subscribe, then seed: a result arriving meanwhile is newer
         # than the query's answer and is kept (states only move forward in stamp order).
-        self._liveliness_subscriber = self._session.liveliness().declare_subscriber(
-            keys.service_token(self.namespace, "*"), self._on_token, history=True
-        )
-        self._subscriber = self._session.declare_subscriber(
-            keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame), self._on_sample
-        )
-        self._events_subscriber = self._session.declare_subscriber(
-            keys.event_key(self.namespace, self.frame), self._on_event
-        )
-        self._scene.open(self._session)
+        self._subscribers = [
+            session.liveliness().declare_subscriber(
+                keys.service_token(self.namespace, "*"), self._on_token, history=True
+            ),
+            session.declare_subscriber(
+                keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame), self._on_sample
+            ),
+            session.declare_subscriber(keys.event_key(self.namespace, self.frame), self._on_event),
+        ]
+        self._scene.open(session)
         if self._wait_for_service():
             self._reseed()
         else:
@@ -132,15 +130,15 @@ class FacingClient:
         """Wait (up to ``timeout_s``) until a service's liveliness token is visible. A
         session just opened may not be connected yet, and the service declares its token
         after its queryables: once the token is seen, the seeding query reaches them."""
-        assert self._session is not None
+        session = self._open_session()
         token = keys.service_token(self.namespace, "*")
         deadline = time.monotonic() + self.timeout_s
         while True:
             found = False
-            for reply in self._session.liveliness().get(token, timeout=0.2):
+            for reply in session.liveliness().get(token, timeout=0.2):
                 if reply.ok is not None:
                     with self._lock:
-                        self._live.add(_instance_of(str(reply.ok.key_expr)))
+                        self._bodies.live.add(_instance_of(str(reply.ok.key_expr)))
                     found = True
             if found:
                 return True
@@ -149,17 +147,12 @@ class FacingClient:
             time.sleep(0.05)
 
     def close(self) -> None:
-        for subscriber in (
-            self._subscriber,
-            self._events_subscriber,
-            self._liveliness_subscriber,
-        ):
-            if subscriber is not None:
-                subscriber.undeclare()
-        self._subscriber = self._events_subscriber = self._liveliness_subscriber = None
+        for subscriber in self._subscribers:
+            subscriber.undeclare()
+        self._subscribers = []
         self._scene.close()
         if self._dispatcher is not None:
-            self._events.put(_STOP)
+            self._events.put(None)
             self._dispatcher.join(timeout=2.0)
             self._dispatcher = None
         if self._session is not None:
@@ -182,115 +175,162 @@ class FacingClient:
             raise ClientNotOpen("the FacingClient is not open: call open(), or use `with`")
         return self._session
 
+    def _frame(self, frame: str | None) -> str:
+        """The frame a read is about: the client's, or the one named when the client
+        watches every frame (naming another frame than the client's is a mistake: its
+        cache holds nothing there)."""
+        if frame is None or frame == self.frame:
+            if self.frame == keys.ALL_FRAMES:
+                raise FacingError("this client watches every frame (*): name the frame")
+            return self.frame
+        if self.frame != keys.ALL_FRAMES:
+            raise FacingError(f"this client watches frame {self.frame!r}, not {frame!r}")
+        return keys.validate_name(frame, "frame")
+
     # -- the cache -------------------------------------------------------------------
 
-    def bodies(self, frame: str) -> dict[str, FacingState]:
-        """Every body tracked in ``frame``, by id, with its latest result."""
+    def bodies(self, frame: str | None = None) -> dict[str, FacingState]:
+        """Every body tracked in the frame, by id, with its latest result."""
+        frame = self._frame(frame)
         with self._lock:
-            return {b: s for (f, b), s in self._states.items() if f == frame}
+            return {b: s for (f, b), s in self._bodies.states.items() if f == frame}
 
-    def bodies_facing(self, frame: str) -> list[str]:
-        """Ids of the bodies facing the robot in ``frame``, sorted."""
-        with self._lock:
-            return sorted(b for (f, b), s in self._states.items() if f == frame and s.facing)
+    def bodies_facing(self, frame: str | None = None) -> list[str]:
+        """Ids of the bodies facing the robot in the frame, sorted."""
+        return sorted(b for b, s in self.bodies(frame).items() if s.facing)
 
-    def engagement(self, frame: str) -> dict[str, Level]:
-        """Every body's current engagement level in ``frame``, by id (bodies whose level
+    def engagement(self, frame: str | None = None) -> dict[str, Level]:
+        """Every body's current engagement level in the frame, by id (bodies whose level
         the service has not said yet are absent)."""
+        frame = self._frame(frame)
         with self._lock:
-            return {b: Level[e.level] for (f, b), e in self._levels.items() if f == frame}
+            levels = self._bodies.levels.items()
+            return {b: Level[e.level] for (f, b), e in levels if f == frame}
 
-    def groups(self, frame: str) -> list[GroupState]:
-        """The groups in ``frame`` as the service last said them (``robot``: the robot
+    def groups(self, frame: str | None = None) -> list[GroupState]:
+        """The groups in the frame as the service last said them (``robot``: the robot
         is one of the members; ``join``: where the robot should stand to join a group it
         is not in, None when it has no room)."""
-        return self._scene.groups(frame)
+        return self._scene.groups(self._frame(frame))
 
-    def greetings(self, frame: str) -> list[Greeting]:
-        """The people ENGAGING or ENGAGED in ``frame`` and in no group, each with where
+    def greetings(self, frame: str | None = None) -> list[Greeting]:
+        """The people ENGAGING or ENGAGED in the frame and in no group, each with where
         the robot should stand to greet them."""
-        return self._scene.greetings(frame)
+        return self._scene.greetings(self._frame(frame))
 
-    def gazing(self, frame: str) -> list[GazePair]:
-        """Who faces whom in ``frame`` (``""`` is the robot)."""
-        return self._scene.gazing(frame)
-
-    # -- callbacks -------------------------------------------------------------------
-
-    def on_group(self, event: str, callback: Callable[..., Any]) -> Callable[..., Any]:
-        """``callback(frame, group)`` on ``event``: ``group_formed``, ``group_dissolved``,
-        ``robot_joined``, ``robot_left`` (the group as it was), or ``group_changed``
-        (``callback(frame, group, previous)``)."""
-        if event not in SCENE_EVENTS:
-            raise ValueError(f"unknown group event {event!r}; known: {', '.join(SCENE_EVENTS)}")
-        self._on[event].append(callback)
-        return callback
-
-    def on_facing(self, callback: StateCallback) -> StateCallback:
-        """``callback(state)`` when a body starts facing the robot (or first appears
-        facing it). Bodies already facing when it is registered are reported at once."""
-        with self._lock:
-            current = [s for s in self._states.values() if s.facing]
-            self._on["facing"].append(callback)
-        for state in current:
-            self._events.put((callback, (state,)))
-        return callback
-
-    def on_not_facing(self, callback: StateCallback) -> StateCallback:
-        """``callback(state)`` when a body that faced the robot turns away."""
-        self._on["not_facing"].append(callback)
-        return callback
-
-    def on_lost(self, callback: LostCallback) -> LostCallback:
-        """``callback(body)`` (a ``keys.BodyRef``: ``body.body_id``, ``body.frame_id``) when a body
-        is lost (deleted, stale, or its last vouching service gone)."""
-        self._on["lost"].append(callback)
-        return callback
-
-    def on_change(self, callback: StateCallback) -> StateCallback:
-        """``callback(state)`` for every result."""
-        self._on["change"].append(callback)
-        return callback
-
-    def on_engaged(self, callback: EventCallback) -> EventCallback:
-        """``callback(event)`` when a body becomes ENGAGED (docs/engagement.md). Bodies
-        already ENGAGED when it is registered are reported at once, as ``on_facing`` does
-        (``previous`` is then the level the client last saw: UNKNOWN for a body that was
-        ENGAGED before the client opened)."""
-        with self._lock:
-            current = [e for e in self._levels.values() if e.level == Level.ENGAGED.name]
-            self._on["engaged"].append(callback)
-        for event in current:
-            self._events.put((callback, (event,)))
-        return callback
-
-    def on_disengaged(self, callback: EventCallback) -> EventCallback:
-        """``callback(event)`` when an engaged body becomes DISENGAGED or is lost."""
-        self._on["disengaged"].append(callback)
-        return callback
-
-    # -- asking the service ----------------------------------------------------------
-
-    def query(self, frame: str, threshold_deg: float | None = None) -> list[FacingState]:
-        """The service's current results for ``frame``, optionally re-decided under
-        another cone (``threshold_deg``, without hysteresis): ``[]`` when nobody is there.
-        Raises ``UnknownFrame`` for a frame no service knows (a typo), ``QueryRefused``
-        when the service refuses the parameter (both ``ValueError``s), and ``NoService``
-        when no service answers at all."""
-        return sorted(self._ask(frame, threshold_deg), key=lambda s: s.body_id)
-
-    def _ask(self, frame: str | None, threshold_deg: float | None) -> list[FacingState]:
-        selector = keys.facing_key(self.namespace, keys.ALL_FRAMES, frame or self.frame)
-        if threshold_deg is not None:
-            selector += f"?threshold_deg={threshold_deg}"
-        replies = self._open_session().get(selector, timeout=self.timeout_s)
-        return facing_states(replies, selector, bool(self.live_instances), self.timeout_s)
+    def gazing(self, frame: str | None = None) -> list[GazePair]:
+        """Who faces whom in the frame (``""`` is the robot)."""
+        return self._scene.gazing(self._frame(frame))
 
     @property
     def live_instances(self) -> set[str]:
         """The service instances whose liveliness token is seen now."""
         with self._lock:
-            return set(self._live)
+            return set(self._bodies.live)
+
+    @property
+    def dropped_from_dead(self) -> int:
+        """Results, levels and scenes said by an instance with no live token, refused."""
+        with self._lock:
+            return self._bodies.dropped_from_dead + self._scene.dropped_from_dead
+
+    # -- callbacks -------------------------------------------------------------------
+
+    def on_facing(self, callback: StateCallback) -> StateCallback:
+        """``callback(state)`` when a body starts facing the robot (or first appears
+        facing it). Bodies already facing when it is registered are reported at once."""
+        with self._lock:
+            current = [s for s in self._bodies.states.values() if s.facing]
+            return self._register("facing", callback, current)
+
+    def on_not_facing(self, callback: StateCallback) -> StateCallback:
+        """``callback(state)`` when a body that faced the robot turns away."""
+        return self._register("not_facing", callback)
+
+    def on_lost(self, callback: LostCallback) -> LostCallback:
+        """``callback(body)`` (a ``BodyRef``: ``body.frame_id``, ``body.body_id``) when a
+        body is lost (deleted, stale, or its last vouching service gone)."""
+        return self._register("lost", callback)
+
+    def on_change(self, callback: StateCallback) -> StateCallback:
+        """``callback(state)`` for every result."""
+        return self._register("change", callback)
+
+    def on_engaged(self, callback: LevelCallback) -> LevelCallback:
+        """``callback(event)`` when a body becomes ENGAGED (docs/engagement.md). Bodies
+        already ENGAGED when it is registered are reported at once, as ``on_facing`` does
+        (``previous`` is then the level the client last saw: UNKNOWN for a body that was
+        ENGAGED before the client opened)."""
+        with self._lock:
+            levels = self._bodies.levels.values()
+            current = [e for e in levels if e.level == Level.ENGAGED.name]
+            return self._register("engaged", callback, current)
+
+    def on_disengaged(self, callback: LevelCallback) -> LevelCallback:
+        """``callback(event)`` when an engaged body becomes DISENGAGED or is lost."""
+        return self._register("disengaged", callback)
+
+    def on_group_formed(self, callback: GroupCallback) -> GroupCallback:
+        """``callback(frame, group)`` when a group forms."""
+        return self._register("group_formed", callback)
+
+    def on_group_changed(self, callback: GroupChangeCallback) -> GroupChangeCallback:
+        """``callback(frame, group, previous)`` when a group's members change (the robot
+        joining or leaving too)."""
+        return self._register("group_changed", callback)
+
+    def on_group_dissolved(self, callback: GroupCallback) -> GroupCallback:
+        """``callback(frame, group)`` when a group dissolves (the group as it was)."""
+        return self._register("group_dissolved", callback)
+
+    def on_robot_joined(self, callback: GroupCallback) -> GroupCallback:
+        """``callback(frame, group)`` when the robot becomes a member of a group."""
+        return self._register("robot_joined", callback)
+
+    def on_robot_left(self, callback: GroupCallback) -> GroupCallback:
+        """``callback(frame, group)`` when the robot leaves a group, or the group it was
+        in dissolves (the group as it was)."""
+        return self._register("robot_left", callback)
+
+    def _register(self, name: str, callback: C, current: Iterable[object] = ()) -> C:
+        """Keep ``callback`` for the ``name`` events; report ``current`` to it at once."""
+        self._on.setdefault(name, []).append(callback)
+        for fact in current:
+            self._events.put((callback, (fact,)))
+        return callback
+
+    # -- asking the service ----------------------------------------------------------
+
+    def query(
+        self, frame: str | None = None, threshold_deg: float | None = None
+    ) -> list[FacingState]:
+        """The service's current results for the client's frame (or another one, or
+        ``*``: the service is asked, not the cache), optionally re-decided under another
+        cone (``threshold_deg``, without hysteresis): ``[]`` when nobody is there.
+        Raises ``UnknownFrame`` for a frame no service knows (a typo), ``QueryRefused``
+        when the service refuses the parameter (both ``ValueError``s), and ``NoService``
+        when no service answers at all."""
+        asked = self.frame if frame is None else keys.validate_frame_filter(frame)
+        return sorted(self._ask(asked, threshold_deg), key=lambda s: s.body_id)
+
+    def status(self) -> list[ServiceStatus]:
+        """The status of every live service in the namespace that answers within
+        ``timeout_s`` (what ``facing-service health`` prints), by instance; ``NoService``
+        when none answers."""
+        answers = ask(self._open_session(), self.namespace, "*", self.timeout_s)
+        if not answers:
+            raise NoService(
+                f"no facing service in namespace {self.namespace!r} answered its status "
+                f"within {self.timeout_s:g} s"
+            )
+        return sorted(answers, key=lambda status: status.instance)
+
+    def _ask(self, frame: str, threshold_deg: float | None) -> list[FacingState]:
+        selector = keys.facing_key(self.namespace, keys.ALL_FRAMES, frame)
+        if threshold_deg is not None:
+            selector += f"?threshold_deg={threshold_deg}"
+        replies = self._open_session().get(selector, timeout=self.timeout_s)
+        return facing_states(replies, selector, bool(self.live_instances), self.timeout_s)
 
     # -- zenoh side: keep the cache, queue the callbacks -------------------------------
 
@@ -299,42 +339,23 @@ class FacingClient:
         instance = _instance_of(str(sample.key_expr))
         if sample.kind == zenoh.SampleKind.PUT:
             with self._lock:
-                new = instance not in self._live
-                self._live.add(instance)
+                new = instance not in self._bodies.live
+                self._bodies.live.add(instance)
             if new:  # re-seed from the dispatcher: never query from a zenoh callback
                 self._events.put((self._reseed, ()))
             return
         with self._lock:
-            self._live.discard(instance)
-            orphans = []
-            for key, vouchers in list(self._vouchers.items()):
-                vouchers.discard(instance)
-                if not vouchers:
-                    orphans.append(key)
-            lost = [(key, self._forget(key)) for key in orphans]
-            lost_callbacks = list(self._on["lost"])
-            disengaged_callbacks = list(self._on["disengaged"])
-        for body, last in lost:
-            if last is not None and Level[last.level] in _ENGAGED_LEVELS:
-                gone = last.model_copy(
-                    update={"previous": last.level, "level": "UNKNOWN", "level_value": 0}
-                )
-                self._queue(disengaged_callbacks, (gone,))
-            self._queue(lost_callbacks, (body,))
+            self._emit(self._bodies.instance_gone(instance))
         self._scene.forget(instance)  # outside the lock: the scene's is its own
 
     def _is_live(self, instance: str) -> bool:
-        return instance in self._live  # a set read: atomic under the GIL
+        return instance in self._bodies.live  # a set read: atomic under the GIL
 
     def _emit(self, events: list[Event]) -> None:
+        """Queue each event's callbacks, in order (under the lock, or from the scene's)."""
         for name, args in events:
-            self._queue(list(self._on[name]), args)
-
-    def _forget(self, key: keys.BodyRef) -> EngagementEvent | None:
-        """Drop a body from the cache (lock held); its last engagement change."""
-        self._states.pop(key, None)
-        self._vouchers.pop(key, None)
-        return self._levels.pop(key, None)
+            for callback in self._on.get(name, ()):
+                self._events.put((callback, args))
 
     def _reseed(self) -> None:
         """The cache from queries: at start, and when a service (re)appears. A service
@@ -342,7 +363,7 @@ class FacingClient:
         ``unknown_frame`` until someone is tracked there)."""
         try:
             try:
-                states = self._ask(None, None)
+                states = self._ask(self.frame, None)
             except UnknownFrame:
                 states = []
             self._scene.seed(self.session, self.timeout_s)
@@ -354,24 +375,21 @@ class FacingClient:
         except Exception:
             log.exception("facing client: could not query the service")
             return
-        for state in states:
-            self._apply(state)
-        for level in levels:
-            self._take_event(
-                EngagementEvent(previous=Level.UNKNOWN.name, **level.model_dump()),
-            )
+        with self._lock:
+            for state in states:
+                self._emit(self._bodies.apply(state))
+            for level in levels:
+                seeded = EngagementEvent(previous=Level.UNKNOWN.name, **level.model_dump())
+                self._emit(self._bodies.take_level(seeded))
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         try:
-            if sample.kind == zenoh.SampleKind.PUT:
-                self._apply(FacingState.model_validate_json(sample.payload.to_bytes()))
-                return
-            body = keys.body_of(str(sample.key_expr))
             with self._lock:
-                known = body in self._states
-                self._forget(body)
-                callbacks = list(self._on["lost"]) if known else []
-            self._queue(callbacks, (body,))
+                if sample.kind == zenoh.SampleKind.PUT:
+                    state = FacingState.model_validate_json(sample.payload.to_bytes())
+                    self._emit(self._bodies.apply(state))
+                else:
+                    self._emit(self._bodies.delete(keys.body_of(str(sample.key_expr))))
         except Exception:  # a bad sample must never break the subscription
             log.exception("facing client: could not handle a sample on %s", sample.key_expr)
 
@@ -381,58 +399,12 @@ class FacingClient:
         except Exception:
             log.exception("facing client: could not read an engagement event")
             return
-        self._take_event(event)
-
-    def _take_event(self, event: EngagementEvent) -> None:
-        """A change of level, said or seeded: kept, and the callbacks of the transition
-        from the level the client last saw (an older change, raced by the seed, is not)."""
-        level = Level[event.level]
-        key = keys.BodyRef(frame_id=event.frame_id, body_id=event.body_id)
         with self._lock:
-            if event.instance is not None and event.instance not in self._live:
-                self.dropped_from_dead += 1
-                return
-            known = self._levels.get(key)
-            if known is not None and _time(known.stamp) > _time(event.stamp):
-                return
-            previous = known.level if known is not None else event.previous
-            was_engaged = Level[previous] in _ENGAGED_LEVELS
-            if level is Level.UNKNOWN:
-                self._levels.pop(key, None)
-            else:
-                self._levels[key] = event
-        if level is Level.ENGAGED and not was_engaged:
-            self._queue(list(self._on["engaged"]), (event,))
-        elif level in (Level.DISENGAGED, Level.UNKNOWN) and was_engaged:
-            self._queue(list(self._on["disengaged"]), (event,))
-
-    def _apply(self, state: FacingState) -> None:
-        key = keys.BodyRef(frame_id=state.frame_id, body_id=state.body_id)
-        with self._lock:
-            if state.instance is not None and state.instance not in self._live:
-                self.dropped_from_dead += 1  # said by an instance no longer (or not yet) alive
-                return
-            previous = self._states.get(key)
-            if previous is not None and _time(previous.stamp) > _time(state.stamp):
-                return  # older than what we have (the seeding query raced a result)
-            self._states[key] = state
-            if state.instance is not None:
-                self._vouchers.setdefault(key, set()).add(state.instance)
-            was_facing = previous is not None and previous.facing
-            callbacks = list(self._on["change"])
-            if state.facing and not was_facing:
-                callbacks += self._on["facing"]
-            elif was_facing and not state.facing:
-                callbacks += self._on["not_facing"]
-        self._queue(callbacks, (state,))
-
-    def _queue(self, callbacks: Iterable[Callable[..., Any]], args: tuple[Any, ...]) -> None:
-        for callback in callbacks:
-            self._events.put((callback, args))
+            self._emit(self._bodies.take_level(event))
 
     def _dispatch(self) -> None:
-        while (event := self._events.get()) is not _STOP:
-            callback, args = event  # type: ignore[misc]
+        while (call := self._events.get()) is not None:
+            callback, args = call
             try:
                 callback(*args)
             except Exception:
@@ -442,7 +414,3 @@ class FacingClient:
 def _instance_of(token_key: str) -> str:
     """``NS/services/facing/<instance>`` -> ``<instance>``."""
     return token_key.rsplit("/", 1)[-1]
-
-
-def _time(stamp: Stamp) -> Time:
-    return Time.from_model(stamp)

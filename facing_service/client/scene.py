@@ -87,7 +87,7 @@ class SceneListener:
         is_live: Callable[[str], bool],
         emit: Callable[[list[Event]], None],
     ) -> None:
-        self._keys = {
+        self._keys: dict[str, type[FrameGroups] | type[FrameGazing]] = {
             keys.groups_key(namespace, frame): FrameGroups,
             keys.gazing_key(namespace, frame): FrameGazing,
         }

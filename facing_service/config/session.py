@@ -9,17 +9,42 @@ from __future__ import annotations
 import json
 import os
 import re
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import zenoh
 
 from ..contract.errors import SettingsError
+from .disclosure import public_cfg_entry
 
 if TYPE_CHECKING:
     from .settings import Settings
 
-from .disclosure import public_cfg_entry
+
+class SessionFlags(Protocol):
+    """What a zenoh session is made from: the service's ``Settings`` and a client's
+    ``ClientOptions`` both carry these (each names them its own way in errors)."""
+
+    @property
+    def mode(self) -> str | None: ...
+    @property
+    def connect(self) -> Sequence[str]: ...
+    @property
+    def listen(self) -> Sequence[str]: ...
+    @property
+    def config(self) -> Path | None: ...
+    @property
+    def no_multicast_scouting(self) -> bool: ...
+    @property
+    def reconnect_s(self) -> Sequence[float]: ...
+    @property
+    def cfg(self) -> Sequence[str]: ...
+
+
+def as_flag(field: str) -> str:
+    """How the command line names a session field (``--no-multicast-scouting``)."""
+    return "--" + field.replace("_", "-")
 
 
 def _loopback(endpoint: str) -> str:
@@ -69,47 +94,56 @@ def mode_and_endpoints(conf: zenoh.Config, kind: str) -> tuple[str, list[str]]:
     return mode, [str(e) for e in value] if isinstance(value, list) else []
 
 
-def zenoh_config(settings: Settings) -> zenoh.Config:
+def zenoh_config(flags: SessionFlags, named: Callable[[str], str] = as_flag) -> zenoh.Config:
     """The zenoh session config; SettingsError on an unreadable file, unknown key or bad
-    value, naming the flag and never echoing a secret value (zenoh's own messages quote
-    the offending text, and the source file of zenoh's that raised them)."""
-    conf = _config_file(settings.config) if settings.config else zenoh.Config()
-    if settings.mode is not None:
-        _insert(conf, "mode", json.dumps(settings.mode), "--mode")
-    if settings.connect:
-        _insert(conf, "connect/endpoints", json.dumps(settings.connect), "--connect")
-    if settings.listen:
-        _insert(conf, "listen/endpoints", json.dumps(settings.listen), "--listen")
-    if settings.no_multicast_scouting:
-        _insert(conf, "scouting/multicast/enabled", "false", "--no-multicast-scouting")
+    value, naming the flag (as ``named`` spells a field) and never echoing a secret value
+    (zenoh's own messages quote the offending text, and the source file of zenoh's that
+    raised them)."""
+    conf = _config_file(flags.config, named("config")) if flags.config else zenoh.Config()
+    if flags.mode is not None:
+        insert(conf, "mode", json.dumps(flags.mode), named("mode"))
+    if flags.connect:
+        insert(conf, "connect/endpoints", json.dumps(list(flags.connect)), named("connect"))
+    if flags.listen:
+        insert(conf, "listen/endpoints", json.dumps(list(flags.listen)), named("listen"))
+    if flags.no_multicast_scouting:
+        insert(conf, "scouting/multicast/enabled", "false", named("no_multicast_scouting"))
     if json.loads(conf.get_json("connect/retry")) is None:  # the config file's wins
-        first, most = settings.reconnect_s
+        first, most = flags.reconnect_s
         retry = {
             "period_init_ms": round(first * 1000),
             "period_max_ms": round(most * 1000),
             "period_increase_factor": 2,
         }
-        _insert(conf, "connect/retry", json.dumps(retry), "--reconnect-s")
-    for entry in settings.cfg:
+        insert(conf, "connect/retry", json.dumps(retry), named("reconnect_s"))
+    for entry in flags.cfg:
         key, _, value = entry.partition(":")
-        _insert(conf, key, value, f"--cfg {public_cfg_entry(entry)}")
+        insert(conf, key, value, f"{named('cfg')} {public_cfg_entry(entry)}")
     return conf
 
 
-def _config_file(path: Path) -> zenoh.Config:
+def readable_file(path: Path, what: str) -> str | None:
+    """Why ``path`` cannot be read as a file (``what`` names the option), or None."""
     if not path.exists():
-        raise SettingsError(f"--config {str(path)!r}: no such file")
+        return f"{what} {str(path)!r}: no such file"
     if not path.is_file():
-        raise SettingsError(f"--config {str(path)!r}: not a file")
+        return f"{what} {str(path)!r}: not a file"
     if not os.access(path, os.R_OK):
-        raise SettingsError(f"--config {str(path)!r}: not readable (permission denied)")
+        return f"{what} {str(path)!r}: not readable (permission denied)"
+    return None
+
+
+def _config_file(path: Path, what: str) -> zenoh.Config:
+    if problem := readable_file(path, what):
+        raise SettingsError(problem)
     try:
         return zenoh.Config.from_file(str(path))
     except zenoh.ZError as error:
-        raise SettingsError(f"--config {str(path)!r}: {zenoh_error_reason(error)}") from None
+        raise SettingsError(f"{what} {str(path)!r}: {zenoh_error_reason(error)}") from None
 
 
-def _insert(conf: zenoh.Config, key: str, value: str, what: str) -> None:
+def insert(conf: zenoh.Config, key: str, value: str, what: str) -> None:
+    """One config entry; a refusal is a SettingsError naming ``what`` gave it."""
     try:
         conf.insert_json5(key, value)
     except zenoh.ZError as error:

@@ -11,10 +11,12 @@ from __future__ import annotations
 import os
 import re
 import socket
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic.json_schema import JsonDict
 
 from ..contract import keys
 from ..contract.poses import DEFAULT_MAX_PAYLOAD_BYTES
@@ -38,18 +40,25 @@ ROS_OUT = "ROS 2 output: our results on the robot's own topics, beside the JSON 
 ZENOH = "zenoh session"
 
 
-def _flag(
+def flag(
+    default: Any,
     description: str,
     group: str = SERVICE,
     *,
     short: str | None = None,
     metavar: str | None = None,
     shown: str | None = None,
-) -> dict[str, Any]:
-    """A setting's flag: its help (the description), group, short form, metavar, and the
-    default as the docs say it when the value itself would not (``shown``)."""
-    extra = {"group": group, "short": short, "metavar": metavar, "shown": shown}
-    return {"description": description, "json_schema_extra": extra}
+    default_factory: Callable[[], Any] | None = None,
+    **constraints: Any,
+) -> Any:
+    """A setting's field with its flag: its help (the description), group, short form,
+    metavar, and the default as the docs say it when the value itself would not
+    (``shown``). One call, so that type checkers see a plain default."""
+    extra: JsonDict = {"group": group, "short": short, "metavar": metavar, "shown": shown}
+    if default_factory is not None:
+        return Field(default_factory=default_factory, description=description,
+                     json_schema_extra=extra, **constraints)  # fmt: skip
+    return Field(default, description=description, json_schema_extra=extra, **constraints)
 
 
 class Settings(BaseModel):
@@ -58,308 +67,260 @@ class Settings(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    namespace: str = Field("hri", **_flag("key prefix, one or more chunks"))
-    base_frame: str = Field(
+    namespace: str = flag("hri", "key prefix, one or more chunks")
+    base_frame: str = flag(
         keys.ALL_FRAMES,
-        **_flag(
-            "the base frame to serve, or `*` for every frame (with `--input ros2`, `*` means "
-            "REP 105's `base_link`, libhri's reference frame)"
-        ),
+        "the base frame to serve, or `*` for every frame (with `--input ros2`, `*` means "
+        "REP 105's `base_link`, libhri's reference frame)",
     )
-    threshold_deg: float = Field(
-        20.0, gt=0.0, lt=180.0, **_flag("half-angle of the facing cone, in (0, 180)")
+    threshold_deg: float = flag(
+        20.0, "half-angle of the facing cone, in (0, 180)", gt=0.0, lt=180.0
     )
-    hysteresis_deg: float = Field(
+    hysteresis_deg: float = flag(
         5.0,
+        "extra angle a facing body may turn before it stops facing; `0` decides sample by sample",
         ge=0.0,
         lt=180.0,
-        **_flag(
-            "extra angle a facing body may turn before it stops facing; `0` decides "
-            "sample by sample"
-        ),
     )
-    stale_after_s: float = Field(
-        2.0,
-        gt=0.0,
-        allow_inf_nan=False,
-        **_flag("a body with no accepted pose for this long is lost"),
+    stale_after_s: float = flag(
+        2.0, "a body with no accepted pose for this long is lost", gt=0.0, allow_inf_nan=False
     )
-    max_payload_bytes: int = Field(
-        DEFAULT_MAX_PAYLOAD_BYTES, gt=0, **_flag("larger pose payloads are rejected")
+    max_payload_bytes: int = flag(
+        DEFAULT_MAX_PAYLOAD_BYTES, "larger pose payloads are rejected", gt=0
     )
-    max_bodies: int = Field(
+    max_bodies: int = flag(
         10_000,
+        "most bodies tracked over all frames; new ones beyond are rejected (`capacity`)",
         gt=0,
-        **_flag("most bodies tracked over all frames; new ones beyond are rejected (`capacity`)"),
     )
-    engage_above: float = Field(
-        0.6, gt=0.0, le=1.0, **_flag("smoothed score at which a body starts ENGAGING", ENGAGEMENT)
+    engage_above: float = flag(
+        0.6, "smoothed score at which a body starts ENGAGING", ENGAGEMENT, gt=0.0, le=1.0
     )
-    disengage_below: float = Field(
-        0.35,
-        ge=0.0,
-        lt=1.0,
-        **_flag("smoothed score below which ENGAGED turns DISENGAGING", ENGAGEMENT),
+    disengage_below: float = flag(
+        0.35, "smoothed score below which ENGAGED turns DISENGAGING", ENGAGEMENT, ge=0.0, lt=1.0
     )
-    engagement_tau_s: float = Field(
-        0.25,
-        gt=0.0,
-        allow_inf_nan=False,
-        **_flag("time constant of the smoothed score", ENGAGEMENT),
+    engagement_tau_s: float = flag(
+        0.25, "time constant of the smoothed score", ENGAGEMENT, gt=0.0, allow_inf_nan=False
     )
-    engage_dwell_s: float = Field(
+    engage_dwell_s: float = flag(
         0.5,
+        "ENGAGING must hold this long to become ENGAGED",
+        ENGAGEMENT,
         ge=0.0,
         allow_inf_nan=False,
-        **_flag("ENGAGING must hold this long to become ENGAGED", ENGAGEMENT),
     )
-    disengage_dwell_s: float = Field(
+    disengage_dwell_s: float = flag(
         0.6,
+        "DISENGAGING must hold this long to become DISENGAGED",
+        ENGAGEMENT,
         ge=0.0,
         allow_inf_nan=False,
-        **_flag("DISENGAGING must hold this long to become DISENGAGED", ENGAGEMENT),
     )
-    engagement_period_s: float = Field(
-        1.0,
-        gt=0.0,
-        allow_inf_nan=False,
-        **_flag("an unchanged level is republished this often", ENGAGEMENT),
+    engagement_period_s: float = flag(
+        1.0, "an unchanged level is republished this often", ENGAGEMENT, gt=0.0, allow_inf_nan=False
     )
-    zones_m: list[float] = Field(
+    zones_m: list[float] = flag(
         [0.45, 1.2, 3.6],
-        **_flag(
-            "intimate, personal, social zone limits (public beyond)",
-            ENGAGEMENT,
-            metavar="INTIMATE,PERSONAL,SOCIAL",
-        ),
+        "intimate, personal, social zone limits (public beyond)",
+        ENGAGEMENT,
+        metavar="INTIMATE,PERSONAL,SOCIAL",
     )
     # Heads (face frames, from ROS 2 input): chosen by cross-validation by person on the
     # shared recordings (benchmarks/crossval.py, docs/engagement.md).
-    head_cone: Literal["3d", "planar"] = Field(
-        "3d", **_flag("how a face's angle to the robot is measured: `3d` or `planar`", HEADS)
+    head_cone: Literal["3d", "planar"] = flag(
+        "3d", "how a face's angle to the robot is measured: `3d` or `planar`", HEADS
     )
-    head_threshold_deg: float = Field(
+    head_threshold_deg: float = flag(
         20.0,
+        "half-angle of a face's facing cone; a face starts ENGAGING at its edge",
+        HEADS,
         gt=0.0,
         lt=180.0,
-        **_flag(
-            "half-angle of a face's facing cone; a face starts ENGAGING at its edge",
-            HEADS,
-        ),
     )
-    head_falloff_deg: float = Field(
+    head_falloff_deg: float = flag(
         20.0,
+        "a face's engagement score reaches 0 this far beyond its cone",
+        HEADS,
         gt=0.0,
         lt=180.0,
-        **_flag("a face's engagement score reaches 0 this far beyond its cone", HEADS),
     )
-    head_engagement_tau_s: float = Field(
-        2.0, gt=0.0, allow_inf_nan=False, **_flag("time constant of a face's smoothed score", HEADS)
+    head_engagement_tau_s: float = flag(
+        2.0, "time constant of a face's smoothed score", HEADS, gt=0.0, allow_inf_nan=False
     )
-    head_dwell_s: float = Field(
+    head_dwell_s: float = flag(
         1.0,
+        "a face's ENGAGING and DISENGAGING must hold this long",
+        HEADS,
         ge=0.0,
         allow_inf_nan=False,
-        **_flag("a face's ENGAGING and DISENGAGING must hold this long", HEADS),
     )
-    head_engaged_after_s: float = Field(
+    head_engaged_after_s: float = flag(
         0.0,
+        "a face becomes ENGAGED once it has stayed in its cone this long, every sample "
+        "(0: once ENGAGING has held --head-dwell-s)",
+        HEADS,
         ge=0.0,
         le=60.0,
         allow_inf_nan=False,
-        **_flag(
-            "a face becomes ENGAGED once it has stayed in its cone this long, every sample "
-            "(0: once ENGAGING has held --head-dwell-s)",
-            HEADS,
-        ),
     )
-    head_steady_deg: float = Field(
+    head_steady_deg: float = flag(
         0.0,
+        "a face's score falls from this wander away from its recent direction, to 0 at "
+        "twice it (0: steadiness off)",
+        HEADS,
         ge=0.0,
         allow_inf_nan=False,
-        **_flag(
-            "a face's score falls from this wander away from its recent direction, to 0 at "
-            "twice it (0: steadiness off)",
-            HEADS,
-        ),
     )
-    head_steady_tau_s: float = Field(
+    head_steady_tau_s: float = flag(
         0.5,
+        "time constant of a face's recent direction (steadiness)",
+        HEADS,
         gt=0.0,
         allow_inf_nan=False,
-        **_flag("time constant of a face's recent direction (steadiness)", HEADS),
     )
-    head_vote_deg: float = Field(
+    head_vote_deg: float = flag(
         24.0,
+        'a face votes "attending" within this angle of the robot; attending (the share '
+        "of recent votes at --head-vote-share) makes it ENGAGED and holds it there "
+        "(0: the vote off)",
+        HEADS,
         ge=0.0,
         lt=180.0,
         allow_inf_nan=False,
-        **_flag(
-            'a face votes "attending" within this angle of the robot; attending (the share '
-            "of recent votes at --head-vote-share) makes it ENGAGED and holds it there "
-            "(0: the vote off)",
-            HEADS,
-        ),
     )
-    head_vote_tau_s: float = Field(
+    head_vote_tau_s: float = flag(
         1.5,
+        "time constant of a face's share of recent votes",
+        HEADS,
         gt=0.0,
         le=60.0,
         allow_inf_nan=False,
-        **_flag("time constant of a face's share of recent votes", HEADS),
     )
-    head_vote_share: float = Field(
+    head_vote_share: float = flag(
         0.75,
+        "the share of recent votes from which a face is attending",
+        HEADS,
         gt=0.0,
         le=1.0,
         allow_inf_nan=False,
-        **_flag("the share of recent votes from which a face is attending", HEADS),
     )
-    group_hold_s: float = Field(
+    group_hold_s: float = flag(
         0.3,
+        "a new grouping is said once it has held this long (no flicker)",
+        GROUPS,
         ge=0.0,
         allow_inf_nan=False,
-        **_flag("a new grouping is said once it has held this long (no flicker)", GROUPS),
     )
-    group_rate_hz: float = Field(
+    group_rate_hz: float = flag(
         10.0,
+        "groups and who faces whom are worked out at most this often per frame",
+        GROUPS,
         gt=0.0,
         le=1000.0,
         allow_inf_nan=False,
-        **_flag("groups and who faces whom are worked out at most this often per frame", GROUPS),
     )
-    group_max_people: int = Field(
+    group_max_people: int = flag(
         20,
+        "people of one frame considered for groups, nearest first (O(N^2))",
+        GROUPS,
         ge=1,
         le=1000,
-        **_flag("people of one frame considered for groups, nearest first (O(N^2))", GROUPS),
     )
-    input: Literal["json", "ros2"] = Field(
-        "json",
-        **_flag(
-            "`json` (our pose keys) or `ros2` (a robot's `/tf` and `/humans/*` topics)", ROS_IN
-        ),
+    input: Literal["json", "ros2"] = flag(
+        "json", "`json` (our pose keys) or `ros2` (a robot's `/tf` and `/humans/*` topics)", ROS_IN
     )
-    ros_format: Literal["rmw_zenoh", "bridge"] = Field(
-        "rmw_zenoh", **_flag("`rmw_zenoh`, or `bridge` (zenoh-bridge-ros2dds)", ROS_IN)
+    ros_format: Literal["rmw_zenoh", "bridge"] = flag(
+        "rmw_zenoh", "`rmw_zenoh`, or `bridge` (zenoh-bridge-ros2dds)", ROS_IN
     )
-    ros_distro: Literal["auto", "humble", "jazzy"] = Field(
+    ros_distro: Literal["auto", "humble", "jazzy"] = flag(
         "auto",
-        **_flag(
-            "rmw_zenoh's form to answer in: `auto` (learned from the robot's keys), `humble` "
-            "(TypeHashNotSupported), `jazzy` (RIHS01 hashes: Jazzy, Kilted, Rolling)",
-            ROS_IN,
-        ),
+        "rmw_zenoh's form to answer in: `auto` (learned from the robot's keys), `humble` "
+        "(TypeHashNotSupported), `jazzy` (RIHS01 hashes: Jazzy, Kilted, Rolling)",
+        ROS_IN,
     )
-    ros_max_message_bytes: int = Field(
+    ros_max_message_bytes: int = flag(
         DEFAULT_MAX_MESSAGE_BYTES,
+        "a robot's message larger than this is refused undecoded (`payload_too_large`)",
+        ROS_IN,
         gt=0,
-        **_flag(
-            "a robot's message larger than this is refused undecoded (`payload_too_large`)",
-            ROS_IN,
-        ),
     )
-    ros_max_frames: int = Field(
+    ros_max_frames: int = flag(
         DEFAULT_MAX_FRAMES,
+        "most TF frames kept; frames silent for 10 s are forgotten to make room, and a "
+        "transform naming one more is refused (`tf_too_many_frames`)",
+        ROS_IN,
         gt=0,
-        **_flag(
-            "most TF frames kept; frames silent for 10 s are forgotten to make room, and a "
-            "transform naming one more is refused (`tf_too_many_frames`)",
-            ROS_IN,
-        ),
     )
-    ros_domain_id: int = Field(
-        0,
-        ge=0,
-        le=232,
-        **_flag("`ROS_DOMAIN_ID`, 0-232 (rmw_zenoh keys start with it)", ROS_IN),
+    ros_domain_id: int = flag(
+        0, "`ROS_DOMAIN_ID`, 0-232 (rmw_zenoh keys start with it)", ROS_IN, ge=0, le=232
     )
-    ros_namespace: str = Field(
-        "", **_flag("ROS namespace (or the bridge's) prefixing every topic", ROS_IN)
-    )
-    output: Literal["json", "ros2"] = Field(
+    ros_namespace: str = flag("", "ROS namespace (or the bridge's) prefixing every topic", ROS_IN)
+    output: Literal["json", "ros2"] = flag(
         "json",
-        **_flag(
-            "`ros2` also publishes on the robot's topics (engagement_status, facing lists)",
-            ROS_OUT,
-        ),
+        "`ros2` also publishes on the robot's topics (engagement_status, facing lists)",
+        ROS_OUT,
     )
-    ros_node_name: str = Field(
+    ros_node_name: str = flag(
         "facing_service",
+        "our ROS node's name in the liveliness graph",
+        ROS_OUT,
         pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
-        **_flag("our ROS node's name in the liveliness graph", ROS_OUT),
     )
-    ros_engagement_rate_hz: float = Field(
-        10.0, gt=0.0, le=1000.0, **_flag("engagement_status is republished this often", ROS_OUT)
+    ros_engagement_rate_hz: float = flag(
+        10.0, "engagement_status is republished this often", ROS_OUT, gt=0.0, le=1000.0
     )
-    ros_intents: bool = Field(
-        False,
-        **_flag("publish `ENGAGE_WITH` on `/intents` when a person becomes ENGAGED", ROS_OUT),
+    ros_intents: bool = flag(
+        False, "publish `ENGAGE_WITH` on `/intents` when a person becomes ENGAGED", ROS_OUT
     )
-    instance: str = Field(
+    instance: str = flag(
+        None,
+        "this service's name in `NS/services/facing/<instance>`",
+        shown="<host name>-<pid>",
         default_factory=default_instance,
-        **_flag(
-            "this service's name in `NS/services/facing/<instance>`", shown="<host name>-<pid>"
-        ),
     )
-    log_level: LogLevel = Field(
-        "INFO", **_flag("`DEBUG`, `INFO`, `WARNING`, `ERROR` or `CRITICAL`")
-    )
+    log_level: LogLevel = flag("INFO", "`DEBUG`, `INFO`, `WARNING`, `ERROR` or `CRITICAL`")
     # zenoh session; None means "as the config file says, else zenoh's default (peer)".
-    mode: Literal["peer", "client", "router"] | None = Field(
+    mode: Literal["peer", "client", "router"] | None = flag(
         None,
-        **_flag(
-            "zenoh mode: `peer`, `client` or `router`",
-            ZENOH,
-            short="-m",
-            shown="the config file's, else `peer`",
-        ),
+        "zenoh mode: `peer`, `client` or `router`",
+        ZENOH,
+        short="-m",
+        shown="the config file's, else `peer`",
     )
-    connect: list[str] = Field(
+    connect: list[str] = flag(
         [],
-        **_flag(
-            "endpoint to connect to, repeatable, e.g. `tcp/192.168.1.10:7447`",
-            ZENOH,
-            short="-e",
-            metavar="ENDPOINT",
-        ),
+        "endpoint to connect to, repeatable, e.g. `tcp/192.168.1.10:7447`",
+        ZENOH,
+        short="-e",
+        metavar="ENDPOINT",
     )
-    listen: list[str] = Field(
-        [], **_flag("endpoint to listen on, repeatable", ZENOH, short="-l", metavar="ENDPOINT")
+    listen: list[str] = flag(
+        [], "endpoint to listen on, repeatable", ZENOH, short="-l", metavar="ENDPOINT"
     )
-    config: Path | None = Field(
-        None,
-        **_flag(
-            "a zenoh JSON5 config file; the flags override it", ZENOH, short="-c", metavar="FILE"
-        ),
+    config: Path | None = flag(
+        None, "a zenoh JSON5 config file; the flags override it", ZENOH, short="-c", metavar="FILE"
     )
-    no_multicast_scouting: bool = Field(False, **_flag("disable multicast discovery", ZENOH))
-    reconnect_s: list[float] = Field(
+    no_multicast_scouting: bool = flag(False, "disable multicast discovery", ZENOH)
+    reconnect_s: list[float] = flag(
         [0.25, 1.0],
-        **_flag(
-            "after a lost link, the first retry after FIRST seconds, doubling up to MOST "
-            "(zenoh's own 1,4 left results stopped 4 s after a router came back); a "
-            "`connect/retry` of the config file or --cfg wins",
-            ZENOH,
-            metavar="FIRST,MOST",
-        ),
+        "after a lost link, the first retry after FIRST seconds, doubling up to MOST "
+        "(zenoh's own 1,4 left results stopped 4 s after a router came back); a "
+        "`connect/retry` of the config file or --cfg wins",
+        ZENOH,
+        metavar="FIRST,MOST",
     )
-    exit_without_router: bool = Field(
+    exit_without_router: bool = flag(
         False,
-        **_flag(
-            "`run` in client mode: exit at once when no router answers, rather than wait "
-            "for it (a robot boots in any order)",
-            ZENOH,
-        ),
+        "`run` in client mode: exit at once when no router answers, rather than wait "
+        "for it (a robot boots in any order)",
+        ZENOH,
     )
-    cfg: list[str] = Field(
+    cfg: list[str] = flag(
         [],
-        **_flag(
-            "any zenoh config key with a JSON5 value, repeatable, e.g. `--cfg "
-            "'scouting/delay:0'`; applied last",
-            ZENOH,
-            metavar="KEY:VALUE",
-        ),
+        "any zenoh config key with a JSON5 value, repeatable, e.g. `--cfg "
+        "'scouting/delay:0'`; applied last",
+        ZENOH,
+        metavar="KEY:VALUE",
     )
 
     @field_validator("namespace")
@@ -380,8 +341,13 @@ class Settings(BaseModel):
     @field_validator("connect", "listen")
     @classmethod
     def _endpoints(cls, value: list[str], info: Any) -> list[str]:
+        return cls.check_endpoints(value, listen=info.field_name == "listen")
+
+    @staticmethod
+    def check_endpoints(value: list[str], *, listen: bool) -> list[str]:
+        """Each endpoint one zenoh could use (a client's option checks them the same way)."""
         for endpoint in value:
-            if reason := endpoint_problem(endpoint, listen=info.field_name == "listen"):
+            if reason := endpoint_problem(endpoint, listen=listen):
                 raise ValueError(f"{public_endpoint(endpoint)}: {reason}")
         return value
 
@@ -401,6 +367,11 @@ class Settings(BaseModel):
     @field_validator("reconnect_s")
     @classmethod
     def _reconnect(cls, value: list[float]) -> list[float]:
+        return cls.check_reconnect(value)
+
+    @staticmethod
+    def check_reconnect(value: list[float]) -> list[float]:
+        """FIRST,MOST retry seconds (a client's option checks them the same way)."""
         if len(value) != 2 or not 0 < value[0] <= value[1] <= 60:
             raise ValueError("reconnect_s is FIRST,MOST seconds, 0 < FIRST <= MOST <= 60")
         return value
@@ -432,6 +403,11 @@ class Settings(BaseModel):
     @field_validator("cfg")
     @classmethod
     def _cfg(cls, value: list[str]) -> list[str]:
+        return cls.check_cfg(value)
+
+    @staticmethod
+    def check_cfg(value: list[str]) -> list[str]:
+        """Each entry ``KEY:VALUE`` (a client's option checks them the same way)."""
         for position, entry in enumerate(value, 1):
             key, sep, _ = entry.partition(":")
             if not (sep and key):  # the entry itself is not quoted: it may be a secret

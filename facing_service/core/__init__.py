@@ -2,8 +2,8 @@
 (``engagement``), the latest state per body (``tracker``) and tf2's buffer rules
 (``tf_buffer``). Pure functions and plain data: no zenoh, no threads, no clock of its own."""
 
+from ..contract.levels import Level
 from .detector import classify
-from .engagement import Level
 from .records import Changes, PoseSample
 from .tf_buffer import TfBuffer
 from .tf_errors import TfError

@@ -114,7 +114,8 @@ def heading_deg(quaternion: tuple[float, float, float, float]) -> float:
 def headings(quaternions: FloatArray) -> FloatArray:
     """``heading_deg`` of N frames at once ((N, 4) -> (N,)), in radians."""
     x, y, z, w = np.asarray(quaternions, dtype=np.float64).T
-    return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    result: FloatArray = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return result
 
 
 def classify_one(

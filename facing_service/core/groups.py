@@ -114,7 +114,8 @@ def nearest_distances(positions: FloatArray) -> FloatArray:
     rel = positions[None, :, :] - positions[:, None, :]
     dist = np.hypot(rel[..., 0], rel[..., 1])
     np.fill_diagonal(dist, np.inf)
-    return dist.min(axis=1)
+    result: FloatArray = dist.min(axis=1)
+    return result
 
 
 def votes(positions: FloatArray, headings: FloatArray, p: GroupParams) -> FloatArray:
@@ -131,7 +132,8 @@ def votes(positions: FloatArray, headings: FloatArray, p: GroupParams) -> FloatA
         np.isfinite(nearest), np.clip(p.stride_k * nearest, p.stride_min, p.stride_max),
         p.stride_min,
     )  # fmt: skip
-    return positions + stride[:, None] * facing
+    result: FloatArray = positions + stride[:, None] * facing
+    return result
 
 
 def _unary(
@@ -141,7 +143,7 @@ def _unary(
     visibility penalty (m²) among the people near that centre: one farther from it than
     another in about the same direction is penalised, the more the farther behind."""
     gap = points[None, :, :] - centres[:, None, :]  # (m, n, 2)
-    cost = np.einsum("mnj,mnj->mn", gap, gap)  # (m, n)
+    cost: FloatArray = np.einsum("mnj,mnj->mn", gap, gap)  # (m, n)
     near = cost < mdl
     # Only among the few near each centre, padded to the most any centre has: all pairs
     # at all centres is O(n³) (16 ms for 50 people, where this takes about 1).
@@ -182,7 +184,8 @@ def _assign(unary: FloatArray, mdl: float) -> IntArray:
             break
         open_[k] = False
     cols = np.flatnonzero(open_)
-    return cols[np.argmin(unary[:, cols], axis=1)].astype(np.int64)
+    chosen: IntArray = cols[np.argmin(unary[:, cols], axis=1)].astype(np.int64)
+    return chosen
 
 
 def centres(points: FloatArray, labels: IntArray) -> FloatArray:

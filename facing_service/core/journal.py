@@ -113,7 +113,7 @@ class Store(OrderedDict[K, V], Generic[K, V]):
         self._keep(key)
         return super().__getitem__(key)
 
-    def get(self, key: K, default: Any = None) -> Any:  # type: ignore[override]
+    def get(self, key: K, default: Any = None) -> Any:
         kept = self._kept
         if kept is None or key in kept or key not in self:  # nothing to keep: the hot path
             return super().get(key, default)
@@ -128,7 +128,7 @@ class Store(OrderedDict[K, V], Generic[K, V]):
         self._keep(key)
         super().__delitem__(key)
 
-    def pop(self, key: K, *default: Any) -> Any:  # type: ignore[override]
+    def pop(self, key: K, *default: Any) -> Any:
         self._keep(key)
         return super().pop(key, *default)
 
@@ -137,7 +137,7 @@ class Store(OrderedDict[K, V], Generic[K, V]):
             self._keep(next(reversed(self)) if last else next(iter(self)))
         return super().popitem(last)
 
-    def setdefault(self, key: K, default: V) -> V:  # type: ignore[override]
+    def setdefault(self, key: K, default: V) -> V:
         self._keep(key)
         return super().setdefault(key, default)
 

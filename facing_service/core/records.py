@@ -11,11 +11,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..contract.keys import BodyRef
+from ..contract.levels import Level
 from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing, facing_state_json
 from ..contract.stamps import Time
 from . import detector
-from .engagement import Engagement, EngagementParams, Level, Zone, zone
+from .engagement import Engagement, EngagementParams, Zone, zone
 
 
 class _OfABody:

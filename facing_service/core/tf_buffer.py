@@ -139,7 +139,7 @@ class TfBuffer:
                 siblings.discard(frame)
                 if not siblings and parent not in self._caches:  # a root left alone
                     del self._children[parent]  # type: ignore[arg-type]
-                    self._frames.discard(parent)  # type: ignore[arg-type]
+                    self._frames.discard(parent)
         return len(self._frames) + room <= self.max_frames
 
     def stamps(self, frame: str, after: int, upto: int) -> list[int]:

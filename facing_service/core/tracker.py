@@ -12,11 +12,12 @@ from contextlib import AbstractContextManager
 from dataclasses import replace
 
 from ..contract.keys import BodyRef
+from ..contract.levels import Level
 from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing
 from ..contract.stamps import NS, Time
 from . import detector
-from .engagement import EngagementParams, Level, advance, facing_score, step, vote
+from .engagement import EngagementParams, advance, facing_score, step, vote
 from .journal import Journal, Store
 from .records import (
     BodyState,

@@ -56,7 +56,9 @@ def _writer(session: zenoh.Session, key: str, wire: Wire, qos: list[Qos]) -> Top
             cache=zenoh.ext.CacheConfig(max([q.depth for q in qos] + [1])),
             # Sequence numbers order the cache (as rmw_zenoh's publishers do), so the
             # session needs no timestamping enabled.
-            sample_miss_detection=zenoh.ext.MissDetectionConfig(),
+            sample_miss_detection=zenoh.ext.MissDetectionConfig(
+                heartbeat=None, sporadic_heartbeat=None
+            ),
             publisher_detection=True,
         )
     else:

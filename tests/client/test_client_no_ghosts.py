@@ -200,8 +200,8 @@ def test_chaos_kills_and_restarts_leave_no_ghost(net):
                 nonlocal ghosts, checks
                 while not stop_watch.wait(0.005):
                     with client._lock:  # one consistent view of cache and tokens
-                        facing = any(s.facing for s in client._states.values())
-                        live = bool(client._live)
+                        facing = any(s.facing for s in client._bodies.states.values())
+                        live = bool(client._bodies.live)
                     checks += 1
                     ghosts += facing and not live
 

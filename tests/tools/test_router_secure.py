@@ -176,7 +176,16 @@ def test_engagement_reaches_consumers_under_the_policy(deployment, tracker_and_c
     tracker, consumer = tracker_and_consumer
     states = Recorder(consumer, "hri/bodies/*/engagement/*")
     engaged = threading.Event()
-    client = FacingClient("hri", "cam", session_config=_client_config(deployment, "consumer"))
+    certs = deployment.folder / "certs"
+    client = FacingClient(  # the client's own options, over the example's config file
+        "hri",
+        "cam",
+        connect=[deployment.endpoint],
+        config=deployment.folder / "consumer.json5",
+        tls_root_ca=certs / "ca.pem",
+        tls_certificate=certs / "consumer.pem",
+        tls_private_key=certs / "consumer.key",
+    )
     try:
         client.on_engaged(lambda event: engaged.set())
         client.open()
@@ -192,13 +201,6 @@ def test_engagement_reaches_consumers_under_the_policy(deployment, tracker_and_c
     finally:
         client.close()
         states.close()
-
-
-def _client_config(site: Deployment, role: str) -> zenoh.Config:
-    text = (site.folder / f"{role}.json5").read_text()
-    conf = zenoh.Config.from_json5(text.replace('"certs/', f'"{site.folder}/certs/'))
-    conf.insert_json5("connect/endpoints", json.dumps([site.endpoint]))
-    return conf
 
 
 # -- who cannot connect at all -----------------------------------------------------------

@@ -1,0 +1,111 @@
+"""The client's view of each body: its latest result and engagement level, which live
+service instances vouch for it, and what each new fact means as callback events. Pure (no
+zenoh, no lock, no thread): ``FacingClient`` feeds it under its lock and queues the events
+it returns on its dispatcher.
+
+Events: ``facing(state)``, ``not_facing(state)``, ``change(state)``, ``lost(body)``,
+``engaged(event)``, ``disengaged(event)``.
+"""
+
+from __future__ import annotations
+
+from ..contract.keys import BodyRef
+from ..contract.levels import Level
+from ..contract.schemas import EngagementEvent, FacingState
+from ..contract.stamps import Time
+from .scene import Event
+
+#: The levels at which a body counts as engaged: ``disengaged`` follows only these.
+ENGAGED_LEVELS = (Level.ENGAGED, Level.DISENGAGING)
+
+
+class BodyCache:
+    """Results and levels, newest stamp wins (a seeding query may race a publication);
+    what an instance that is not alive says is refused and counted (``dropped_from_dead``):
+    a dead service leaves no ghost."""
+
+    def __init__(self) -> None:
+        self.live: set[str] = set()  # the service instances whose token is seen now
+        self.states: dict[BodyRef, FacingState] = {}
+        self.levels: dict[BodyRef, EngagementEvent] = {}
+        self._vouchers: dict[BodyRef, set[str]] = {}
+        self.dropped_from_dead = 0
+
+    def apply(self, state: FacingState) -> list[Event]:
+        """A result, said or seeded."""
+        key = BodyRef(frame_id=state.frame_id, body_id=state.body_id)
+        if state.instance is not None and state.instance not in self.live:
+            self.dropped_from_dead += 1  # said by an instance no longer (or not yet) alive
+            return []
+        previous = self.states.get(key)
+        if previous is not None and _time(previous) > _time(state):
+            return []  # older than what we have (the seeding query raced a result)
+        self.states[key] = state
+        if state.instance is not None:
+            self._vouchers.setdefault(key, set()).add(state.instance)
+        was_facing = previous is not None and previous.facing
+        events: list[Event] = [("change", (state,))]
+        if state.facing and not was_facing:
+            events.append(("facing", (state,)))
+        elif was_facing and not state.facing:
+            events.append(("not_facing", (state,)))
+        return events
+
+    def take_level(self, event: EngagementEvent) -> list[Event]:
+        """A change of level, said or seeded: kept, and the events of the transition from
+        the level last seen (an older change, raced by the seed, is not)."""
+        level = Level[event.level]
+        key = BodyRef(frame_id=event.frame_id, body_id=event.body_id)
+        if event.instance is not None and event.instance not in self.live:
+            self.dropped_from_dead += 1
+            return []
+        known = self.levels.get(key)
+        if known is not None and _time(known) > _time(event):
+            return []
+        previous = known.level if known is not None else event.previous
+        was_engaged = Level[previous] in ENGAGED_LEVELS
+        if level is Level.UNKNOWN:
+            self.levels.pop(key, None)
+        else:
+            self.levels[key] = event
+        if level is Level.ENGAGED and not was_engaged:
+            return [("engaged", (event,))]
+        if level in (Level.DISENGAGED, Level.UNKNOWN) and was_engaged:
+            return [("disengaged", (event,))]
+        return []
+
+    def delete(self, body: BodyRef) -> list[Event]:
+        """The service deleted a body's result (gone from its frame, or stale)."""
+        known = body in self.states
+        self._forget(body)
+        return [("lost", (body,))] if known else []
+
+    def instance_gone(self, instance: str) -> list[Event]:
+        """A service instance vanished: the bodies it alone vouched for are lost (and
+        disengaged first, when they were engaged)."""
+        self.live.discard(instance)
+        orphans = []
+        for key, vouchers in list(self._vouchers.items()):
+            vouchers.discard(instance)
+            if not vouchers:
+                orphans.append(key)
+        events: list[Event] = []
+        for body in orphans:
+            last = self._forget(body)
+            if last is not None and Level[last.level] in ENGAGED_LEVELS:
+                gone = last.model_copy(
+                    update={"previous": last.level, "level": "UNKNOWN", "level_value": 0}
+                )
+                events.append(("disengaged", (gone,)))
+            events.append(("lost", (body,)))
+        return events
+
+    def _forget(self, body: BodyRef) -> EngagementEvent | None:
+        """Drop a body; its last engagement change."""
+        self.states.pop(body, None)
+        self._vouchers.pop(body, None)
+        return self.levels.pop(body, None)
+
+
+def _time(said: FacingState | EngagementEvent) -> Time:
+    return Time.from_model(said.stamp)
