@@ -93,6 +93,8 @@ class Decisions:
         of the loop's turn, see ``hand_over``); the frames they touch are due a scene."""
         for output in self._outputs:
             self._decided += output.on_changes(changes)
+        if changes.lost:
+            self._input.forget(changes.lost)
         if changes.results or changes.lost:
             self._scenes.touch(
                 {s.frame_id for s in changes.results} | {b.frame_id for b in changes.lost}

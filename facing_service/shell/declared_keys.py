@@ -1,6 +1,6 @@
-"""The key expressions the publisher declares to zenoh: every per-body key it puts on
-(each tracked body's result and engagement keys) and, on the JSON input, the body's pose
-key.
+"""The key expressions the JSON output declares to zenoh: every per-body key it puts on
+(each tracked body's result and engagement keys; the JSON input declares its pose keys
+itself, ``inputs.PoseKeys``).
 
 Why: zenoh caches a message's route on the *resource* of its key, and a key nobody
 declared is matched against the routing tables afresh for every message, one test per
@@ -9,7 +9,7 @@ publishers put one resource per body there: each undeclared result then cost ~35
 matching with 100 bodies; our own declared keys do the same to any undeclared key beside
 them (a string put on an engagement key: 21 us with 100 bodies declared, 258 us with
 1 000, 1.4 ms with 4 000). With every per-body key we send, and the poses we receive,
-declared, both directions hit the cache whatever the tracker and the consumers do
+declared (by the input), both directions hit the cache whatever the tracker and the consumers do
 (``python -m benchmarks``, the grid: the relay that declares its keys is the cheapest
 relay in 11 of 12 cells, the twelfth a tie).
 
@@ -27,39 +27,28 @@ from __future__ import annotations
 
 import zenoh
 
-from ..contract import keys
-
 
 class DeclaredKeys:
-    """Used by the publisher thread alone. ``exprs`` maps a per-body key to its declared
-    key expression, read on the hot path; ``declare`` adds one."""
+    """Used by one thread alone. ``exprs`` maps a per-body key to its declared key
+    expression, read on the hot path; ``declare`` adds one. ``capacity``: the most keys."""
 
-    def __init__(self, session: zenoh.Session, namespace: str, inputs: bool, capacity: int):
+    def __init__(self, session: zenoh.Session, capacity: int):
         self._session = session
-        self._namespace = namespace
-        self._inputs = inputs  # a result key's pose key too: poses come on our JSON keys
-        self._capacity = 2 * capacity  # result and engagement keys
+        self._capacity = capacity
         self.exprs: dict[str, zenoh.KeyExpr] = {}
-        self._poses: dict[str, zenoh.KeyExpr] = {}  # by result key
 
-    def declare(self, key: str, result: bool) -> zenoh.KeyExpr | str:
-        """What to put the per-body key ``key`` on (``result``: a result key, whose pose
-        key is declared with it): its key expression, declared now, or ``key`` itself
-        when there is no room."""
+    def declare(self, key: str) -> zenoh.KeyExpr | str:
+        """What to put the per-body key ``key`` on: its key expression, declared now, or
+        ``key`` itself when there is no room."""
         if len(self.exprs) >= self._capacity:
             return key
         declared = self.exprs[key] = self._session.declare_keyexpr(key)
-        if result and self._inputs:
-            body = keys.body_of(key)
-            pose = keys.pose_key(self._namespace, body.body_id, body.frame_id)
-            self._poses[key] = self._session.declare_keyexpr(pose)
         return declared
 
     def forget(self, key: str) -> None:
-        """``key`` was deleted (its body is lost): undeclare it, with its pose key."""
-        for declared in (self.exprs.pop(key, None), self._poses.pop(key, None)):
-            if declared is not None:
-                self._session.undeclare(declared)
+        """``key`` was deleted (its body is lost): undeclare it."""
+        if (declared := self.exprs.pop(key, None)) is not None:
+            self._session.undeclare(declared)
 
     def close(self) -> None:
         for key in list(self.exprs):

@@ -22,6 +22,7 @@ from ..contract.keys import BodyRef
 from ..contract.poses import Rejected, Rejection, decode_pose
 from ..contract.schemas import Ros2Status
 from ..core.records import PoseSample
+from .declared_keys import DeclaredKeys
 from .ledger import Ledger
 
 log = logging.getLogger("facing_service")
@@ -40,10 +41,6 @@ class Loss:
 
 
 class Input(Protocol):
-    #: Whether a result's body has a pose key of ours to declare beside its result key
-    #: (shell.declared_keys): poses that come on our JSON keys.
-    declares_pose_keys: bool
-
     def hot_key(self) -> str:
         """The key expression the worker reads straight from zenoh's channel."""
         ...
@@ -60,6 +57,10 @@ class Input(Protocol):
 
     def origin(self, sample: PoseSample) -> str:
         """Where a pose came from, as its sender names it (for a rejection's log line)."""
+        ...
+
+    def forget(self, bodies: list[BodyRef]) -> None:
+        """The tracker lost these bodies: let go of what the input holds for them."""
         ...
 
     def next_due(self) -> float | None:
@@ -85,9 +86,10 @@ class JsonInput:
     """Poses as JSON on ``NS/bodies/<id>/pose/<frame>`` (docs/contract.md); a DELETE on a
     pose key loses the body. On the side, the keys a mistyped pose lands on
     (``keys.mistyped_pose_keys``), refused as invalid keys: counted and logged like any
-    other rejection. Nothing to diagnose."""
+    other rejection. Nothing to diagnose.
 
-    declares_pose_keys = True
+    Each tracked body's pose key is declared to zenoh (``DeclaredKeys``: why), from its
+    first pose until it is lost, so that poses arrive on a cached route."""
 
     def __init__(self, settings: Settings, ledger: Ledger) -> None:
         self._namespace = settings.namespace
@@ -97,11 +99,14 @@ class JsonInput:
         self._ledger = ledger
         self._mistyped: list[zenoh.Subscriber[None]] = []
         self._said: set[str] = set()  # the invalid keys said in the log
+        self._capacity = settings.max_bodies
+        self.declared_keys: DeclaredKeys | None = None  # the pose keys declared, once open
 
     def hot_key(self) -> str:
         return self._subscription
 
     def open(self, session: zenoh.Session, hand_off: Callable[[object], None]) -> str:
+        self.declared_keys = DeclaredKeys(session, self._capacity)
         self._mistyped = [
             session.declare_subscriber(key, hand_off, allowed_origin=zenoh.Locality.REMOTE)
             for key in keys.mistyped_pose_keys(self._namespace)
@@ -130,6 +135,9 @@ class JsonInput:
             self._ledger.reject(decoded.reason, key, decoded.detail)
             return None
         poses.append(PoseSample(parsed, decoded))
+        declared = self.declared_keys
+        if declared is not None and key not in declared.exprs:
+            declared.declare(key)
         return None
 
     def _say_invalid_key(self, key: str) -> None:
@@ -147,6 +155,11 @@ class JsonInput:
     def origin(self, sample: PoseSample) -> str:
         return keys.pose_key(self._namespace, sample.body_id, sample.frame_id)
 
+    def forget(self, bodies: list[BodyRef]) -> None:
+        if self.declared_keys is not None:
+            for body in bodies:
+                self.declared_keys.forget(keys.pose_key(self._namespace, body.body_id, body.frame_id))
+
     def next_due(self) -> float | None:
         return None
 
@@ -163,3 +176,6 @@ class JsonInput:
         for subscriber in self._mistyped:
             subscriber.undeclare()
         self._mistyped = []
+        if self.declared_keys is not None:
+            for key in list(self.declared_keys.exprs):
+                self.declared_keys.forget(key)

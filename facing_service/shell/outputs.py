@@ -1,10 +1,11 @@
 """The service's output forms, as types: one ``Output`` protocol, one class per form.
 
 Each form turns what the worker decided (the tracker's changes, a scene's update, and
-every period the turn's view) into publications, in the order they must go out, and may
-bring a sender of its own for the publisher thread (the robot's topics need declared
-publishers and liveliness tokens; our JSON keys are the publisher's own hot path). The
-JSON form is always on (it is the contract); ``--output ros2`` adds the robot's topics.
+every period the turn's view) into publications, in the order they must go out, and
+brings the sender that puts them on the wire from the publisher thread, with every zenoh
+declaration of its own (our JSON keys: ``json_sender``; the robot's topics: declared
+publishers and liveliness tokens). The JSON form is always on (it is the contract);
+``--output ros2`` adds the robot's topics.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from ..core.records import Changes
 from ..core.scene import SceneUpdate
 from ..core.view import TurnView
 from ..ros2.output import RosMessage, RosOutput
+from .json_sender import Heard, JsonSender
 from .outbox import Kind, Publication
 from .publications import publications, ros_publications, scene_publications
 from .robot import Robot
@@ -25,9 +27,10 @@ from .ros_bus import RobotPublishers
 
 
 class Sender(Protocol):
-    """Sends one output form's publications of ``kind`` (on the publisher thread)."""
+    """Sends one output form's publications, those of its ``kinds`` (on the publisher
+    thread)."""
 
-    kind: Kind
+    kinds: frozenset[Kind]
 
     def send(self, publication: Publication) -> None: ...
 
@@ -56,9 +59,8 @@ class Output(Protocol):
         """The form's part of the start line ('' for none)."""
         ...
 
-    def sender(self, session: zenoh.Session) -> Sender | None:
-        """A sender of the form's own kind of publication, declared on the publisher
-        thread; None when the publisher's own JSON path sends them."""
+    def sender(self, session: zenoh.Session) -> Sender:
+        """The form's sender, declared on the publisher thread."""
         ...
 
 
@@ -68,9 +70,11 @@ class JsonOutput:
     def __init__(self, settings: Settings) -> None:
         self._namespace = settings.namespace
         self._instance = settings.instance
+        self._capacity = settings.max_bodies
+        self._heard = Heard()  # anyone subscribed to results? (the sender's listener says)
 
     def on_changes(self, changes: Changes) -> list[Publication]:
-        return publications(changes, self._namespace, self._instance)
+        return publications(changes, self._namespace, self._instance, self._heard.results)
 
     def on_scene(self, update: SceneUpdate) -> list[Publication]:
         return scene_publications(update, self._namespace, self._instance)
@@ -84,14 +88,14 @@ class JsonOutput:
     def start_line(self) -> str:
         return ""
 
-    def sender(self, session: zenoh.Session) -> Sender | None:
-        return None
+    def sender(self, session: zenoh.Session) -> Sender:
+        return JsonSender(session, self._namespace, self._capacity, self._heard)
 
 
 class RobotSender:
     """``RobotPublishers`` fed the outbox's publications."""
 
-    kind = Kind.ROS
+    kinds = frozenset({Kind.ROS})
 
     def __init__(self, publishers: RobotPublishers) -> None:
         self._publishers = publishers
@@ -133,6 +137,6 @@ class RosTopicsOutput:
         )
         return f"; ROS 2 output on the robot's topics ({topics})"
 
-    def sender(self, session: zenoh.Session) -> Sender | None:
+    def sender(self, session: zenoh.Session) -> Sender:
         robot = self._robot
         return RobotSender(RobotPublishers(session, robot.wire, self._node_name, robot.form))

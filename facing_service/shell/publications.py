@@ -36,14 +36,17 @@ QUERY_PARAMETERS = frozenset({"threshold_deg"})
 QUERY_SPACES = ("facing", "frame", "engagement", "groups", "gazing")
 
 
-def publications(changes: Changes, namespace: str, instance: str) -> list[Publication]:
-    """Everything one tracker call changed, in publishing order: per-body results; then
-    each engagement update (its state, then its event when the level changed); then the
-    lost bodies' DELETEs; then the frames' aggregates."""
+def publications(
+    changes: Changes, namespace: str, instance: str, results: bool = True
+) -> list[Publication]:
+    """Everything one tracker call changed, in publishing order: per-body results (unless
+    nobody listens to them: ``results`` False); then each engagement update (its state,
+    then its event when the level changed); then the lost bodies' DELETEs; then the
+    frames' aggregates."""
     result = Kind.RESULT
     out = [
         Publication(keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance), result)
-        for s in changes.results
+        for s in (changes.results if results else ())
     ]
     for update in changes.engagement:
         if update.level is not Level.UNKNOWN:

@@ -1,31 +1,24 @@
-"""The publisher thread: sends what the outbox holds, in order, every output with BLOCK.
+"""The publisher thread: sends what the outbox holds, in order, through each output's own
+sender (JSON or the robot's CDR: this thread only moves their bytes).
 
 It is the only thread that waits on the network. A slow consumer slows it down; one that
-stops reading blocks it (up to zenoh's ``wait_before_close``), while the worker keeps
-ingesting, deciding and answering (see ``outbox``).
-
-Per-body results and engagement go out through ``Session.put`` on key expressions
-declared per body (``declared_keys``: zenoh then routes them, and the poses they answer,
-from its cache).
+stops reading blocks it (up to zenoh's ``wait_before_close``: every sender uses BLOCK),
+while the worker keeps ingesting, deciding and answering (see ``outbox``).
 """
 
 from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import zenoh
 
-from .declared_keys import DeclaredKeys
 from .ledger import Ledger
 from .outbox import Kind, Outbox, Publication
-from .outputs import Output, Sender
+from .outputs import Output
 
 log = logging.getLogger("facing_service")
-
-JSON = zenoh.Encoding.APPLICATION_JSON
-BLOCK = zenoh.CongestionControl.BLOCK
 
 
 class Publisher:
@@ -38,7 +31,6 @@ class Publisher:
         outbox: Outbox,
         ledger: Ledger,
         closing: threading.Event,
-        keys: DeclaredKeys,
         outputs: Sequence[Output] = (),
     ) -> None:
         self._session = session
@@ -46,26 +38,20 @@ class Publisher:
         self._ledger = ledger
         self._closing = closing
         self._outputs = outputs  # their senders are declared on this thread, when it starts
-        self._keys = keys
 
     def run(self) -> None:
-        senders = {s.kind: s for o in self._outputs if (s := o.sender(self._session)) is not None}
+        senders = [output.sender(self._session) for output in self._outputs]
+        send: dict[Kind, Callable[[Publication], None]] = {
+            kind: sender.send for sender in senders for kind in sender.kinds
+        }
         try:
             while True:
                 publications = self._outbox.take()
                 if not publications and self._outbox.closed:
                     return
-                put, result = self._session.put, Kind.RESULT
-                declared, declare = self._keys.exprs, self._keys.declare
-                key: zenoh.KeyExpr | str | None
                 for p in publications:
                     try:
-                        if p.kind is result:  # the hot path, inlined: most of what is sent
-                            if (key := declared.get(p.key)) is None:
-                                key = declare(p.key, True)
-                            put(key, p.payload, encoding=JSON, congestion_control=BLOCK)
-                        else:
-                            self._send(p, senders)
+                        send[p.kind](p)
                         self._ledger.count_sent(p.kind)
                     except zenoh.ZError:
                         if self._closing.is_set():
@@ -74,19 +60,5 @@ class Publisher:
                         self._ledger.count_sent(None)
                     self._outbox.sent()  # after counting: depth 0 means every count is in
         finally:
-            self._keys.close()
-            for sender in senders.values():
+            for sender in senders:
                 sender.close()
-
-    def _send(self, p: Publication, senders: dict[Kind, Sender]) -> None:
-        if (sender := senders.get(p.kind)) is not None:  # an output form's own (ROS 2)
-            sender.send(p)
-        elif p.payload is None:  # Kind.DELETE: the body is lost (or a group dissolved)
-            self._session.delete(self._keys.exprs.get(p.key, p.key), congestion_control=BLOCK)
-            self._keys.forget(p.key)
-        elif p.kind is Kind.ENGAGEMENT:  # per body: on its declared key, as results
-            declared = self._keys.exprs.get(p.key)
-            key = declared if declared is not None else self._keys.declare(p.key, False)
-            self._session.put(key, p.payload, encoding=JSON, congestion_control=BLOCK)
-        else:
-            self._session.put(p.key, p.payload, encoding=JSON, congestion_control=BLOCK)

@@ -56,8 +56,6 @@ EVENTS_KEPT = 1024
 class RosInput:
     """The robot as the worker knows it. ``clock``: the service's monotonic clock."""
 
-    declares_pose_keys = False  # the robot's wire has no pose keys
-
     def __init__(
         self, settings: Settings, robot: Robot, ledger: Ledger, clock: Callable[[], float]
     ) -> None:
@@ -270,6 +268,9 @@ class RosInput:
         """Where a pose came from, as the robot names it (its wire has no pose keys)."""
         frame = self.people.frame_of(sample.body_id) or "?"
         return f"/tf {sample.frame_id} -> {frame} ({sample.body_id})"
+
+    def forget(self, bodies: list[BodyRef]) -> None:
+        return None  # what it holds of people follows the robot's lists, not the tracker
 
     def next_due(self) -> float | None:
         return self.next_diagnosis

@@ -47,13 +47,13 @@ from ..config.settings import Settings
 from ..contract import keys
 from ..contract.schemas import ServiceStatus
 from ..core.tracker import Tracker
-from .declared_keys import DeclaredKeys
 from .forms import forms_for
 from .intake import Intake
+from .json_sender import JSON
 from .ledger import Ledger
 from .links import NO_ROUTER_AFTER_S, LinkWatch
 from .outbox import Outbox
-from .publisher import JSON, Publisher
+from .publisher import Publisher
 from .queries import QueryItem
 from .threads import daemon_thread
 from .worker import Worker
@@ -139,10 +139,7 @@ class FacingService:
                 self._closing,
             )
             worker.first_aggregates()
-            declared = DeclaredKeys(session, ns, self._input.declares_pose_keys, s.max_bodies)
-            publisher = Publisher(
-                session, self._outbox, self._ledger, self._closing, declared, self._outputs
-            )
+            publisher = Publisher(session, self._outbox, self._ledger, self._closing, self._outputs)
             self._threads = [
                 daemon_thread(worker.run, "facing-worker"),
                 daemon_thread(publisher.run, "facing-publish"),

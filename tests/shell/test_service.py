@@ -2,42 +2,17 @@
 
 from __future__ import annotations
 
-import logging
 import math
 import time
 
 import numpy as np
 import pytest
+from service_rig import FRAME_KEY, NAMESPACE, body_key, pose_key
 
 from facing_service.core.detector import classify
 
-from loopback import get, send, send_delete, wait_until, wait_until_answered
+from loopback import get, send, send_delete, wait_until_answered
 from poses import pose_dict, pose_json
-
-NS = "hri"
-FRAME_KEY = "hri/facing/cam"
-
-
-def body_key(body: str, frame: str = "cam") -> str:
-    return f"{NS}/bodies/{body}/facing/{frame}"
-
-
-def pose_key(body: str, frame: str = "cam") -> str:
-    return f"{NS}/bodies/{body}/pose/{frame}"
-
-
-@pytest.fixture
-def rig(net):
-    """A service on 'cam' plus a connected client recording everything under hri/."""
-
-    def make(**settings):
-        service, ep = net.service(**settings)
-        client = net.client(ep)
-        recorder = net.recorder(client, f"{NS}/**/facing/**")
-        wait_until_answered(client, FRAME_KEY)
-        return service, client, recorder
-
-    return make
 
 
 def nonzero(counts: dict[str, int]) -> dict[str, int]:
@@ -101,7 +76,7 @@ def test_input_delete_loses_the_body(rig):
     rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete")
     rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == [])
     # nobody there now, said as such (not silence, which would mean "no service")
-    ((kind, error),) = get(client, f"{NS}/bodies/*/facing/cam")
+    ((kind, error),) = get(client, f"{NAMESPACE}/bodies/*/facing/cam")
     assert (kind, error["error"]) == ("error", "empty_frame")
 
 
@@ -136,65 +111,10 @@ def test_hysteresis_keeps_a_facing_body_facing(rig):
     assert [r.value["facing"] for r in results] == [True, True, False, False, True]
 
 
-def test_queries_answer_current_state_and_what_if_thresholds(rig):
-    service, client, rec = rig()
-    send(client, pose_key("a"), pose_json("a", "cam", off_deg=10.0))
-    send(client, pose_key("b"), pose_json("b", "cam", x=3.0, y=1.0, off_deg=-30.0))
-    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == ["a", "b"])
-
-    replies = dict(get(client, f"{NS}/bodies/*/facing/cam"))
-    assert set(replies) == {body_key("a"), body_key("b")}
-    assert replies[body_key("a")]["facing"] and not replies[body_key("b")]["facing"]
-
-    (single,) = get(client, body_key("b"))
-    assert single[0] == body_key("b") and single[1]["angle_deg"] == pytest.approx(30.0)
-
-    (frame,) = get(client, f"{NS}/facing/**")
-    assert frame == (FRAME_KEY, rec.on(FRAME_KEY)[-1].value)
-
-    everything = dict(get(client, f"{NS}/**"))
-    status = f"{NS}/services/facing/{service.settings.instance}/status"
-    engagement = {f"{NS}/bodies/{b}/engagement/cam" for b in ("a", "b")}
-    scene = {f"{NS}/groups/cam", f"{NS}/gazing/cam"}
-    assert set(everything) == {body_key("a"), body_key("b"), FRAME_KEY, status, *engagement, *scene}
-
-    what_if = dict(get(client, f"{NS}/bodies/*/facing/cam?threshold_deg=35"))
-    assert what_if[body_key("b")]["facing"] and what_if[body_key("b")]["threshold_deg"] == 35.0
-    (frame35,) = get(client, f"{FRAME_KEY}?threshold_deg=35")
-    assert frame35[1]["bodies_facing"] == ["a", "b"]
-    (frame5,) = get(client, f"{FRAME_KEY}?threshold_deg=5")
-    assert frame5[1]["bodies_facing"] == []
-
-    # the what-ifs left the service's state and decisions unchanged
-    assert dict(get(client, f"{NS}/bodies/*/facing/cam")) == replies
-    assert get(client, FRAME_KEY)[0][1]["bodies_facing"] == ["a"]
-    assert get(client, f"{NS}/facing/map") == []  # not served: no reply, not an error
-    assert service.status().counters["queries_refused"] == 0
-
-
-@pytest.mark.parametrize(
-    "parameters",
-    [
-        "threshold_deg=abc",
-        "threshold_deg=0",
-        "threshold_deg=180",
-        "threshold_deg=nan",
-        "threshold_deg=inf",
-        "threshold_deg=",
-        "treshold_deg=30",
-    ],
-)
-def test_bad_query_parameter_gets_an_error_reply(rig, parameters):
-    _, client, _ = rig()
-    replies = get(client, f"{FRAME_KEY}?{parameters}")
-    assert len(replies) == 1 and replies[0][0] == "error"
-    assert replies[0][1]["error"] == "bad_parameter" and replies[0][1]["detail"]
-
-
 def test_every_frame_mode_serves_frames_independently(net):
     _, ep = net.service(base_frame="*")
     client = net.client(ep)
-    rec = net.recorder(client, f"{NS}/**/facing/**")
+    rec = net.recorder(client, f"{NAMESPACE}/**/facing/**")
     # No frame is known yet, so nothing answers queries: re-send the first pose (same
     # stamp, so each copy is accepted) until the service has seen it.
     for _ in range(100):
@@ -205,11 +125,11 @@ def test_every_frame_mode_serves_frames_independently(net):
     rec.wait_for(is_put(body_key("a", "map")))
     send(client, pose_key("a", "cam"), pose_json("a", "cam"))
     rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_facing"] == ["a"])
-    frames = dict(get(client, f"{NS}/facing/*"))
+    frames = dict(get(client, f"{NAMESPACE}/facing/*"))
     assert frames["hri/facing/map"]["bodies_facing"] == []
     assert frames["hri/facing/map"]["bodies_tracked"] == ["a"]
     assert frames[FRAME_KEY]["bodies_facing"] == ["a"]
-    assert set(dict(get(client, f"{NS}/bodies/a/facing/*"))) == {
+    assert set(dict(get(client, f"{NAMESPACE}/bodies/a/facing/*"))) == {
         body_key("a", "map"),
         body_key("a", "cam"),
     }
@@ -244,37 +164,6 @@ def test_bad_samples_are_counted_and_good_ones_all_processed(rig):
     }
 
 
-def test_mistyped_pose_keys_are_counted_and_logged_not_lost_in_silence(rig, caplog):
-    """Issue 55: a tracker's poses on a mistyped key reached no subscription of the
-    service, and nothing said so; they are now refused as invalid keys, counted in the
-    status and named in the rejections' log line, and good poses still all come through."""
-    service, client, rec = rig()
-    caplog.set_level(logging.WARNING, logger="facing_service")
-    mistyped = [
-        "hri/body/alice/pose/cam",  # body for bodies
-        "hri/bodies/alice/pose",  # no frame
-        "hri/bodies/alice/pose/cam/x",  # a chunk after the frame
-        "hri/bodies/alice/poses/cam",  # poses for pose
-        "bodies/alice/pose/cam",  # the namespace left out
-    ]
-    for sec in (1, 2):
-        for key in mistyped:
-            send(client, key, pose_json("alice", "cam", sec=sec))
-        send(client, pose_key("a"), pose_json("a", "cam", sec=sec))
-    results = rec.wait_for(is_put(body_key("a")), count=2)
-    assert [r.value["stamp"]["sec"] for r in results] == [1, 2]
-    wait_until(
-        lambda: service.status().rejected.get("invalid_key") == 2 * len(mistyped),
-        5.0,
-        "every mistyped pose counted",
-    )
-    service.close()  # the rejections' summary is said at the latest when it stops
-    said = [r.getMessage() for r in caplog.records]
-    for key in mistyped:  # each named once, in a line of its own
-        assert sum(f"poses on {key} are refused" in line for line in said) == 1, said
-    assert any("invalid_key=10" in line for line in said)  # and in the summary
-
-
 def test_a_lost_body_that_comes_back_is_said_again_through_client_declared_publishers(net):
     """Results go out on key expressions declared per body, undeclared when the body is
     lost (shell/declared_keys.py): a tracker in client mode with declared publishers (the
@@ -282,7 +171,7 @@ def test_a_lost_body_that_comes_back_is_said_again_through_client_declared_publi
     same body when it comes back."""
     _service, ep = net.service()
     tracker = net.client(ep, mode="client")
-    rec = net.recorder(tracker, f"{NS}/bodies/*/facing/cam")
+    rec = net.recorder(tracker, f"{NAMESPACE}/bodies/*/facing/cam")
     wait_until_answered(tracker, FRAME_KEY)
     publisher = tracker.declare_publisher(pose_key("a"))
     try:
@@ -295,50 +184,6 @@ def test_a_lost_body_that_comes_back_is_said_again_through_client_declared_publi
         publisher.undeclare()
     said = [(i.kind, i.value["stamp"]["sec"] if i.kind == "put" else None) for i in rec.items]
     assert said == [("put", 1), ("put", 2), ("delete", None), ("put", 3)], items
-
-
-def test_declared_keys_are_bounded_and_forgotten_with_their_body(net):
-    """Room for one body's result and engagement keys (and its pose key, declared with
-    the result's); a key beyond goes out as its string; a DELETE frees its key."""
-    from facing_service.shell.declared_keys import DeclaredKeys
-
-    _service, ep = net.service()
-    session = net.client(ep)
-    rec = net.recorder(session, "test/**")
-    declared = DeclaredKeys(session, "test", inputs=True, capacity=1)
-    result_a, engagement_a, result_b = (
-        "test/bodies/a/facing/cam",
-        "test/bodies/a/engagement/cam",
-        "test/bodies/b/facing/cam",
-    )
-    try:
-        session.put(declared.declare(result_a, True), b"{}")
-        session.put(declared.declare(engagement_a, False), b"{}")
-        assert list(declared.exprs) == [result_a, engagement_a]
-        assert [str(k) for k in declared._poses.values()] == ["test/bodies/a/pose/cam"]
-        assert declared.declare(result_b, True) == result_b  # full: b goes out on its string
-        session.put(result_b, b"{}")
-        assert list(declared.exprs) == [result_a, engagement_a] and len(declared._poses) == 1
-        declared.forget(result_a)  # a is lost: its result key and pose key go, room is made
-        assert list(declared.exprs) == [engagement_a] and not declared._poses
-        session.put(declared.declare(result_b, True), b"{}")
-        assert list(declared.exprs) == [engagement_a, result_b]
-        assert str(declared._poses[result_b]) == "test/bodies/b/pose/cam"
-        rec.wait_for(lambda i: True, count=4)  # every put went out, declared or not
-        assert [i.key for i in rec.items] == [result_a, engagement_a, result_b, result_b]
-    finally:
-        declared.close()
-    assert not declared.exprs and not declared._poses
-
-
-def test_a_query_on_a_body_not_tracked_beside_others_says_so(rig):
-    """A concrete body's key in a frame where others are: "not_tracked" (not silence,
-    which would read as "no service", and not "empty_frame", which would be false)."""
-    _, client, rec = rig()
-    send(client, pose_key("a"), pose_json("a", "cam"))
-    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == ["a"])
-    ((kind, error),) = get(client, f"{NS}/bodies/b/facing/cam")
-    assert (kind, error["error"]) == ("error", "not_tracked") and "'cam'" in error["detail"]
 
 
 def test_closing_gives_the_threads_one_budget_together(net):

@@ -1,0 +1,77 @@
+"""How our JSON keys go out (docs/contract.md), on the publisher thread: per-body results
+and engagement on key expressions declared per body (``declared_keys``), the rest on
+their strings, every one with BLOCK (a slow consumer slows the publisher, never loses a
+state change).
+
+It also tells the worker whether anyone listens to the results at all (``Heard``): a
+publisher declared on the whole result space (never put on) has zenoh's matching status,
+true while any subscriber anywhere matches a result key. While nobody does, the JSON
+output neither formats nor sends results, the bulk of what the service says (one per
+pose); queries still answer from state. Only results: each is followed by the next pose's,
+so a consumer that appears misses at most one, where a skipped engagement change, event,
+aggregate or DELETE would stay wrong until the next change.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import zenoh
+
+from ..contract import keys
+from .declared_keys import DeclaredKeys
+from .outbox import Kind, Publication
+
+JSON = zenoh.Encoding.APPLICATION_JSON
+BLOCK = zenoh.CongestionControl.BLOCK
+#: The kinds put on a key of their body's, declared (the others on their strings).
+_PER_BODY = (Kind.RESULT, Kind.ENGAGEMENT)
+
+
+class Heard:
+    """Whether a subscriber matches the result keys: written by zenoh's matching
+    listener, read by the worker (a bool attribute: atomic). True until zenoh says
+    otherwise, so nothing is skipped before the listener is in place."""
+
+    def __init__(self) -> None:
+        self.results = True
+
+
+class JsonSender:
+    """Sends the JSON output's publications. ``capacity``: the most bodies tracked (each
+    has a result and an engagement key declared)."""
+
+    kinds = frozenset(
+        {Kind.RESULT, Kind.FRAME, Kind.ENGAGEMENT, Kind.EVENT, Kind.DELETE, Kind.SCENE}
+    )
+
+    def __init__(self, session: zenoh.Session, namespace: str, capacity: int, heard: Heard):
+        self._session = session
+        self._keys = DeclaredKeys(session, 2 * capacity)
+        space = keys.facing_key(namespace, keys.ALL_FRAMES, keys.ALL_FRAMES)
+        self._watch = session.declare_publisher(space)
+        self._listener = self._watch.declare_matching_listener(self._on_matching)
+        # zenoh 1.10's stub says bool; the property is a MatchingStatus, as the listener's
+        status: Any = self._watch.matching_status
+        heard.results = bool(status.matching)
+        self._heard = heard
+
+    def _on_matching(self, status: zenoh.MatchingStatus) -> None:
+        self._heard.results = status.matching
+
+    def send(self, p: Publication) -> None:
+        """One publication, on its declared key when it has one."""
+        key: zenoh.KeyExpr | str | None = self._keys.exprs.get(p.key)
+        if p.payload is None:  # Kind.DELETE: the body is lost (or a group dissolved)
+            self._session.delete(p.key if key is None else key, congestion_control=BLOCK)
+            self._keys.forget(p.key)
+            return
+        if key is None:
+            key = self._keys.declare(p.key) if p.kind in _PER_BODY else p.key
+        self._session.put(key, p.payload, encoding=JSON, congestion_control=BLOCK)
+
+    def close(self) -> None:
+        self._listener.undeclare()
+        self._watch.undeclare()
+        for key in list(self._keys.exprs):
+            self._keys.forget(key)

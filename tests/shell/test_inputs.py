@@ -1,0 +1,86 @@
+"""The JSON input: what it reads from a sample, what it refuses and says, and the pose
+keys it declares for the bodies it reads (from a body's first pose until it is lost)."""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import zenoh
+from service_rig import body_key, pose_key
+
+from facing_service.config.settings import Settings
+from facing_service.contract.keys import BodyRef
+from facing_service.core.records import PoseSample
+from facing_service.shell.inputs import JsonInput
+from facing_service.shell.ledger import Ledger
+
+from loopback import send, send_delete, wait_until
+from poses import pose_json
+
+
+def is_put(key):
+    return lambda item: item.key == key and item.kind == "put"
+
+
+def test_mistyped_pose_keys_are_counted_and_logged_not_lost_in_silence(rig, caplog):
+    """Issue 55: a tracker's poses on a mistyped key reached no subscription of the
+    service, and nothing said so; they are now refused as invalid keys, counted in the
+    status and named in the rejections' log line, and good poses still all come through."""
+    service, client, rec = rig()
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    mistyped = [
+        "hri/body/alice/pose/cam",  # body for bodies
+        "hri/bodies/alice/pose",  # no frame
+        "hri/bodies/alice/pose/cam/x",  # a chunk after the frame
+        "hri/bodies/alice/poses/cam",  # poses for pose
+        "bodies/alice/pose/cam",  # the namespace left out
+    ]
+    for sec in (1, 2):
+        for key in mistyped:
+            send(client, key, pose_json("alice", "cam", sec=sec))
+        send(client, pose_key("a"), pose_json("a", "cam", sec=sec))
+    results = rec.wait_for(is_put(body_key("a")), count=2)
+    assert [r.value["stamp"]["sec"] for r in results] == [1, 2]
+    wait_until(
+        lambda: service.status().rejected.get("invalid_key") == 2 * len(mistyped),
+        5.0,
+        "every mistyped pose counted",
+    )
+    service.close()  # the rejections' summary is said at the latest when it stops
+    said = [r.getMessage() for r in caplog.records]
+    for key in mistyped:  # each named once, in a line of its own
+        assert sum(f"poses on {key} are refused" in line for line in said) == 1, said
+    assert any("invalid_key=10" in line for line in said)  # and in the summary
+
+
+def test_a_pose_key_is_declared_from_the_first_pose_until_the_body_is_lost(net):
+    _, ep = net.service()
+    session = net.client(ep)  # the tracker too: its own puts reach its own subscriber
+    ledger = Ledger(time.monotonic)
+    source = JsonInput(Settings(base_frame="cam"), ledger)
+    samples = session.declare_subscriber(source.hot_key(), zenoh.handlers.FifoChannel(16))
+    try:
+        assert source.open(session, lambda item: None) == "hri/bodies/*/pose/cam"
+        send(session, pose_key("a"), pose_json("a", "cam"))
+        send_delete(session, pose_key("a"))
+        poses: list[PoseSample] = []
+        assert source.read(next_sample(samples), poses) is None and poses[0].body_id == "a"
+        assert source.declared_keys is not None
+        assert list(source.declared_keys.exprs) == [pose_key("a")]
+        loss = source.read(next_sample(samples), poses)  # the DELETE: a loss for the worker
+        assert loss is not None and loss.bodies == [BodyRef(frame_id="cam", body_id="a")]
+        source.forget(loss.bodies)
+        assert source.declared_keys.exprs == {}
+    finally:
+        samples.undeclare()
+        source.close()
+
+
+def next_sample(samples: zenoh.Subscriber) -> zenoh.Sample:
+    """The next sample, within 5 s (``recv`` would wait for ever)."""
+    deadline = time.monotonic() + 5
+    while (sample := samples.try_recv()) is None:
+        assert time.monotonic() < deadline, "no sample within 5 s"
+        time.sleep(0.01)
+    return sample
