@@ -1,8 +1,8 @@
 """The tracker and the scenes as one turn of the worker leaves them, read-only: what the
-scenes, the ROS 2 output and its markers read, instead of being handed the worker's
-methods to call back up. Each part is worked out once, when first asked for, and not at
-all on a turn that needs none (most turns: the scenes and the ROS tick are due a few
-times a second)."""
+scenes, the ROS 2 output and its markers, and the queries read (the one read path),
+instead of being handed the worker's tracker and scenes. Each part is worked out once,
+when first asked for, and not at all on a turn that needs none (most turns: the scenes
+and the ROS tick are due a few times a second)."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from functools import cached_property
 from ..contract.keys import BodyRef
 from ..contract.levels import Level
 from ..contract.poses import Pose
+from ..contract.schemas import FrameFacing
 from ..contract.stamps import ZERO, Time
 from .records import BodyState, EngagementUpdate
 from .scene import Person, Scenes, SceneUpdate
@@ -48,6 +49,24 @@ class TurnView:
     def states(self) -> list[BodyState]:
         """Every tracked body's latest decision."""
         return self._tracker.states()
+
+    @cached_property
+    def frames(self) -> list[FrameFacing]:
+        """Every frame's aggregate (who faces the robot, who is tracked)."""
+        return self._tracker.frames()
+
+    @cached_property
+    def tracked(self) -> dict[str, int]:
+        """How many bodies each frame tracks."""
+        return self._tracker.tracked_per_frame()
+
+    def evaluate(self, threshold_deg: float) -> tuple[list[BodyState], list[FrameFacing]]:
+        """Every body and frame decided again under another cone (without hysteresis)."""
+        return self._tracker.evaluate(threshold_deg)
+
+    def empty_scene(self, frame_id: str) -> SceneUpdate | None:
+        """A known frame's scene with nobody in it; None for a frame never seen."""
+        return None if self._scenes is None else self._scenes.empty(frame_id)
 
     def poses(self, frame_id: str) -> list[tuple[str, Pose]]:
         """The latest pose of every body tracked in a frame, by body id."""

@@ -1,6 +1,6 @@
 """Queries on the service's output key spaces, answered by the worker in order with the
-samples (a query sent after a pose sees its result) from the tracker's and the scenes'
-state, never the network."""
+samples (a query sent after a pose sees its result) from the turn's view of the tracker
+and the scenes (as everything else the service says is read), never the network."""
 
 from __future__ import annotations
 
@@ -13,11 +13,11 @@ from ..contract import keys
 from ..contract.schemas import QueryError
 from ..contract.stamps import ZERO
 from ..core.records import frame_facing
-from ..core.scene import Scenes, nobody
-from ..core.tracker import Tracker
+from ..core.scene import nobody
+from ..core.view import TurnView
+from .json_sender import JSON
 from .ledger import Ledger
 from .publications import frame_json, query_replies, threshold_parameter
-from .publisher import JSON
 
 
 @dataclass(frozen=True)
@@ -26,9 +26,7 @@ class QueryItem:
     space: str  # which output key space it reached us through (publications.QUERY_SPACES)
 
 
-def answer(
-    item: QueryItem, tracker: Tracker, scenes: Scenes, ledger: Ledger, settings: Settings
-) -> None:
+def answer(item: QueryItem, view: TurnView, ledger: Ledger, settings: Settings) -> None:
     """Reply with the current state of every matching key, one reply per key."""
     query = item.query
     try:
@@ -44,25 +42,18 @@ def answer(
         )
         query.drop()
         return
-    # The status then agrees with the answer (a client reading it next sees the same).
-    ledger.tracked = tracker.tracked_per_frame()
-    if threshold is None:
-        states, frames = tracker.states(), tracker.frames()
-    else:
-        states, frames = tracker.evaluate(threshold)
-    engagements = tracker.engagements() if item.space == "engagement" else []
-    ns, me = settings.namespace, settings.instance
+    states, frames = (view.states, view.frames) if threshold is None else view.evaluate(threshold)
+    engagements = view.engagements if item.space == "engagement" else []
+    ns, instance = settings.namespace, settings.instance
     replies = [
         (key, payload)
         for key, payload in query_replies(
-            item.space, ns, me, states, frames, engagements, scenes.current()
+            item.space, ns, instance, states, frames, engagements, view.scenes
         )
         if query.key_expr.intersects(zenoh.KeyExpr(key))
     ]
     if not replies:
-        replies, refusal = _nothing_matched(
-            item.space, str(query.key_expr), ledger, scenes, settings
-        )
+        replies, refusal = _nothing_matched(item.space, str(query.key_expr), view, settings)
     else:
         refusal = None
     ledger.count("queries_answered")  # before the replies: a status read after them agrees
@@ -74,7 +65,7 @@ def answer(
 
 
 def _nothing_matched(
-    space: str, selector: str, ledger: Ledger, scenes: Scenes, settings: Settings
+    space: str, selector: str, view: TurnView, settings: Settings
 ) -> tuple[list[tuple[str, bytes]], QueryError | None]:
     """A query that names one frame (its last chunk) and matched nothing still gets an
     answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
@@ -86,21 +77,21 @@ def _nothing_matched(
     frame = selector.rsplit("/", 1)[-1]
     if "*" in frame or "$" in frame:
         return [], None
-    ns, me = settings.namespace, settings.instance
-    empty = scenes.empty(frame)
-    if empty is None and frame not in ledger.tracked:
-        tracked = ", ".join(sorted(ledger.tracked)) or "none"
+    ns, instance = settings.namespace, settings.instance
+    empty = view.empty_scene(frame)
+    if empty is None and frame not in view.tracked:
+        tracked = ", ".join(sorted(view.tracked)) or "none"
         detail = f"no frame {frame!r} in this service; frames tracked: {tracked}"
         return [], QueryError(error="unknown_frame", detail=detail)
     scene = empty or nobody(frame, ZERO)
     if space in ("groups", "gazing"):
-        return query_replies(space, ns, me, (), (), (), [scene]), None
+        return query_replies(space, ns, instance, (), (), (), [scene]), None
     if space == "frame":
         said = frame_json(
-            frame_facing(frame, empty.stamp if empty is not None else None, [], []), me
+            frame_facing(frame, empty.stamp if empty is not None else None, [], []), instance
         )
         return [(keys.frame_key(ns, frame), said)], None
-    if ledger.tracked.get(frame, 0):  # others are there: the body asked for is not
+    if view.tracked.get(frame, 0):  # others are there: the body asked for is not
         detail = f"no body matching {selector!r} is tracked in frame {frame!r} now"
         return [], QueryError(error="not_tracked", detail=detail)
     detail = f"nobody is tracked in frame {frame!r} now"

@@ -195,7 +195,9 @@ class Worker:
             # What was decided before the query goes out (and is counted) first: a status
             # read after the answer agrees with it, as a result sent before it does.
             self._decisions.hand_over()
-            answer(item, self._tracker, self._scenes, self._ledger, self._settings)
+            view = TurnView(self._tracker, self._scenes)
+            self._ledger.tracked = view.tracked  # the status then agrees with the answer
+            answer(item, view, self._ledger, self._settings)
         elif (loss := self._input.read(item, poses)) is not None:
             self._decisions.flush(poses, self._horizon)  # the poses before it first
             self._decisions.lose(loss, self._horizon)
