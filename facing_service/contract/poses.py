@@ -17,7 +17,7 @@ from typing import Annotated, Any
 import msgspec
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from .stamps import MAX_NANOSEC, MAX_SEC, NS, Stamp, Time
+from .stamps import MAX_NANOSEC, MAX_SEC, NS_PER_S, Stamp, Time
 
 #: tf2's tolerance on a quaternion's squared norm before it refuses to normalize it.
 QUATERNION_TOLERANCE = 0.01
@@ -271,7 +271,7 @@ def _plainly_valid(payload: bytes, body_id: str, frame_id: str) -> Pose | None:
         return None
     norm = math.sqrt(norm2)
     return Pose(
-        Time(header.stamp.sec * NS + header.stamp.nanosec),
+        Time(header.stamp.sec * NS_PER_S + header.stamp.nanosec),
         (t.x, t.y, t.z),
         (qx / norm, qy / norm, qz / norm, qw / norm),
     )

@@ -12,7 +12,7 @@ import msgspec
 from pydantic import BaseModel, Field
 
 from .poses import FastStamp, FastVector3, TransformStamped
-from .stamps import NS, Stamp
+from .stamps import NS_PER_S, Stamp
 
 
 class Point(BaseModel):
@@ -90,7 +90,7 @@ def facing_state_json(
     test checks it against ``FacingState``. A negative zero (``-Rᵀt`` of a body at
     z = 0) is said as 0.0: ``+ 0.0`` makes it one.
     """
-    sec, nanosec = divmod(stamp, NS)  # (a Time: integer nanoseconds)
+    sec, nanosec = divmod(stamp, NS_PER_S)  # (a Time: integer nanoseconds)
     r, p = robot_in_body, position
     return _ENCODE(
         _FastFacingState(

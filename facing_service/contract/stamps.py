@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pydantic import BaseModel, ConfigDict, Field
 
-NS = 1_000_000_000
+NS_PER_S = 1_000_000_000
 #: builtin_interfaces/Time: ROS 2 keeps ``sec`` in an int32 and never negative.
 MAX_SEC, MAX_NANOSEC = 2**31 - 1, 999_999_999
 
@@ -31,7 +31,7 @@ class Time(int):
 
     @classmethod
     def of(cls, sec: int, nanosec: int = 0) -> Time:
-        return cls(sec * NS + nanosec)
+        return cls(sec * NS_PER_S + nanosec)
 
     @classmethod
     def checked(cls, sec: int, nanosec: int) -> Time | None:
@@ -39,7 +39,7 @@ class Time(int):
         say, and so what any output of ours can carry (negative seconds; nanoseconds past
         999 999 999, as an uninitialised stamp has)."""
         if 0 <= sec <= MAX_SEC and 0 <= nanosec <= MAX_NANOSEC:
-            return cls(sec * NS + nanosec)
+            return cls(sec * NS_PER_S + nanosec)
         return None
 
     @classmethod
@@ -48,25 +48,25 @@ class Time(int):
 
     @classmethod
     def from_model(cls, stamp: Stamp) -> Time:
-        return cls(stamp.sec * NS + stamp.nanosec)
+        return cls(stamp.sec * NS_PER_S + stamp.nanosec)
 
     @property
     def sec(self) -> int:
-        return self // NS
+        return self // NS_PER_S
 
     @property
     def nanosec(self) -> int:
-        return self % NS
+        return self % NS_PER_S
 
     @property
     def seconds(self) -> float:
         """As float seconds (the engagement machine's clock), on the hot path: sec +
         nanosec * 1e-9 as the tuples said it, from one divmod."""
-        sec, nanosec = divmod(self, NS)
+        sec, nanosec = divmod(self, NS_PER_S)
         return sec + nanosec * 1e-9
 
     def model(self) -> Stamp:
-        sec, nanosec = divmod(self, NS)
+        sec, nanosec = divmod(self, NS_PER_S)
         return Stamp.model_construct(sec=sec, nanosec=nanosec)
 
     def __repr__(self) -> str:

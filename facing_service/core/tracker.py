@@ -15,7 +15,7 @@ from ..contract.keys import BodyRef
 from ..contract.levels import Level
 from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing
-from ..contract.stamps import NS, Time
+from ..contract.stamps import NS_PER_S, Time
 from . import detector
 from .engagement import EngagementParams, advance, facing_score, step, vote
 from .journal import Journal, Store
@@ -173,7 +173,7 @@ class Tracker:
     def _clock_restarted(self, key: BodyRef, stamp: Time, last: Time) -> bool:
         """Whether this pose, older than the body's ``last``, completes the evidence that
         its tracker's clock started over (RESTART_EVIDENCE); kept towards it otherwise."""
-        if last - stamp <= RESTART_GAP_S * NS:  # late, not a new clock
+        if last - stamp <= RESTART_GAP_S * NS_PER_S:  # late, not a new clock
             self._older.pop(key, None)
             return False
         before = self._older.get(key)

@@ -33,7 +33,7 @@ from ..contract.robot import DEFAULT_MAX_MESSAGE_BYTES
 from ..contract.stamps import Time
 from ..core.tf_math import RigidTransform
 from . import types as ros2_types
-from .people import INVALID_STAMP, KINDS, PERSON_LINKS, People, TfInput, Update
+from .people import KINDS, PERSON_LINKS, People, TfInput, Update
 from .wire import RosFormat, Wire
 
 #: (topic pattern, type, transient-local?)
@@ -120,16 +120,15 @@ def _typename(topic: str | None) -> str | None:
 
 def tf_inputs(message: Any) -> list[TfInput]:
     """A TFMessage's transforms as plain values (a stamp our outputs cannot carry is
-    ``INVALID_STAMP``, refused by ``People``)."""
+    None, refused by ``People``)."""
     inputs = []
     for t in message.transforms:
         tr, rot = t.transform.translation, t.transform.rotation
-        stamp = Time.checked(t.header.stamp.sec, t.header.stamp.nanosec)
         inputs.append(
             TfInput(
                 t.header.frame_id,
                 t.child_frame_id,
-                INVALID_STAMP if stamp is None else stamp,
+                Time.checked(t.header.stamp.sec, t.header.stamp.nanosec),
                 RigidTransform((tr.x, tr.y, tr.z), (rot.x, rot.y, rot.z, rot.w)),
             )
         )

@@ -47,7 +47,7 @@ from dataclasses import dataclass, field
 from ..contract import keys
 from ..contract.poses import MAX_TRANSLATION_M, Pose
 from ..contract.robot import DEFAULT_MAX_FRAMES
-from ..contract.stamps import Time
+from ..contract.stamps import NS_PER_S, Time
 from ..core.records import PoseSample
 from ..core.tf_buffer import TfBuffer
 from ..core.tf_errors import TfError
@@ -60,14 +60,11 @@ KINDS = {
     "/humans/persons/tracked": ("person_", None),
 }
 PERSON_LINKS = {"face_id": "face_", "body_id": "body_"}
-S = 1_000_000_000
-#: The stamp of a transform whose own is outside builtin_interfaces/Time's range.
-INVALID_STAMP = -1
 
 #: When a subject's pose first becomes known: how far back its frame's poses are said too,
 #: and at most how many (a tracker's list handled 0.2-1 s after the /tf that came with it,
 #: under load, lost those results; 64 covers 2 s at 30 Hz).
-FIRST_RESULTS_NS = 2 * S
+FIRST_RESULTS_NS = 2 * NS_PER_S
 MAX_FIRST_RESULTS = 64
 #: Ids per list and person links per kind, unless the caller says (``--max-bodies``).
 DEFAULT_MAX_IDS = 10_000
@@ -75,7 +72,7 @@ DEFAULT_MAX_IDS = 10_000
 #: How far back a transform's stamp must be, for how many /tf messages in a row from one
 #: publisher, over how much receive time, for time to have gone back (a stream at 30 Hz
 #: says so within a third of a second).
-TIME_BACK_NS = S // 2
+TIME_BACK_NS = NS_PER_S // 2
 TIME_BACK_MESSAGES = 3
 TIME_BACK_SPAN_S = 0.25
 #: At most one TF buffer clear in this long (a replay looping every few seconds is still
@@ -104,7 +101,7 @@ def out_of_range(t: TfInput) -> str | None:
     """Why a transform carries numbers our outputs cannot (checked before tf2's own rules):
     a stamp outside builtin_interfaces/Time's range, or a translation beyond the JSON
     contract's bound. With every link bounded, every composed lookup is finite."""
-    if t.stamp_ns == INVALID_STAMP:
+    if t.stamp is None:
         return "invalid_stamp"
     if any(math.isfinite(v) and abs(v) > MAX_TRANSLATION_M for v in t.transform.translation):
         return "out_of_range"  # (non-finite values are tf2's own check: nan)
@@ -115,7 +112,7 @@ def out_of_range(t: TfInput) -> str | None:
 class TfInput:
     parent: str
     child: str
-    stamp_ns: int
+    stamp: Time | None  # None: outside builtin_interfaces/Time's range (refused)
     transform: RigidTransform
 
 
@@ -176,11 +173,11 @@ class People:
             self._last.clear()
         changed: set[str] = set()
         for t in transforms:
-            reason = (
-                out_of_range(t)
-                or _name_too_long(t)
-                or self.tf.set_transform(t.parent, t.child, t.stamp_ns, t.transform, static=static)
-            )
+            reason = out_of_range(t) or _name_too_long(t)
+            if reason is None and t.stamp is not None:
+                reason = self.tf.set_transform(
+                    t.parent, t.child, t.stamp, t.transform, static=static
+                )
             if reason is None:
                 changed.add(t.child)
             else:
@@ -198,11 +195,13 @@ class People:
         """How far back time went, once it has (see the module's rules; 0: it has not)."""
         back = []
         for t in transforms:
+            if t.stamp is None:
+                continue  # no time at all: refused, and no sign of time going back
             newest = self.tf.newest(t.child)
-            if newest is None or t.stamp_ns >= newest - TIME_BACK_NS:
+            if newest is None or t.stamp >= newest - TIME_BACK_NS:
                 self._back_run = (None, 0, None)  # a fresh (or first) transform: time goes on
                 return 0
-            back.append(newest - t.stamp_ns)
+            back.append(newest - t.stamp)
         if not back:
             return 0
         who, count, since = self._back_run

@@ -22,7 +22,7 @@ from poses import pose_json
 
 pytestmark = pytest.mark.slow  # a browser, a router, services
 
-NS = "hri"
+NAMESPACE = "hri"
 #: Set to a path (docs/view.png) to save the screenshot the docs and README show.
 SCREENSHOT = os.environ.get("FACING_TEST_VIEW_SCREENSHOT")
 
@@ -66,7 +66,9 @@ def test_the_page_draws_the_scene_and_says_when_the_service_is_lost(net, browser
     ep = endpoint(router.port)
     service, _ = net.service(mode="client", connect=[ep], listen=[], group_hold_s=0.1)
     tracker = net.client(ep, mode="client")
-    client = FacingClient(NS, "cam", session_config=loopback_config(connect=[ep], mode="client"))
+    client = FacingClient(
+        NAMESPACE, "cam", session_config=loopback_config(connect=[ep], mode="client")
+    )
     client.open()
     port = free_port()
     page = Page(run_view, client, "cam", "127.0.0.1", port)
@@ -78,15 +80,15 @@ def test_the_page_draws_the_scene_and_says_when_the_service_is_lost(net, browser
             stamp = {"sec": sec, "nanosec": nanosec}
             send(
                 tracker,
-                f"{NS}/bodies/ann/pose/cam",
+                f"{NAMESPACE}/bodies/ann/pose/cam",
                 pose_json("ann", "cam", x=3.0, y=2.0, yaw_deg=0.0, **stamp),
             )
             send(
                 tracker,
-                f"{NS}/bodies/bob/pose/cam",
+                f"{NAMESPACE}/bodies/bob/pose/cam",
                 pose_json("bob", "cam", x=4.2, y=2.0, yaw_deg=180.0, **stamp),
             )
-            send(tracker, f"{NS}/bodies/cat/pose/cam",
+            send(tracker, f"{NAMESPACE}/bodies/cat/pose/cam",
                  pose_json("cat", "cam", x=2.0, y=-1.0, **stamp))  # fmt: skip
         browser.wait_for("document.querySelectorAll('g.person').length === 3")
         browser.wait_for(

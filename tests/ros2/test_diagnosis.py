@@ -26,7 +26,7 @@ TF, IDS = ros2_types.TF_MESSAGE, ros2_types.IDS_LIST
 
 def tf_in(parent: str, child: str, sec: float) -> TfInput:
     return TfInput(
-        parent, child, int(sec * S), RigidTransform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+        parent, child, Time(int(sec * S)), RigidTransform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
     )
 
 

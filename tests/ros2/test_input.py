@@ -149,7 +149,7 @@ def test_a_service_that_does_not_answer_says_what_the_robot_does_not_that_it_ans
 
 
 def tf_in(parent, child, sec, t=(0.0, 0.0, 0.0), q=(0.0, 0.0, 0.0, 1.0)) -> TfInput:
-    return TfInput(parent, child, int(sec * S), RigidTransform(t, q))
+    return TfInput(parent, child, Time(int(sec * S)), RigidTransform(t, q))
 
 
 def test_the_tracked_lists_define_who_exists():

@@ -11,21 +11,21 @@ import pytest
 from loopback import get, send, send_delete, wait_until, wait_until_answered
 from poses import pose_json
 
-NS = "hri"
-GROUPS, GAZING = f"{NS}/groups/cam", f"{NS}/gazing/cam"
+NAMESPACE = "hri"
+GROUPS, GAZING = f"{NAMESPACE}/groups/cam", f"{NAMESPACE}/gazing/cam"
 
 
 def pose_key(body: str) -> str:
-    return f"{NS}/bodies/{body}/pose/cam"
+    return f"{NAMESPACE}/bodies/{body}/pose/cam"
 
 
 @pytest.fixture
 def scene(net):
     service, ep = net.service(group_hold_s=0.2)
     client = net.client(ep)
-    groups = net.recorder(client, f"{NS}/groups/**")
-    gazing = net.recorder(client, f"{NS}/gazing/**")
-    wait_until_answered(client, f"{NS}/facing/cam")
+    groups = net.recorder(client, f"{NAMESPACE}/groups/**")
+    gazing = net.recorder(client, f"{NAMESPACE}/gazing/**")
+    wait_until_answered(client, f"{NAMESPACE}/facing/cam")
     return service, client, groups, gazing
 
 
@@ -46,7 +46,7 @@ def test_two_people_talking_form_a_group_said_on_its_key_and_queryable(scene):
         ("bob", "ann", True),
     }
     assert dict(get(client, GROUPS))[GROUPS] == said
-    assert dict(get(client, f"{NS}/gazing/*"))[GAZING] == pairs.value
+    assert dict(get(client, f"{NAMESPACE}/gazing/*"))[GAZING] == pairs.value
 
     # bob walks away: the group dissolves, its key is DELETEd, the list empties
     send_delete(client, pose_key("bob"))
@@ -75,8 +75,8 @@ def test_a_threshold_on_groups_is_refused_by_name(scene):
 def test_a_crowd_is_cut_and_counted(net):
     service, ep = net.service(group_max_people=3)
     client = net.client(ep)
-    groups = net.recorder(client, f"{NS}/groups/**")
-    wait_until_answered(client, f"{NS}/facing/cam")
+    groups = net.recorder(client, f"{NAMESPACE}/groups/**")
+    wait_until_answered(client, f"{NAMESPACE}/facing/cam")
     for i in range(6):
         send(client, pose_key(f"p{i}"), pose_json(f"p{i}", "cam", x=2.0 + i, yaw_deg=90.0))
     groups.wait_for(lambda i: i.key == GROUPS and i.value["people_left_out"] == 3)
@@ -94,7 +94,7 @@ def test_the_client_says_groups_formed_changed_dissolved_and_the_robot_joining_a
 
     _service, ep = net.service(group_hold_s=0.1)
     tracker = net.client(ep)
-    wait_until_answered(tracker, f"{NS}/facing/cam")
+    wait_until_answered(tracker, f"{NAMESPACE}/facing/cam")
     send(tracker, pose_key("ann"), pose_json("ann", "cam", x=3.0, y=2.0, yaw_deg=0.0))
     send(tracker, pose_key("bob"), pose_json("bob", "cam", x=4.2, y=2.0, yaw_deg=180.0))
     wait_until(lambda: any(r[1]["groups"] for r in get(tracker, GROUPS)), 5, "a group")
@@ -138,7 +138,7 @@ def test_a_query_naming_a_frame_always_answers_even_after_the_room_emptied(net, 
     it)."""
     _, ep = net.service(group_hold_s=0.2, base_frame=base_frame)
     client = net.client(ep)
-    wait_until_answered(client, f"{NS}/services/facing/*/status")
+    wait_until_answered(client, f"{NAMESPACE}/services/facing/*/status")
     for sec in (1, 2):  # the room fills, and empties: twice
         ann = pose_json("ann", "cam", x=3.0, y=2.0, yaw_deg=0.0, sec=sec)
         send(client, pose_key("ann"), ann)
@@ -146,21 +146,21 @@ def test_a_query_naming_a_frame_always_answers_even_after_the_room_emptied(net, 
         wait_until(lambda: dict(get(client, GROUPS)).get(GROUPS, {}).get("groups"), 5, "a group")
         send_delete(client, pose_key("ann"))
         send_delete(client, pose_key("bob"))
-        wait_until(lambda: not get(client, f"{NS}/bodies/*/facing/*"), 5, "everyone gone")
+        wait_until(lambda: not get(client, f"{NAMESPACE}/bodies/*/facing/*"), 5, "everyone gone")
         # the group dissolves once held: till then the query says it, then says it is gone
         wait_until(lambda: [(k, v["groups"]) for k, v in get(client, GROUPS)] == [(GROUPS, [])],
                    5, "the empty groups answered")  # fmt: skip
         assert [(k, v["pairs"]) for k, v in get(client, GAZING)] == [(GAZING, [])]
-        ((key, facing),) = get(client, f"{NS}/facing/cam")
-        assert key == f"{NS}/facing/cam" and facing["bodies_tracked"] == []
-        ((kind, error),) = get(client, f"{NS}/bodies/*/facing/cam")
+        ((key, facing),) = get(client, f"{NAMESPACE}/facing/cam")
+        assert key == f"{NAMESPACE}/facing/cam" and facing["bodies_tracked"] == []
+        ((kind, error),) = get(client, f"{NAMESPACE}/bodies/*/facing/cam")
         assert (kind, error["error"]) == ("error", "empty_frame")
     if base_frame == "*":  # it serves every frame: a wrong one is answered as such
-        ((kind, error),) = get(client, f"{NS}/groups/cma")
+        ((kind, error),) = get(client, f"{NAMESPACE}/groups/cma")
         assert (kind, error["error"]) == ("error", "unknown_frame") and "'cma'" in error["detail"]
     else:  # it serves "cam" alone: another frame is another service's (scale-out)
-        assert get(client, f"{NS}/groups/cma") == []
-    assert get(client, f"{NS}/bodies/*/facing/*") == []  # a wildcard: nothing to refuse
+        assert get(client, f"{NAMESPACE}/groups/cma") == []
+    assert get(client, f"{NAMESPACE}/bodies/*/facing/*") == []  # a wildcard: nothing to refuse
 
 
 def test_where_to_stand_goes_out_with_the_groups(scene):
