@@ -59,6 +59,9 @@ def main() -> None:
     parser.add_argument("--soak-s", type=float, default=6.0)
     parser.add_argument("--core-sizes", default="1,100,10000,1000000")
     parser.add_argument("--out", type=Path, default=RESULTS)
+    parser.add_argument(
+        "--before", type=Path, help="a source tree whose service is measured too, same run"
+    )
     args = parser.parse_args()
     if args.quick:
         args.warmup, args.latency_n, args.burst_n, args.soak_s = 20, 50, 2000, 1.0
@@ -73,8 +76,8 @@ def main() -> None:
             "python": platform.python_version(),
             "zenoh": metadata.version("eclipse-zenoh"),
         },
-        "parameters": {k: v for k, v in vars(args).items() if k != "out"} | {"out": str(args.out)},
-        "grid": grid.run(chosen, sizes),
+        "parameters": {k: str(v) if isinstance(v, Path) else v for k, v in vars(args).items()},
+        "grid": grid.run(chosen, sizes, args.before),
     }
     measured = {grid.cell_of(c): c["targets"]["service"] for c in report["grid"]}
     json_path = measured.get(JSON_PATH) or grid.measure("service", JSON_PATH, sizes)

@@ -15,6 +15,7 @@ import subprocess
 import time
 from contextlib import AbstractContextManager
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import zenoh
@@ -65,11 +66,14 @@ def cells(chosen: str | None) -> list[tuple[str, str, str]]:
     return wanted  # type: ignore[return-value]
 
 
-def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]:
-    """A target as its own process: the service through its CLI, as users run it, or
-    a bare relay."""
+def start(
+    kind: str, port: int, before: Path | None = None
+) -> AbstractContextManager[subprocess.Popen[str]]:
+    """A target as its own process: the service through its CLI, as users run it (the
+    one of the source tree ``before`` for ``service-before``), or a bare relay."""
     if kind.startswith("service"):
         ros = ("--input", "ros2", "--base-frame", "base_link") if kind == "service-ros" else ()
+        tree = {"PYTHONPATH": str(before)} if kind == "service-before" and before else None
         return running_cli(
             "run",
             "-l",
@@ -78,6 +82,7 @@ def start(kind: str, port: int) -> AbstractContextManager[subprocess.Popen[str]]
             "--log-level",
             "WARNING",
             *ros,
+            env=tree,
             capture=False,
         )
     style = kind.removeprefix("relay_")
@@ -108,11 +113,13 @@ def open_tracker(port: int, mode: str) -> zenoh.Session:
             time.sleep(0.1)
 
 
-def measure(target: str, cell: tuple[str, str, str], sizes: Sizes) -> dict[str, Any]:
+def measure(
+    target: str, cell: tuple[str, str, str], sizes: Sizes, before: Path | None = None
+) -> dict[str, Any]:
     """One target in one cell: latency (when someone consumes), soak, flood, soak."""
     mode, style, consumer = cell
     port = free_port()
-    with start(target, port) as proc, open_tracker(port, mode) as session:
+    with start(target, port, before) as proc, open_tracker(port, mode) as session:
         driver = Driver(session, ros=target == "service-ros", style=style, consumer=consumer)
         try:
             wait_ready(session)
@@ -136,10 +143,15 @@ def measure(target: str, cell: tuple[str, str, str], sizes: Sizes) -> dict[str, 
     return result
 
 
-def run(chosen: list[tuple[str, str, str]], sizes: Sizes) -> list[dict[str, Any]]:
+def run(
+    chosen: list[tuple[str, str, str]], sizes: Sizes, before: Path | None = None
+) -> list[dict[str, Any]]:
+    """Every chosen cell; with ``before`` (a source tree), that tree's service too, in
+    the same run, right after the relays and before this one's."""
+    targets = (*RELAYS, "service-before", "service") if before else TARGETS
     out = []
     for cell in chosen:
-        figures = {target: measure(target, cell, sizes) for target in TARGETS}
+        figures = {target: measure(target, cell, sizes, before) for target in targets}
         cheapest = min(RELAYS, key=lambda t: figures[t]["soak"]["cpu_percent"])
         out.append(
             {
@@ -151,6 +163,8 @@ def run(chosen: list[tuple[str, str, str]], sizes: Sizes) -> list[dict[str, Any]
                 "ratios": ratios(figures[cheapest], figures["service"]),
             }
         )
+        if before:
+            out[-1]["ratios_before"] = ratios(figures[cheapest], figures["service-before"])
         print(line(out[-1]), flush=True)
     return out
 
@@ -176,8 +190,12 @@ def ratios(relay: dict[str, Any], service: dict[str, Any]) -> dict[str, float | 
 
 
 def line(cell: dict[str, Any]) -> str:
-    t, r = cell["targets"], cell["ratios"]
+    t = cell["targets"]
     us = "  ".join(f"{name.removeprefix('relay_')} {t[name]['soak']['us_per_pose']:5.1f}"
-                   for name in TARGETS)  # fmt: skip
-    said = "  ".join(f"{k} {'-' if v is None else f'{v:.2f}'}" for k, v in r.items())
+                   for name in t)  # fmt: skip
+    said = " | ".join(
+        f"{which}: " + "  ".join(f"{k} {'-' if v is None else f'{v:.2f}'}" for k, v in r.items())
+        for which in ("ratios_before", "ratios")
+        if (r := cell.get(which)) is not None
+    )
     return f"{cell['mode']:6} {cell['style']:10} {cell['consumer']:10} us/pose: {us} | {said}"

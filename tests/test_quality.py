@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 import subprocess
 import sys
 from pathlib import Path
@@ -36,3 +37,44 @@ def test_mypy_finds_nothing(args):
         cwd=ROOT, capture_output=True, text=True,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def _asserts(node: ast.AST) -> bool:
+    """Whether a test checks anything: an assert, a ``pytest.raises``/``warns`` block, or
+    a call of a helper of ours whose name says it checks (``wait_until``, ``check_…``,
+    ``assert_…``, ``expect…``, ``*.wait_for``)."""
+    for child in ast.walk(node):
+        if isinstance(child, ast.Assert):
+            return True
+        if isinstance(child, ast.Call):
+            name = (
+                child.func.attr
+                if isinstance(child.func, ast.Attribute)
+                else getattr(child.func, "id", "")
+            )
+            if name in {"raises", "warns", "wait_until", "wait_for", "fail"} or name.startswith(
+                ("check", "assert", "expect", "wait_until")
+            ):
+                return True
+    return False
+
+
+def test_every_test_asserts_something():
+    """A test that cannot fail proves nothing (issue 54): each test function checks
+    something itself or through a helper that does."""
+    empty = []
+    for path in sorted((ROOT / "tests").rglob("test_*.py")):
+        tree = ast.parse(path.read_text())
+        helpers = {  # the module's own functions and methods that check
+            f.name for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and _asserts(f)
+        }
+        for node in ast.walk(tree):
+            if isinstance(node, ast.FunctionDef) and node.name.startswith("test_"):
+                calls = {
+                    c.func.id if isinstance(c.func, ast.Name) else c.func.attr
+                    for c in ast.walk(node)
+                    if isinstance(c, ast.Call) and isinstance(c.func, ast.Name | ast.Attribute)
+                }
+                if not _asserts(node) and not calls & helpers:
+                    empty.append(f"{path.relative_to(ROOT)}::{node.name}")
+    assert not empty, f"tests that check nothing: {empty}"

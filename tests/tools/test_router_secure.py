@@ -580,7 +580,9 @@ def test_examples_are_valid_zenoh_configs():
         "consumer.json5",
         "health.json5",
     ):
-        zenoh.Config.from_file(str(EXAMPLE / name))  # raises on an unknown key or value
+        conf = zenoh.Config.from_file(str(EXAMPLE / name))  # raises on a bad key or value
+        mode = json.loads(conf.get_json("mode"))
+        assert mode == ("router" if name == "router.json5" else "client"), (name, mode)
 
 
 def test_every_password_in_the_example_is_listed_in_its_readme():

@@ -1,0 +1,42 @@
+"""One base class for every error raised on purpose, each also the standard error it is."""
+
+from __future__ import annotations
+
+import pytest
+
+from facing_service import errors
+from facing_service.contract.errors import (
+    ClientNotOpen,
+    FacingError,
+    NoService,
+    QueryRefused,
+    SettingsError,
+    UnknownFrame,
+)
+
+
+@pytest.mark.parametrize(
+    ("error", "standard"),
+    [
+        (SettingsError, ValueError),
+        (QueryRefused, ValueError),
+        (UnknownFrame, QueryRefused),
+        (NoService, ConnectionError),
+        (ClientNotOpen, RuntimeError),
+    ],
+)
+def test_each_error_is_a_facing_error_and_its_standard_kind(error, standard):
+    assert issubclass(error, FacingError) and issubclass(error, standard)
+
+
+def test_a_refusal_keeps_the_reason_and_the_detail_apart():
+    refused = UnknownFrame("unknown_frame", "frames tracked: cam")
+    assert (refused.reason, refused.detail) == ("unknown_frame", "frames tracked: cam")
+    assert str(refused) == "unknown_frame: frames tracked: cam"
+
+
+def test_the_public_module_names_them_all():
+    assert set(errors.__all__) == {
+        "ClientNotOpen", "FacingError", "NoService", "QueryRefused", "SettingsError",
+        "UnknownFrame",
+    }  # fmt: skip
