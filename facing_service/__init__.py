@@ -1,13 +1,7 @@
 """facing-service: which tracked bodies are oriented toward the robot, over zenoh."""
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("facing-service")
-except PackageNotFoundError:  # running from a source tree that was never installed
-    __version__ = "0.0.0+unknown"
-
 from .client import ClientOptions, FacingClient
+from .config.version import VERSION as __version__
 from .contract import (
     BodyRef,
     EngagementEvent,

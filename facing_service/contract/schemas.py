@@ -22,7 +22,8 @@ class Point(BaseModel):
 
 
 class FacingState(BaseModel):
-    """Output per body: published for every accepted pose, and answered to queries."""
+    """Output per body: published for every accepted pose while anyone subscribes to
+    results, and answered to queries."""
 
     body_id: str
     frame_id: str

@@ -177,10 +177,10 @@ class FrameScene:
             self._worked = LastComputation(ids, t, q, engaging, heading, found, greetings)
             self._joins = {}
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
-        anew = not self.said_once or left_out != self.left_out
+        first_or_cut = not self.said_once or left_out != self.left_out
         greeted = {g.body_id for g in greetings} != {g.body_id for g in self.greetings}
-        groups_changed = anew or bool(changed or dissolved) or greeted
-        gazing_changed = anew or gazing != self.gazing
+        groups_changed = first_or_cut or bool(changed or dissolved) or greeted
+        gazing_changed = first_or_cut or gazing != self.gazing
         # The newest stamp behind the scene, kept while nothing changes too: people who
         # stood still and then left are said gone at their last pose's stamp, not at the
         # stamp of the last change (issue 46). Never back: a person with the newest stamp

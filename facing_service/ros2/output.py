@@ -250,7 +250,8 @@ class RosOutput:
     def tick(self, now: float, view: TurnView) -> list[RosMessage]:
         """Every period: each tracked person's current level, as hri_engagement does,
         each current group, and the markers (every tracked person, by frame). ``view``
-        is read only when the period is due: the worker calls ``tick`` every turn."""
+        is read only when the period is due (the worker calls ``tick`` once ``next_tick``
+        has come)."""
         if now < self.next_tick:
             return []
         self.next_tick = now + self.period_s

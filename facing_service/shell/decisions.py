@@ -32,8 +32,8 @@ class Faults:
         self.failing = False  # the last batch raised
         self.in_turn = 0  # errors in the current turn
 
-    def met(self, error: Exception, where: str) -> None:
-        """A bug met in the worker: counted, logged (the first of a turn with its
+    def caught(self, error: Exception, where: str) -> None:
+        """A bug caught in the worker: counted, logged (the first of a turn with its
         traceback), and the status says "degraded" until a batch has none: from before
         the count, so a status that shows the error also says degraded."""
         self.failing = True
@@ -42,7 +42,7 @@ class Faults:
         if self.in_turn == 1:
             log.error("worker: unexpected error in %s", where, exc_info=error)
 
-    def turn_over(self, handled_any: bool) -> None:
+    def end_turn(self, handled_any: bool) -> None:
         """ "degraded" until a batch succeeds: a turn woken by the alarm alone proves nothing."""
         if handled_any or self.in_turn:
             self.failing = self.in_turn > 0
@@ -89,8 +89,8 @@ class Decisions:
         return changes
 
     def publish(self, changes: Changes) -> None:
-        """What the changes call for, in the order it must be sent (handed over at the end
-        of the loop's turn, see ``hand_over``); the frames they touch are due a scene."""
+        """What the changes call for, in the order it must be sent (put in the outbox at the end
+        of the loop's turn, see ``to_outbox``); the frames they touch are due a scene."""
         for output in self._outputs:
             self._decided += output.on_changes(changes)
         if changes.lost:
@@ -115,7 +115,7 @@ class Decisions:
             self._ingest(batch, now)
             return
         except Exception as error:
-            self._faults.met(error, f"a batch of {len(batch)} poses")
+            self._faults.caught(error, f"a batch of {len(batch)} poses")
             if len(batch) == 1:
                 self._refuse(batch[0], error)
                 return
@@ -123,7 +123,7 @@ class Decisions:
             try:
                 self._ingest([sample], now)
             except Exception as error:
-                self._faults.met(error, f"the pose of {sample.body_id} in {sample.frame_id}")
+                self._faults.caught(error, f"the pose of {sample.body_id} in {sample.frame_id}")
                 self._refuse(sample, error)
 
     def _refuse(self, sample: PoseSample, error: Exception) -> None:
@@ -157,13 +157,13 @@ class Decisions:
             self.apply(lambda: self._tracker.lose(bodies, now, time_went_back=True))
             self._ingest(changes.restarted, now)
 
-    def hand_over(self) -> None:
+    def to_outbox(self) -> None:
         """Give the publisher all this turn decided, in one go, as the worker is about to
         wait: one lock and one wake-up per turn, and the publisher wakes when the worker
         lets go of the GIL rather than waiting for it. The worker never waits on the
         network (a stuck consumer only ever stalls the publisher).
 
-        Accepted samples are counted once their results are handed over: "all accepted and
+        Accepted samples are counted once their results are in the outbox: "all accepted and
         the outbox empty" means all sent."""
         if self._decided:
             self._outbox.add(self._decided)

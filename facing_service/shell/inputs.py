@@ -158,7 +158,9 @@ class JsonInput:
     def forget(self, bodies: list[BodyRef]) -> None:
         if self.declared_keys is not None:
             for body in bodies:
-                self.declared_keys.forget(keys.pose_key(self._namespace, body.body_id, body.frame_id))
+                self.declared_keys.forget(
+                    keys.pose_key(self._namespace, body.body_id, body.frame_id)
+                )
 
     def next_due(self) -> float | None:
         return None

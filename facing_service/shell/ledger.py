@@ -6,7 +6,7 @@ counter needs a lock: under the GIL a ``+=`` by the only writer cannot lose an u
 a reader copies each dict in one step (all keys exist from the start, so a copy never
 races a resize). The rule a reader needs: read the outbox depth *before* the counters. The
 publisher counts a publication before reporting it sent, so a depth of 0 read first
-guarantees the counters read after include everything the worker handed over.
+guarantees the counters read after include everything the worker put in the outbox.
 
 Rejections are also summarized in the log, at most every ``REJECTION_LOG_PERIOD_S``, never
 one line per sample.

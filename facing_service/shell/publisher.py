@@ -2,8 +2,8 @@
 sender (JSON or the robot's CDR: this thread only moves their bytes).
 
 It is the only thread that waits on the network. A slow consumer slows it down; one that
-stops reading blocks it (up to zenoh's ``wait_before_close``: every sender uses BLOCK),
-while the worker keeps ingesting, deciding and answering (see ``outbox``).
+stops reading blocks it (up to zenoh's ``wait_before_close``: our JSON keys go out with
+BLOCK), while the worker keeps ingesting, deciding and answering (see ``outbox``).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """The robot as both ROS 2 sides know it: where its topics are (the wire) and the forms
 it shows (rmw_zenoh's distro and attachment layout). The ROS 2 input learns the forms
-from the robot's samples; the ROS 2 output answers in each of them. Built when either
-side is on, and only then."""
+from the robot's samples; the ROS 2 output answers in each of them. One for the service
+(``forms.forms_for``), shared by both sides when both speak ROS 2."""
 
 from __future__ import annotations
 

@@ -22,8 +22,9 @@ Threads, and why:
 What is said is built by pure functions (``publications``); what is counted, and how it is
 read consistently, lives in ``ledger``.
 
-Congestion control (docs/contract.md): every output is BLOCK and sent by the publisher
-thread only, so nothing is dropped silently. A slow consumer slows everything down (the
+Congestion control (docs/contract.md): our JSON keys go out with BLOCK, from the publisher
+thread only, so nothing is dropped silently (the robot's keep-last topics with DROP, as
+rmw_zenoh's own publishers, see ``ros_bus``). A slow consumer slows everything down (the
 worker waits for room in the outbox); per-body results are superseded (counted) only
 when the publisher has moved nothing for 0.5 s, and aggregates and DELETEs never are.
 (DROP for per-body results lost 2.5 % of a 100 000-pose burst to a consumer that was
@@ -39,11 +40,11 @@ from collections.abc import Callable
 
 import zenoh
 
-from .. import __version__
 from ..config.disclosure import public_endpoint, public_settings
 from ..config.profiles import engagement_params, head_profile
 from ..config.session import effective_session, mode_and_endpoints, zenoh_config
 from ..config.settings import Settings
+from ..config.version import VERSION
 from ..contract import keys
 from ..contract.schemas import ServiceStatus
 from ..core.tracker import Tracker
@@ -61,7 +62,7 @@ from .worker import Worker
 log = logging.getLogger("facing_service")
 
 #: Intake bound before zenoh pushes back. Queued zenoh samples hold native memory: under a
-#: sustained flood (python -m benchmarks.soak) an 8192-deep inbox let the service's RSS
+#: sustained flood (python -m benchmarks.soak) an 8192-deep intake let the service's RSS
 #: climb to a ~350 MB plateau; 1024 keeps it flat (~134 MB with 10 000 bodies tracked) at
 #: the same throughput, since batches are at most MAX_BATCH anyway.
 INBOX_SIZE = 1024
@@ -175,7 +176,7 @@ class FacingService:
             "facing-service %s started: instance %s, zenoh id %s, %s; poses from %s; results "
             "on %s and %s (queryable); status on %s; threshold %.1f deg, hysteresis %.1f deg, "
             "stale after %.1f s, at most %d bodies%s",
-            __version__,
+            VERSION,
             s.instance,
             session.zid(),
             self._links(),
@@ -256,7 +257,7 @@ class FacingService:
             self._outbox,
             status="ok",
             instance=self.settings.instance,
-            version=__version__,
+            version=VERSION,
             zenoh_id=str(self._session.zid()) if self._session is not None else "",
             uptime_s=round(self._clock() - self._started_at, 3),
             config=public_settings(self.settings.model_dump(mode="json") | self._session_in_force),

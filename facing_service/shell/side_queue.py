@@ -31,7 +31,7 @@ class SideQueue(Generic[T]):
         self._putters_waiting = 0
 
     def put(self, item: T, closing: threading.Event) -> bool:
-        """Queue ``item``, waiting for room while the inbox is full; False (not queued)
+        """Queue ``item``, waiting for room while the queue is full; False (not queued)
         only once ``closing`` is set."""
         if len(self._items) >= self.capacity:
             with self._lock:

@@ -85,7 +85,7 @@ class Worker:
         """Every declared frame's aggregate, before any input (sent once the publisher
         starts): a consumer learns the frame exists, with nobody in it yet."""
         self._decisions.publish(Changes(frames=self._tracker.frames()))
-        self._decisions.hand_over()
+        self._decisions.to_outbox()
 
     def run(self) -> None:
         """The worker thread's loop, until the service closes."""
@@ -107,10 +107,10 @@ class Worker:
             self._input.diagnose()
             self._ledger.rejection_log.maybe_log()
             self._ledger.tracked = self._tracker.tracked_per_frame()
-            self._decisions.hand_over()
+            self._decisions.to_outbox()
         except Exception as error:  # the worker must outlive any single bug, and say so
-            self.faults.met(error, f"a batch of {len(batch)} items")
-        self.faults.turn_over(bool(batch))
+            self.faults.caught(error, f"a batch of {len(batch)} items")
+        self.faults.end_turn(bool(batch))
 
     def _next_batch(self) -> list[object]:
         """What arrived (at most MAX_BATCH), waiting for it until the next deadline
@@ -186,7 +186,7 @@ class Worker:
             try:
                 self._handle_one(item, poses)
             except Exception as error:
-                self.faults.met(error, f"an input item ({type(item).__name__})")
+                self.faults.caught(error, f"an input item ({type(item).__name__})")
         self._decisions.flush(poses, self._horizon)
 
     def _handle_one(self, item: object, poses: list[PoseSample]) -> None:
@@ -194,7 +194,7 @@ class Worker:
             self._decisions.flush(poses, self._horizon)
             # What was decided before the query goes out (and is counted) first: a status
             # read after the answer agrees with it, as a result sent before it does.
-            self._decisions.hand_over()
+            self._decisions.to_outbox()
             view = TurnView(self._tracker, self._scenes)
             self._ledger.tracked = view.tracked  # the status then agrees with the answer
             answer(item, view, self._ledger, self._settings)
