@@ -174,3 +174,22 @@ def test_importing_the_client_loads_no_ros2_and_no_tf():
     ours = [m for m in loaded if m.startswith("facing_service.")]
     assert [m for m in ours if m.split(".")[1] in ("ros2", "core", "shell", "tools")] == []
     assert [m for m in loaded if m.split(".")[0] in ("rosbags", "numpy")] == []
+
+
+#: The layers whose every module has a test file of its own beside its twin (issue 54).
+MIRRORED = ("contract", "core", "shell")
+
+
+@pytest.mark.parametrize("layer", MIRRORED)
+def test_every_module_has_its_test_file(layer):
+    """``facing_service/<layer>/<module>.py`` is tested in
+    ``tests/<layer>/test_<module>.py`` (or ``test_<module>_<behaviour>.py``)."""
+    tests = PACKAGE.parent / "tests" / layer
+    missing = [
+        module.stem
+        for module in sorted((PACKAGE / layer).glob("*.py"))
+        if module.stem != "__init__"
+        and not (tests / f"test_{module.stem}.py").exists()
+        and not list(tests.glob(f"test_{module.stem}_*.py"))
+    ]
+    assert not missing, f"no tests/{layer}/test_<module>.py for {missing}"

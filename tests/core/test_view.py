@@ -3,7 +3,7 @@ once and only when asked for."""
 
 from __future__ import annotations
 
-from test_tracker import sample, tracker
+from trackers import sample, tracker
 
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.levels import Level

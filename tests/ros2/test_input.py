@@ -566,31 +566,3 @@ def test_cloned_person_ids_pointing_at_a_real_face_make_no_results():
     people.on_tracked("/humans/persons/tracked", clones)
     poses = people.on_tf([tf_in("base_link", "face_f1", 3, (1.0, 0, 0))], static=False).poses
     assert {p.body_id for p in poses if p.body_id.startswith("person_")} == {"person_c0"}
-
-
-@pytest.mark.slow
-def test_300_000_invented_person_ids_cost_under_15_mb():
-    """Every /humans/persons/<id>/body_id topic used to be counted by name, forever:
-    300 000 invented ids held 60 MB. Topics are counted by pattern, links are bounded."""
-    import time
-
-    from facing_service.config.settings import Settings
-    from facing_service.ros2.input import RosSample
-    from facing_service.shell.ledger import Ledger
-    from facing_service.shell.robot import Robot
-    from facing_service.shell.ros_input import RosInput
-
-    def rss_mb() -> float:
-        with open("/proc/self/statm") as statm:
-            return int(statm.read().split()[1]) * 4096 / 1e6
-
-    settings = Settings(input="ros2", base_frame="base_link")
-    robot = RosInput(settings, Robot.of(settings, False), Ledger(time.monotonic), time.monotonic)
-    wire, payload = Wire(), string("f1")
-    keys = [wire.key(f"/humans/persons/p{i}/body_id", ros2_types.STRING) for i in range(300_000)]
-    before = rss_mb()
-    for key in keys:
-        robot.route(RosSample(key, payload))
-    grown = rss_mb() - before
-    print(f"\n300 000 invented person ids: +{grown:.1f} MB")
-    assert grown <= 15, grown

@@ -1,0 +1,71 @@
+"""A tracker call and its publications are one transaction: a bug met on one pose of a
+batch loses that pose alone (refused as internal_error), with the tracker rolled back and
+nothing of it said; the others go through, in order."""
+
+from __future__ import annotations
+
+import logging
+import time
+
+from trackers import sample, tracker
+
+from facing_service.config.profiles import scene_params
+from facing_service.config.settings import Settings
+from facing_service.contract.poses import Rejection
+from facing_service.core.records import Changes
+from facing_service.core.scene import Scenes
+from facing_service.shell.decisions import Decisions, Faults
+from facing_service.shell.inputs import JsonInput
+from facing_service.shell.ledger import Ledger
+from facing_service.shell.outbox import Kind, Outbox, Publication
+from facing_service.shell.outputs import JsonOutput
+
+
+class FailsOnBob(JsonOutput):
+    """Our JSON output with a bug for one body (the kind of bug the transaction is for)."""
+
+    def on_changes(self, changes: Changes) -> list[Publication]:
+        if any(state.body_id == "bob" for state in changes.results):
+            raise RuntimeError("a bug for bob")
+        return super().on_changes(changes)
+
+
+def decisions_with(output: JsonOutput) -> tuple[Decisions, Ledger, Outbox, Faults]:
+    settings = Settings(base_frame="cam")
+    ledger, outbox = Ledger(time.monotonic), Outbox()
+    faults = Faults(ledger)
+    made = Decisions(
+        tracker(), JsonInput(settings, ledger), [output], Scenes(scene_params(settings)),
+        ledger, outbox, faults, settings.max_bodies,
+    )  # fmt: skip
+    return made, ledger, outbox, faults
+
+
+def test_a_bug_on_one_pose_loses_that_pose_alone(caplog):
+    caplog.set_level(logging.ERROR, logger="facing_service")
+    made, ledger, outbox, faults = decisions_with(FailsOnBob(Settings()))
+    poses = [sample("ann", sec=1), sample("bob", sec=1), sample("cat", sec=1)]
+    made.flush(poses, 0.0)
+    made.to_outbox()
+    said = outbox.take(0)
+    results = [p.key for p in said if p.kind is Kind.RESULT]
+    assert results == ["hri/bodies/ann/facing/cam", "hri/bodies/cat/facing/cam"]
+    assert ledger.rejected[Rejection.INTERNAL_ERROR] == 1 and faults.failing
+    assert ledger.decided["worker_errors"] == 2  # the batch, then bob alone
+    frames = [p for p in said if p.kind is Kind.FRAME]
+    assert b'"bodies_tracked":["ann","cat"]' in frames[-1].payload  # bob rolled back
+
+
+def test_a_turn_without_errors_clears_degraded():
+    made, _, outbox, faults = decisions_with(JsonOutput(Settings()))
+    faults.caught(RuntimeError("earlier"), "a test")
+    faults.end_turn(True)
+    assert faults.failing
+    made.flush([sample("ann", sec=1)], 0.0)
+    faults.end_turn(True)
+    assert not faults.failing and poses_said(outbox, made) == 1
+
+
+def poses_said(outbox: Outbox, made: Decisions) -> int:
+    made.to_outbox()
+    return sum(p.kind is Kind.RESULT for p in outbox.take(0))

@@ -1,0 +1,40 @@
+"""The output forms on their own: what our JSON keys say for a tracker call, with and
+without anyone listening to results, and the robot's topics' start line."""
+
+from __future__ import annotations
+
+from trackers import sample, tracker
+
+from facing_service.config.settings import Settings
+from facing_service.contract.keys import BodyRef
+from facing_service.shell.outbox import Kind
+from facing_service.shell.outputs import JsonOutput, RosTopicsOutput
+from facing_service.shell.robot import Robot
+
+
+def changes():
+    t = tracker()
+    first = t.ingest([sample("a", sec=1)], 0.0)
+    return first, t.lose([BodyRef(frame_id="cam", body_id="a")], 0.0)
+
+
+def test_json_keys_say_results_while_heard_and_state_changes_always():
+    output = JsonOutput(Settings(namespace="hri", instance="front"))
+    first, lost = changes()
+    said = output.on_changes(first)
+    assert [p.kind for p in said][:1] == [Kind.RESULT] and said[0].key == "hri/bodies/a/facing/cam"
+    assert b'"instance":"front"' in said[0].payload
+    output._heard.results = False  # what the sender's matching listener says with nobody
+    unheard = output.on_changes(first)
+    assert Kind.RESULT not in {p.kind for p in unheard}
+    assert [p.kind for p in unheard] == [p.kind for p in said if p.kind is not Kind.RESULT]
+    assert {p.kind for p in output.on_changes(lost)} >= {Kind.DELETE, Kind.FRAME}
+
+
+def test_json_keys_have_no_periodic_work_and_the_robots_topics_say_what_they_add():
+    settings = Settings(output="ros2", ros_intents=True)
+    json_output = JsonOutput(settings)
+    assert json_output.next_due() is None and json_output.start_line() == ""
+    ros = RosTopicsOutput(settings, Robot.of(settings, answering=True))
+    assert ros.start_line().endswith("markers, /intents)")
+    assert ros.next_due() is not None  # engagement_status is republished every period
