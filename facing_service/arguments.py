@@ -14,9 +14,9 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any, Literal, NoReturn, get_args, get_origin
 
-from . import __version__
 from .config.settings import SERVICE, ZENOH, Settings
 from .config.sources import env_help, env_name, flag_info, flag_name, shown_default
+from .config.version import VERSION
 
 
 class _Parser(argparse.ArgumentParser):
@@ -154,7 +154,7 @@ def build_parser() -> _Parser:
         prog="facing-service",
         description="Which tracked bodies are oriented toward the robot, over zenoh.",
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {VERSION}")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     run = commands.add_parser(

@@ -18,7 +18,7 @@ from ..config.settings import Settings
 from ..core.records import Changes
 from ..core.scene import SceneUpdate
 from ..core.view import TurnView
-from ..ros2.output import RosMessage, RosOutput
+from ..ros2.output import RosOutput
 from .json_sender import Heard, JsonSender
 from .outbox import Kind, Publication
 from .publications import publications, ros_publications, scene_publications
@@ -92,23 +92,6 @@ class JsonOutput:
         return JsonSender(session, self._namespace, self._capacity, self._heard)
 
 
-class RobotSender:
-    """``RobotPublishers`` fed the outbox's publications."""
-
-    kinds = frozenset({Kind.ROS})
-
-    def __init__(self, publishers: RobotPublishers) -> None:
-        self._publishers = publishers
-
-    def send(self, publication: Publication) -> None:
-        topic, payload, _, typename = publication
-        assert typename is not None  # every Kind.ROS publication names its type
-        self._publishers.send(RosMessage(topic, typename, payload))
-
-    def close(self) -> None:
-        self._publishers.close()
-
-
 class RosTopicsOutput:
     """The robot's own topics (``--output ros2``, see ``ros2.output``), in each form the
     robot is answered in."""
@@ -139,4 +122,4 @@ class RosTopicsOutput:
 
     def sender(self, session: zenoh.Session) -> Sender:
         robot = self._robot
-        return RobotSender(RobotPublishers(session, robot.wire, self._node_name, robot.form))
+        return RobotPublishers(session, robot.wire, self._node_name, robot.form)

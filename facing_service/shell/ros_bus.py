@@ -24,7 +24,6 @@ import zenoh.ext
 from ..contract.robot import DEFAULT_MAX_MESSAGE_BYTES
 from ..ros2 import types as ros2_types
 from ..ros2.input import TOPICS, RosSample, publication_cache_selector
-from ..ros2.output import RosMessage
 from ..ros2.wire import (
     QOS_RELIABLE_VOLATILE,
     Form,
@@ -33,6 +32,7 @@ from ..ros2.wire import (
     Wire,
     attachment,
 )
+from .outbox import Kind, Publication
 
 CDR = zenoh.Encoding("application/cdr")
 #: The second query of the older generation's publication caches, after the first at start.
@@ -141,13 +141,16 @@ class RobotSubscriptions:
 
 
 class RobotPublishers:
-    """The publisher thread's ROS 2 publishers, in the robot's format and in each form it
-    is answered in (``form``: the worker learns them from the robot's samples; two robots
-    of different distros on one router are each answered in their own).
+    """The ROS 2 output's sender (``outputs.Sender``): the publisher thread's publishers,
+    in the robot's format and in each form it is answered in (``form``: the worker learns
+    them from the robot's samples; two robots of different distros on one router are each
+    answered in their own).
 
     Congestion control is rmw_zenoh's for the QoS we advertise (reliable, keep last 10):
     DROP, as its ``rmw_publisher_data.cpp`` chooses for every keep-last publisher, so a
     subscriber that stops reading costs it samples, never the service a stall."""
+
+    kinds = frozenset({Kind.ROS})
 
     def __init__(
         self, session: zenoh.Session, wire: Wire, node_name: str, form: FormLearner
@@ -183,31 +186,32 @@ class RobotPublishers:
             f"{QOS_RELIABLE_VOLATILE}"
         )
 
-    def send(self, message: RosMessage) -> None:
-        """Put the message on its topic in every form the robot is answered in; the
-        publishers of a form no longer answered in, or of a subject gone, are undeclared."""
+    def send(self, message: Publication) -> None:
+        """Put the message (its ``key`` is the ROS topic) on its topic in every form the
+        robot is answered in; the publishers of a form no longer answered in, or of a
+        subject gone (no payload), are undeclared."""
+        topic, payload, _, typename = message
         forms = self.form.forms
-        for key in [k for k in self._publishers if k[0] == message.topic]:
-            if message.payload is None or key[1] not in forms:
+        for key in [k for k in self._publishers if k[0] == topic]:
+            if payload is None or key[1] not in forms:
                 self._publishers.pop(key).undeclare()
-        if message.payload is None:
+        if payload is None:
             return
+        assert typename is not None  # every message for the robot names its type
         for form in forms:
-            publisher = self._publishers.get((message.topic, form))
+            publisher = self._publishers.get((topic, form))
             if publisher is None:
-                publisher = self._publishers[(message.topic, form)] = self._declare(message, form)
-            publisher.put(message.payload)
+                publisher = self._publishers[(topic, form)] = self._declare(topic, typename, form)
+            publisher.put(payload)
 
-    def _declare(self, message: RosMessage, form: Form) -> TopicWriter:
+    def _declare(self, topic: str, typename: str, form: Form) -> TopicWriter:
         wire = replace(self.wire, distro=form.distro)
         token = None
         if wire.format is RosFormat.RMW_ZENOH:
-            key = self.publisher_token_key(
-                self._next_entity_id, message.topic, message.typename, wire
-            )
+            key = self.publisher_token_key(self._next_entity_id, topic, typename, wire)
             token = self.session.liveliness().declare_token(key)
         self._next_entity_id += 1
-        data_key = wire.key(message.topic, message.typename)
+        data_key = wire.key(topic, typename)
         entity = self.session.declare_publisher(
             data_key, encoding=CDR, congestion_control=zenoh.CongestionControl.DROP
         )
