@@ -50,6 +50,9 @@ class Faults:
 
 
 class Decisions:
+    """The one owner of the worker's collaborators (``tracker``, ``source``, ``outputs``,
+    ``scenes``: the worker reads them here), and of what a turn decided."""
+
     def __init__(
         self,
         tracker: Tracker,
@@ -61,10 +64,10 @@ class Decisions:
         faults: Faults,
         max_bodies: int,
     ) -> None:
-        self._tracker = tracker
-        self._input = source
-        self._outputs = outputs
-        self._scenes = scenes
+        self.tracker = tracker
+        self.source = source
+        self.outputs = outputs
+        self.scenes = scenes
         self._ledger = ledger
         self._outbox = outbox
         self._faults = faults
@@ -80,7 +83,7 @@ class Decisions:
         """One tracker call and the publications it calls for, whole or not at all."""
         mark = len(self._decided)
         try:
-            with self._tracker.transaction():
+            with self.tracker.transaction():
                 changes = change()
                 self.publish(changes)
         except Exception:
@@ -91,17 +94,17 @@ class Decisions:
     def publish(self, changes: Changes) -> None:
         """What the changes call for, in the order it must be sent (put in the outbox at the end
         of the loop's turn, see ``to_outbox``); the frames they touch are due a scene."""
-        for output in self._outputs:
+        for output in self.outputs:
             self._decided += output.on_changes(changes)
         if changes.lost:
-            self._input.forget(changes.lost)
+            self.source.forget(changes.lost)
         if changes.results or changes.lost:
-            self._scenes.touch(
+            self.scenes.touch(
                 {s.frame_id for s in changes.results} | {b.frame_id for b in changes.lost}
             )
 
     def lose(self, loss: Loss, now: float) -> None:
-        self.apply(lambda: self._tracker.lose(loss.bodies, now, time_went_back=loss.time_went_back))
+        self.apply(lambda: self.tracker.lose(loss.bodies, now, time_went_back=loss.time_went_back))
 
     def flush(self, poses: list[PoseSample], now: float) -> None:
         """Run the pending poses through the tracker, publish, and empty the list. When
@@ -128,20 +131,20 @@ class Decisions:
 
     def _refuse(self, sample: PoseSample, error: Exception) -> None:
         detail = f"{type(error).__name__}: {error}"
-        self._ledger.reject(Rejection.INTERNAL_ERROR, self._input.origin(sample), detail)
+        self._ledger.reject(Rejection.INTERNAL_ERROR, self.source.origin(sample), detail)
 
     def _ingest(self, poses: list[PoseSample], now: float) -> None:
-        changes = self.apply(lambda: self._tracker.ingest(poses, now))
+        changes = self.apply(lambda: self.tracker.ingest(poses, now))
         for sample in changes.out_of_order:
             self._ledger.reject(
                 Rejection.OUT_OF_ORDER,
-                self._input.origin(sample),
+                self.source.origin(sample),
                 f"stamp {sample.pose.stamp} older than the latest accepted",
             )
         for sample in changes.over_capacity:
             self._ledger.reject(
                 Rejection.CAPACITY,
-                self._input.origin(sample),
+                self.source.origin(sample),
                 f"already tracking max_bodies={self._max_bodies}",
             )
         self._accepted += len(changes.results)
@@ -154,7 +157,7 @@ class Decisions:
                     "on the new clock", body.body_id, body.frame_id, RESTART_EVIDENCE,
                 )  # fmt: skip
             self._ledger.count("clock_restarts", len(bodies))
-            self.apply(lambda: self._tracker.lose(bodies, now, time_went_back=True))
+            self.apply(lambda: self.tracker.lose(bodies, now, time_went_back=True))
             self._ingest(changes.restarted, now)
 
     def to_outbox(self) -> None:

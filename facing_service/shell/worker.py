@@ -48,7 +48,8 @@ BATCH_BUDGET_S = 0.05
 
 class Worker:
     """The worker's state and its loop (``run``, on the service's worker thread). Every
-    attribute is the worker's alone but ``faults.failing`` (read by the status)."""
+    attribute is the worker's alone but ``faults.failing`` (read by the status); the
+    tracker, the input, the outputs and the scenes are held by its ``Decisions``."""
 
     def __init__(
         self,
@@ -63,28 +64,24 @@ class Worker:
         closing: threading.Event,
     ) -> None:
         self._clock = clock
-        self._tracker = tracker
-        self._input = source
-        self._outputs = outputs
         self._ledger = ledger
         self._intake = intake
         self._closing = closing
         self._settings = settings  # for the queries' answers
-        self._ledger.tracked = self._tracker.tracked_per_frame()
+        self._ledger.tracked = tracker.tracked_per_frame()
         self._horizon = clock()  # when the worker took what it handles now
         self._drained = True  # the last take emptied the intake
         self._carried: list[object] = []  # the rest of a batch over BATCH_BUDGET_S
-        self._scenes = Scenes(scene_params(settings))
         self.faults = Faults(ledger)  # its ``failing`` is read by the status
         self._decisions = Decisions(
-            tracker, source, outputs, self._scenes, ledger, outbox, self.faults,
-            settings.max_bodies,
+            tracker, source, outputs, Scenes(scene_params(settings)), ledger, outbox,
+            self.faults, settings.max_bodies,
         )  # fmt: skip
 
     def first_aggregates(self) -> None:
         """Every declared frame's aggregate, before any input (sent once the publisher
         starts): a consumer learns the frame exists, with nobody in it yet."""
-        self._decisions.publish(Changes(frames=self._tracker.frames()))
+        self._decisions.publish(Changes(frames=self._decisions.tracker.frames()))
         self._decisions.to_outbox()
 
     def run(self) -> None:
@@ -103,10 +100,10 @@ class Worker:
         try:
             self._handle(batch)
             self._expire()
-            self._time_tick(TurnView(self._tracker, self._scenes))
-            self._input.diagnose()
+            self._time_tick(TurnView(self._decisions.tracker, self._decisions.scenes))
+            self._decisions.source.diagnose()
             self._ledger.rejection_log.maybe_log()
-            self._ledger.tracked = self._tracker.tracked_per_frame()
+            self._ledger.tracked = self._decisions.tracker.tracked_per_frame()
             self._decisions.to_outbox()
         except Exception as error:  # the worker must outlive any single bug, and say so
             self.faults.caught(error, f"a batch of {len(batch)} items")
@@ -132,12 +129,12 @@ class Worker:
             (
                 d
                 for d in (
-                    self._tracker.next_expiry(),
-                    self._tracker.next_due(),
+                    self._decisions.tracker.next_expiry(),
+                    self._decisions.tracker.next_due(),
                     self._ledger.rejection_log.next_due(),
-                    self._input.next_due(),
-                    self._scenes.next_due(),
-                    *(output.next_due() for output in self._outputs),
+                    self._decisions.source.next_due(),
+                    self._decisions.scenes.next_due(),
+                    *(output.next_due() for output in self._decisions.outputs),
                 )
                 if d is not None
             ),
@@ -154,20 +151,20 @@ class Worker:
         """
         if self._carried:  # taken at the horizon, not handled yet: they may refresh bodies
             return
-        for call in self._tracker.timed(self._horizon):
+        for call in self._decisions.tracker.timed(self._horizon):
             self._decisions.apply(call)
 
     def _time_tick(self, view: TurnView) -> None:
         """What time alone makes due, read from the turn's view: each frame whose people
         changed (at most ``--group-rate-hz``: who faces whom and its groups, said when
         they changed), then each output's periodic messages."""
-        for update in self._scenes.tick(self._clock(), view):
-            for output in self._outputs:
+        for update in self._decisions.scenes.tick(self._clock(), view):
+            for output in self._decisions.outputs:
                 self._decisions.add(output.on_scene(update))
             if update.left_out:
                 self._ledger.count("scene_people_left_out", update.left_out)
         now = self._clock()
-        for output in self._outputs:  # (most turns: none due, and our JSON keys never)
+        for output in self._decisions.outputs:  # (most turns: none due, and our JSON keys never)
             if (due := output.next_due()) is not None and due <= now:
                 self._decisions.add(output.tick(now, view))
 
@@ -195,9 +192,9 @@ class Worker:
             # What was decided before the query goes out (and is counted) first: a status
             # read after the answer agrees with it, as a result sent before it does.
             self._decisions.to_outbox()
-            view = TurnView(self._tracker, self._scenes)
+            view = TurnView(self._decisions.tracker, self._decisions.scenes)
             self._ledger.tracked = view.tracked  # the status then agrees with the answer
             answer(item, view, self._ledger, self._settings)
-        elif (loss := self._input.read(item, poses)) is not None:
+        elif (loss := self._decisions.source.read(item, poses)) is not None:
             self._decisions.flush(poses, self._horizon)  # the poses before it first
             self._decisions.lose(loss, self._horizon)
