@@ -9,7 +9,14 @@ import zenoh
 from facing_service.config.settings import Settings
 from facing_service.shell.service import FacingService
 
-from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, loopback_config
+from loopback import (
+    LOOPBACK_CFG,
+    Recorder,
+    endpoint,
+    free_port,
+    loopback_config,
+    wait_until_answered,
+)
 from oracles import in_ci, shared_data_missing
 from routers import Router
 
@@ -99,3 +106,18 @@ def net() -> Iterator[Network]:
         yield network
     finally:
         network.close()
+
+
+@pytest.fixture
+def rig(net: Network):
+    """The shell's end-to-end tests: a service on 'cam' (``**settings`` over the
+    defaults) plus a connected client recording every result under hri/."""
+
+    def make(**settings: Any):
+        service, ep = net.service(**settings)
+        client = net.client(ep)
+        recorder = net.recorder(client, "hri/**/facing/**")
+        wait_until_answered(client, "hri/facing/cam")
+        return service, client, recorder
+
+    return make
