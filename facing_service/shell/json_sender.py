@@ -7,13 +7,16 @@ It also tells the worker whether anyone listens to the results at all (``Heard``
 publisher declared on the whole result space (never put on) has zenoh's matching status,
 true while any subscriber anywhere matches a result key. While nobody does, the JSON
 output neither formats nor sends results, the bulk of what the service says (one per
-pose); queries still answer from state. Only results: each is followed by the next pose's,
-so a consumer that appears misses at most one, where a skipped engagement change, event,
-aggregate or DELETE would stay wrong until the next change.
+pose); queries still answer from state. When a subscriber appears, the worker is woken
+and says every tracked body's current result at once: a consumer that subscribes and
+then sees a single pose (zenoh tells the service of it a moment later) still gets it.
+Only results are skipped: a skipped engagement change, event, aggregate or DELETE would
+stay wrong until the next change.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import zenoh
@@ -30,11 +33,25 @@ _PER_BODY = (Kind.RESULT, Kind.ENGAGEMENT)
 
 class Heard:
     """Whether a subscriber matches the result keys: written by zenoh's matching
-    listener, read by the worker (a bool attribute: atomic). True until zenoh says
-    otherwise, so nothing is skipped before the listener is in place."""
+    listener, read by the worker (bool attributes: atomic). True until zenoh says
+    otherwise, so nothing is skipped before the listener is in place. ``joined``: a
+    subscriber appeared since the worker last said every result; ``wake`` wakes the
+    worker (the service gives it, once the worker's intake exists)."""
 
     def __init__(self) -> None:
         self.results = True
+        self.joined = False
+        self.wake: Callable[[], None] | None = None
+
+    def matching(self, matching: bool) -> None:
+        """What zenoh says now; a subscriber that appears wakes the worker to say the
+        current results."""
+        appeared = matching and not self.results
+        self.results = matching
+        if appeared:
+            self.joined = True
+            if self.wake is not None:
+                self.wake()
 
 
 class JsonSender:
@@ -57,7 +74,7 @@ class JsonSender:
         self._heard = heard
 
     def _on_matching(self, status: zenoh.MatchingStatus) -> None:
-        self._heard.results = status.matching
+        self._heard.matching(status.matching)
 
     def send(self, p: Publication) -> None:
         """One publication, on its declared key when it has one."""

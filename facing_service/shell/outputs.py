@@ -10,6 +10,7 @@ publishers and liveliness tokens). The JSON form is always on (it is the contrac
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Protocol
 
 import zenoh
@@ -21,7 +22,12 @@ from ..core.view import TurnView
 from ..ros2.output import RosOutput
 from .json_sender import Heard, JsonSender
 from .outbox import Kind, Publication
-from .publications import publications, ros_publications, scene_publications
+from .publications import (
+    publications,
+    result_publications,
+    ros_publications,
+    scene_publications,
+)
 from .robot import Robot
 from .ros_bus import RobotPublishers
 
@@ -55,6 +61,11 @@ class Output(Protocol):
         calls ``tick`` only once it is due."""
         ...
 
+    def wake_with(self, wake: Callable[[], None]) -> None:
+        """How the output wakes the worker when it has something to say between inputs
+        (called once, when the worker's intake exists)."""
+        ...
+
     def start_line(self) -> str:
         """The form's part of the start line ('' for none)."""
         ...
@@ -80,10 +91,17 @@ class JsonOutput:
         return scene_publications(update, self._namespace, self._instance)
 
     def tick(self, now: float, view: TurnView) -> list[Publication]:
-        return []
+        """A subscriber appeared: every tracked body's current result, at once."""
+        if not self._heard.joined:
+            return []
+        self._heard.joined = False
+        return result_publications(view.states, self._namespace, self._instance)
 
     def next_due(self) -> float | None:
-        return None
+        return 0.0 if self._heard.joined else None
+
+    def wake_with(self, wake: Callable[[], None]) -> None:
+        self._heard.wake = wake
 
     def start_line(self) -> str:
         return ""
@@ -113,6 +131,9 @@ class RosTopicsOutput:
 
     def next_due(self) -> float | None:
         return self._ros.next_tick
+
+    def wake_with(self, wake: Callable[[], None]) -> None:
+        return None  # its messages come from inputs and its period
 
     def start_line(self) -> str:
         topics = "engagement_status, facing lists, groups, gazing, markers" + (

@@ -36,6 +36,17 @@ QUERY_PARAMETERS = frozenset({"threshold_deg"})
 QUERY_SPACES = ("facing", "frame", "engagement", "groups", "gazing")
 
 
+def result_publications(
+    states: Iterable[BodyState], namespace: str, instance: str
+) -> list[Publication]:
+    """Each body's result on its key."""
+    result = Kind.RESULT
+    return [
+        Publication(keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance), result)
+        for s in states
+    ]
+
+
 def publications(
     changes: Changes, namespace: str, instance: str, results: bool = True
 ) -> list[Publication]:
@@ -43,11 +54,7 @@ def publications(
     nobody listens to them: ``results`` False); then each engagement update (its state,
     then its event when the level changed); then the lost bodies' DELETEs; then the
     frames' aggregates."""
-    result = Kind.RESULT
-    out = [
-        Publication(keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance), result)
-        for s in (changes.results if results else ())
-    ]
+    out = result_publications(changes.results, namespace, instance) if results else []
     for update in changes.engagement:
         if update.level is not Level.UNKNOWN:
             out.append(

@@ -128,6 +128,9 @@ class FacingService:
                 session, self._input.hot_key(), INBOX_SIZE, self._closing, self._clock
             )
             subscription = self._input.open(session, self._enqueue)
+            intake, clock = self._intake, self._clock
+            for output in self._outputs:
+                output.wake_with(lambda: intake.set_alarm(clock()))
             self._worker = worker = Worker(
                 s,
                 self._clock,

@@ -7,6 +7,7 @@ from trackers import sample, tracker
 
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
+from facing_service.core.view import TurnView
 from facing_service.shell.outbox import Kind
 from facing_service.shell.outputs import JsonOutput, RosTopicsOutput
 from facing_service.shell.robot import Robot
@@ -29,6 +30,24 @@ def test_json_keys_say_results_while_heard_and_state_changes_always():
     assert Kind.RESULT not in {p.kind for p in unheard}
     assert [p.kind for p in unheard] == [p.kind for p in said if p.kind is not Kind.RESULT]
     assert {p.kind for p in output.on_changes(lost)} >= {Kind.DELETE, Kind.FRAME}
+
+
+def test_a_subscriber_appearing_wakes_the_worker_to_say_every_current_result():
+    output = JsonOutput(Settings(namespace="hri"))
+    woken: list[bool] = []
+    output.wake_with(lambda: woken.append(True))
+    t = tracker()
+    t.ingest([sample("a", sec=1), sample("b", sec=1)], 0.0)
+    heard = output._heard
+    heard.matching(False)  # nobody: nothing due, nothing woken
+    assert output.next_due() is None and woken == []
+    heard.matching(True)  # a subscriber appeared
+    assert woken == [True] and output.next_due() == 0.0
+    said = output.tick(0.0, TurnView(t))
+    assert [p.key for p in said] == ["hri/bodies/a/facing/cam", "hri/bodies/b/facing/cam"]
+    assert output.next_due() is None and output.tick(0.0, TurnView(t)) == []
+    heard.matching(True)  # still there: nothing new to say
+    assert woken == [True]
 
 
 def test_json_keys_have_no_periodic_work_and_the_robots_topics_say_what_they_add():
