@@ -51,5 +51,6 @@ class DeclaredKeys:
             self._session.undeclare(declared)
 
     def close(self) -> None:
+        """Undeclare every key (the owner is closing)."""
         for key in list(self.exprs):
             self.forget(key)

@@ -179,5 +179,4 @@ class JsonInput:
             subscriber.undeclare()
         self._mistyped = []
         if self.declared_keys is not None:
-            for key in list(self.declared_keys.exprs):
-                self.declared_keys.forget(key)
+            self.declared_keys.close()

@@ -90,5 +90,4 @@ class JsonSender:
     def close(self) -> None:
         self._listener.undeclare()
         self._watch.undeclare()
-        for key in list(self._keys.exprs):
-            self._keys.forget(key)
+        self._keys.close()

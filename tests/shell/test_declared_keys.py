@@ -29,6 +29,5 @@ def test_declared_keys_are_bounded_and_forgotten_with_their_body(net):
         rec.wait_for(lambda i: True, count=4)  # every put went out, declared or not
         assert [i.key for i in rec.items] == [result_a, engagement_a, result_b, result_b]
     finally:
-        for key in list(declared.exprs):
-            declared.forget(key)
+        declared.close()
     assert not declared.exprs
