@@ -11,10 +11,10 @@ from pathlib import Path
 from typing import Any, Literal, TypedDict
 
 import zenoh
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import ConfigDict, Field, ValidationError
 
 from ..config.session import insert, readable_file, zenoh_config
-from ..config.settings import Settings
+from ..config.settings import SessionChecks, Settings
 from ..contract import keys
 from ..contract.errors import SettingsError
 
@@ -44,7 +44,7 @@ class ClientOptionFields(TypedDict, total=False):
     tls_private_key: Path | str | None
 
 
-class ClientOptions(BaseModel):
+class ClientOptions(SessionChecks):
     """A client's options, checked. ``mode``: zenoh's (None: the config file's, else
     peer); ``connect`` / ``listen``: endpoints; ``config``: a zenoh JSON5 file the other
     options override; ``cfg``: ``KEY:VALUE`` entries applied last; ``timeout_s``: how long
@@ -57,41 +57,16 @@ class ClientOptions(BaseModel):
     namespace: str = "hri"
     frame: str = keys.ALL_FRAMES
     mode: Literal["peer", "client"] | None = None
-    connect: list[str] = []
-    listen: list[str] = []
+    connect: list[str] = Field(default_factory=list)
+    listen: list[str] = Field(default_factory=list)
     config: Path | None = None
-    cfg: list[str] = []
+    cfg: list[str] = Field(default_factory=list)
     no_multicast_scouting: bool = False
     reconnect_s: list[float] = Field(default_factory=lambda: [0.25, 1.0])
     timeout_s: float = Field(2.0, gt=0, le=3600)
     tls_root_ca: Path | None = None
     tls_certificate: Path | None = None
     tls_private_key: Path | None = None
-
-    @field_validator("namespace")
-    @classmethod
-    def _namespace(cls, value: str) -> str:
-        return keys.validate_namespace(value)
-
-    @field_validator("frame")
-    @classmethod
-    def _frame(cls, value: str) -> str:
-        return keys.validate_frame_filter(value)
-
-    @field_validator("connect", "listen")
-    @classmethod
-    def _endpoints(cls, value: list[str], info: Any) -> list[str]:
-        return Settings.check_endpoints(value, listen=info.field_name == "listen")
-
-    @field_validator("cfg")
-    @classmethod
-    def _cfg(cls, value: list[str]) -> list[str]:
-        return Settings.check_cfg(value)
-
-    @field_validator("reconnect_s")
-    @classmethod
-    def _reconnect(cls, value: list[float]) -> list[float]:
-        return Settings.check_reconnect(value)
 
     def zenoh_config(self) -> zenoh.Config:
         """The session's config: as the service's is made (``config/session.py``), then

@@ -61,7 +61,46 @@ def flag(
     return Field(default, description=description, json_schema_extra=extra, **constraints)
 
 
-class Settings(BaseModel):
+class SessionChecks(BaseModel):
+    """The checks of what a zenoh session is made from, one for the service's
+    ``Settings`` and a client's ``ClientOptions`` alike (each declares the fields)."""
+
+    @field_validator("namespace", check_fields=False)
+    @classmethod
+    def _namespace(cls, value: str) -> str:
+        return keys.validate_namespace(value)
+
+    @field_validator("base_frame", "frame", check_fields=False)
+    @classmethod
+    def _frame(cls, value: str) -> str:
+        return keys.validate_frame_filter(value)
+
+    @field_validator("connect", "listen", check_fields=False)
+    @classmethod
+    def _endpoints(cls, value: list[str], info: Any) -> list[str]:
+        for endpoint in value:
+            if reason := endpoint_problem(endpoint, listen=info.field_name == "listen"):
+                raise ValueError(f"{public_endpoint(endpoint)}: {reason}")
+        return value
+
+    @field_validator("reconnect_s", check_fields=False)
+    @classmethod
+    def _reconnect(cls, value: list[float]) -> list[float]:
+        if len(value) != 2 or not 0 < value[0] <= value[1] <= 60:
+            raise ValueError("reconnect_s is FIRST,MOST seconds, 0 < FIRST <= MOST <= 60")
+        return value
+
+    @field_validator("cfg", check_fields=False)
+    @classmethod
+    def _cfg(cls, value: list[str]) -> list[str]:
+        for position, entry in enumerate(value, 1):
+            key, sep, _ = entry.partition(":")
+            if not (sep and key):  # the entry itself is not quoted: it may be a secret
+                raise ValueError(f"entry {position} is not KEY:VALUE")
+        return value
+
+
+class Settings(SessionChecks):
     """Every setting of ``facing-service run``: the single source of the CLI's flags and
     help, the ``FACING_*`` variables and docs/configuration.md's table."""
 
@@ -323,33 +362,10 @@ class Settings(BaseModel):
         metavar="KEY:VALUE",
     )
 
-    @field_validator("namespace")
-    @classmethod
-    def _namespace(cls, value: str) -> str:
-        return keys.validate_namespace(value)
-
     @field_validator("instance")
     @classmethod
     def _instance(cls, value: str) -> str:
         return keys.validate_name(value, "instance")
-
-    @field_validator("base_frame")
-    @classmethod
-    def _base_frame(cls, value: str) -> str:
-        return keys.validate_frame_filter(value)
-
-    @field_validator("connect", "listen")
-    @classmethod
-    def _endpoints(cls, value: list[str], info: Any) -> list[str]:
-        return cls.check_endpoints(value, listen=info.field_name == "listen")
-
-    @staticmethod
-    def check_endpoints(value: list[str], *, listen: bool) -> list[str]:
-        """Each endpoint one zenoh could use (a client's option checks them the same way)."""
-        for endpoint in value:
-            if reason := endpoint_problem(endpoint, listen=listen):
-                raise ValueError(f"{public_endpoint(endpoint)}: {reason}")
-        return value
 
     @field_validator("ros_namespace")
     @classmethod
@@ -363,18 +379,6 @@ class Settings(BaseModel):
     @classmethod
     def _log_level(cls, value: Any) -> Any:
         return value.upper() if isinstance(value, str) else value
-
-    @field_validator("reconnect_s")
-    @classmethod
-    def _reconnect(cls, value: list[float]) -> list[float]:
-        return cls.check_reconnect(value)
-
-    @staticmethod
-    def check_reconnect(value: list[float]) -> list[float]:
-        """FIRST,MOST retry seconds (a client's option checks them the same way)."""
-        if len(value) != 2 or not 0 < value[0] <= value[1] <= 60:
-            raise ValueError("reconnect_s is FIRST,MOST seconds, 0 < FIRST <= MOST <= 60")
-        return value
 
     @field_validator("zones_m")
     @classmethod
@@ -399,17 +403,3 @@ class Settings(BaseModel):
         """The frame ROS 2 input looks people up in: ``--base-frame``, or REP 105's
         ``base_link`` (libhri's default reference frame) when it is ``*``."""
         return "base_link" if self.base_frame == keys.ALL_FRAMES else self.base_frame
-
-    @field_validator("cfg")
-    @classmethod
-    def _cfg(cls, value: list[str]) -> list[str]:
-        return cls.check_cfg(value)
-
-    @staticmethod
-    def check_cfg(value: list[str]) -> list[str]:
-        """Each entry ``KEY:VALUE`` (a client's option checks them the same way)."""
-        for position, entry in enumerate(value, 1):
-            key, sep, _ = entry.partition(":")
-            if not (sep and key):  # the entry itself is not quoted: it may be a secret
-                raise ValueError(f"entry {position} is not KEY:VALUE")
-        return value
