@@ -21,7 +21,7 @@ from poses import pose_json
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "client.md"
 #: ann faces the robot from the social zone; bob and cat face each other.
-PEOPLE = {"ann": (2.2, 0.0, 180.0), "bob": (3.0, 1.5, 90.0), "cat": (3.0, 2.3, -90.0)}
+PEOPLE = {"ann": (3.0, 0.0, 180.0), "bob": (3.0, 1.5, 90.0), "cat": (3.0, 2.3, -90.0)}
 
 
 def snippets() -> list[str]:
