@@ -9,7 +9,8 @@ stops facing (with the facing rule's hysteresis), a grouping that has held ``hol
 
 Where the robot should stand (issue 53): for each group it is not in, the place on the
 group's ring to join it (``core.join``); for each person ENGAGING or ENGAGED and in no
-group, a place in front of them at ``greet_m``, facing them. Both follow the people
+group as said (never one of a group said beside it), a place in front of them at
+``greet_m``, facing them. Both follow the people
 without being changes of their own (a query, or the next update, says where they are
 now); a person to greet who appears or goes is a change of the frame's groups.
 """
@@ -177,6 +178,11 @@ class FrameScene:
             self._worked = LastComputation(ids, t, q, engaging, heading, found, greetings)
             self._joins = {}
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
+        # A greeting is for a person in no group *as said*: the groups said lag this
+        # reading by ``hold_s``, so a person alone in it may still be in a said group
+        # (issue 59: one answer held a group of p3 and the robot, and a greeting for p3).
+        grouped = {m for group in self.tracker.groups.values() for m in group.members}
+        greetings = tuple(g for g in greetings if g.body_id not in grouped)
         first_or_cut = not self.said_once or left_out != self.left_out
         greeted = {g.body_id for g in greetings} != {g.body_id for g in self.greetings}
         groups_changed = first_or_cut or bool(changed or dissolved) or greeted

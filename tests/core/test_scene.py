@@ -4,6 +4,9 @@ them, said on change only, bounded in people and in rate."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
+
+import pytest
 
 from facing_service.contract.stamps import ZERO, Time
 from facing_service.core.groups import GroupParams, ScaleParams
@@ -35,7 +38,7 @@ def test_two_people_talking_face_each_other_and_form_a_group_once_it_has_held():
     held = scene.update(people, Time.of(2), 0.35)
     assert held is not None and [sorted(g.members) for g in held.groups] == [["a", "b"]]
     assert held.changed == held.groups and not held.groups[0].robot
-    assert held.groups[0].centre[0] == __import__("pytest").approx(3.6, abs=0.01)
+    assert held.groups[0].centre[0] == pytest.approx(3.6, abs=0.01)
     assert scene.update(people, Time.of(3), 0.5) is None  # nothing changed: nothing said
 
 
@@ -134,9 +137,7 @@ def test_a_group_the_robot_is_not_in_says_where_to_join_it_and_follows_its_peopl
     moved = [person("a", 3.5, 0.6, -90), person("b", 3.5, -0.6, 90)]
     assert scene.update(moved, Time.of(3), 0.6) is None
     (now,) = scene.snapshot().groups
-    assert now.join is not None and now.join.x == __import__("pytest").approx(
-        group.join.x + 0.5, abs=0.05
-    )
+    assert now.join is not None and now.join.x == pytest.approx(group.join.x + 0.5, abs=0.05)
 
 
 def test_the_robot_in_a_group_has_no_place_to_join_it():
@@ -156,7 +157,7 @@ def test_a_person_engaging_alone_is_greeted_in_front_of_them_facing_them():
     assert update is not None
     (greeting,) = update.greetings
     assert greeting.body_id == "cara"
-    assert (greeting.pose.x, greeting.pose.y) == __import__("pytest").approx((1.8, 2.0))
+    assert (greeting.pose.x, greeting.pose.y) == pytest.approx((1.8, 2.0))
     assert abs(math.degrees(greeting.pose.yaw)) < 1e-6  # facing +x: toward cara
     idle = Person("cara", (3.0, 2.0, 0.0), (0.0, 0.0, 1.0, 0.0), engaging=False)
     gone = scene.update([idle], Time.of(2), 0.2)  # someone to greet who goes is a change
@@ -164,3 +165,51 @@ def test_a_person_engaging_alone_is_greeted_in_front_of_them_facing_them():
     blocking = person("dan", 1.8, 2.1, 90)  # stands where the robot would
     scene.update([cara, blocking], Time.of(3), 0.4)
     assert scene.snapshot().greetings == ()
+
+
+def test_a_person_in_a_group_held_with_the_robot_is_not_greeted_while_it_is_said():
+    """Issue 59: the group {alice, robot} is said until a new grouping has held; alice,
+    turned away but still engaging, is in that group meanwhile and must not be greeted."""
+    scene = FrameScene("base_link", PARAMS)
+    facing = Person("alice", (1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0), engaging=True)
+    scene.update([facing], Time.of(1), 0.0)
+    held = scene.update([facing], Time.of(1), 0.4)
+    assert held is not None and held.groups[0].members == {ROBOT, "alice"}
+    assert held.greetings == ()
+    half = math.radians(90) / 2  # turned away: alone in this reading, still engaging
+    away = Person("alice", (1.0, 0.0, 0.0), (0.0, 0.0, math.sin(half), math.cos(half)), True)
+    update = scene.update([away], Time.of(2), 0.5)
+    said = update if update is not None else scene.snapshot()
+    assert [g.members for g in said.groups] == [{ROBOT, "alice"}]  # not held long enough
+    assert said.greetings == () and scene.snapshot().greetings == ()
+    dissolved = scene.update([away], Time.of(3), 0.9)  # the new grouping has held
+    assert dissolved is not None and dissolved.groups == ()
+    assert [g.body_id for g in dissolved.greetings] == ["alice"]
+
+
+@pytest.mark.slow
+def test_over_a_long_simulated_run_nobody_greeted_is_in_a_group_said_beside():
+    """Issue 59, over five simulated minutes of eight people: every update and every
+    read of the scene says each person engaging either in a group or to greet, never both."""
+    from facing_service.client.sim import Scene
+
+    crowd, scene = Scene(people=8, seed=3), FrameScene("base_link", replace(PARAMS, max_people=8))
+    checked = 0
+    for tick in range(3000):
+        poses = crowd.step(0.1).poses
+        rotations = [
+            (0.0, 0.0, math.sin(math.radians(p.yaw_deg) / 2), math.cos(math.radians(p.yaw_deg) / 2))
+            for p in poses
+        ]
+        people = [
+            Person(p.body_id, (p.x, p.y, 0.0), rotation, engaging=(tick // 7 + i) % 3 != 0)
+            for i, (p, rotation) in enumerate(zip(poses, rotations, strict=True))
+        ]
+        update = scene.update(people, Time.of(tick), tick * 0.1)
+        for said in (update, scene.snapshot()):
+            if said is None:
+                continue
+            grouped = {m for g in said.groups for m in g.members}
+            assert not grouped & {g.body_id for g in said.greetings}, (tick, said)
+            checked += 1
+    assert checked > 3000
