@@ -16,8 +16,8 @@ from typing import Any
 
 import zenoh
 
-from ..config.disclosure import zenoh_failure
-from ..config.session import probe_config
+from ..config.disclosure import public_endpoint, zenoh_failure
+from ..config.session import probe_config, probe_endpoints
 from ..config.settings import Settings
 from ..config.sources import env_name, load_settings
 from ..contract import keys
@@ -70,18 +70,46 @@ def _why_no_answer(
     if not alive:
         return (
             f"no facing service found: no liveliness token on "
-            f"{keys.service_token(settings.namespace, instance)} in {timeout:g} s (is one "
-            f"running, in namespace '{settings.namespace}', reachable from here?{acl})"
+            f"{keys.service_token(settings.namespace, instance)} {reached(settings)} in "
+            f"{timeout:g} s (is one running, in namespace '{settings.namespace}'?{acl}); "
+            + _flags_to_try(settings)
         )
     selector = keys.status_key(settings.namespace, instance)
     return f"a facing service is alive, but no answer on {selector}{acl}"
 
 
-def summary(status: ServiceStatus) -> str:
-    """One line of a service's status: what an operator reads (``--json`` for all)."""
+def reached(settings: Settings) -> str:
+    """How the check looks for services: at the endpoints it connects to, or by scouting
+    (then it finds whichever service is around, not necessarily the one meant)."""
+    endpoints = probe_endpoints(settings)
+    if endpoints:
+        return "at " + ", ".join(public_endpoint(e) for e in endpoints)
+    return "found by multicast scouting"
+
+
+def _flags_to_try(settings: Settings) -> str:
+    """The flags that reach a service, for a check that found none."""
+    if probe_endpoints(settings):
+        return (
+            "a service behind a router: -m client -e tcp/<router>:7447; another namespace: "
+            "--namespace"
+        )
+    return (
+        "give its endpoint: -e tcp/<host>:<port> --no-multicast-scouting (a service run "
+        "with -l), or -m client -e tcp/<router>:7447 --no-multicast-scouting (one behind "
+        "a router)"
+    )
+
+
+def summary(status: ServiceStatus, reach: str) -> str:
+    """One line of a service's status: what an operator reads (``--json`` for all), with
+    which instance answered and how it was reached (issue 59: a plain check found some
+    other service on the host by scouting, and said only "ok")."""
     frames = ", ".join(f"{n} in {f}" for f, n in sorted(status.bodies_tracked.items()))
+    listens = ", ".join(map(str, status.config.get("listen") or []))
     line = (
-        f"{status.status}: instance {status.instance} (facing-service {status.version}), up "
+        f"{status.status}: instance {status.instance} (facing-service {status.version}) "
+        f"{reach}" + (f", listening on {listens}" if listens else "") + ", up "
         f"{status.uptime_s:.0f} s, {status.bodies_tracked_total} bodies tracked"
         + (f" ({frames})" if frames else "")
         + f", {sum(status.rejected.values())} samples refused"
@@ -133,7 +161,7 @@ def check(
         print(zenoh_failure("health", error), file=sys.stderr)
         return 1
     for status in answers:
-        print(status.model_dump_json() if as_json else summary(status))
+        print(status.model_dump_json() if as_json else summary(status, reached(settings)))
     if not answers:
         why = _why_no_answer(settings, instance, timeout, alive, identity)
         print(f"facing-service health: {why}", file=sys.stderr)

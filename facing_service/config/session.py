@@ -52,6 +52,12 @@ def _loopback(endpoint: str) -> str:
     return endpoint.replace("/0.0.0.0:", "/127.0.0.1:").replace("/[::]:", "/[::1]:")
 
 
+def probe_endpoints(settings: Settings) -> list[str]:
+    """Where a helper session beside a service connects: the service's connect endpoints,
+    else its listen endpoints on loopback (none: it finds services by scouting)."""
+    return list(settings.connect) or [_loopback(e) for e in settings.listen]
+
+
 def probe_config(settings: Settings, timeout_s: float) -> zenoh.Config:
     """Zenoh config of a short-lived helper session (``health``) beside a running service,
     configured from the same flags and ``FACING_*`` variables as the service.
@@ -62,7 +68,7 @@ def probe_config(settings: Settings, timeout_s: float) -> zenoh.Config:
     ``timeout_s``, whatever the service's own settings say (a service beside a robot waits
     for its router for ever, ``connect/timeout_ms: -1``: the check then hung with it).
     """
-    connect = settings.connect or [_loopback(e) for e in settings.listen]
+    connect = probe_endpoints(settings)
     # A router's mode would make the helper listen; otherwise the configured mode holds
     # (the config file's, when no flag gives one: a client stays a client).
     mode = "client" if connect else (None if settings.mode == "router" else settings.mode)

@@ -89,6 +89,8 @@ def test_health_command_configured_like_a_container(net):
     assert ok.returncode == 0, ok.stderr
     (line,) = ok.stdout.splitlines()  # issue 46: one line on success, not the whole status
     assert line.startswith("ok: instance robot-9 (facing-service ") and "bodies tracked" in line
+    # issue 59: which instance answered, and where the check reached it
+    assert f"at tcp/127.0.0.1:{port}, listening on tcp/127.0.0.1:{port}" in line
     whole = health("--json", env=env)
     assert json.loads(whole.stdout.splitlines()[0])["instance"] == "robot-9"
     assert health(env={**env, "FACING_INSTANCE": "robot-9"}).returncode == 0
@@ -100,8 +102,37 @@ def test_health_command_configured_like_a_container(net):
 
 
 def test_health_fails_when_nothing_runs():
-    proc = health("-e", endpoint(free_port()), env={"FACING_NO_MULTICAST_SCOUTING": "1"})
-    assert proc.returncode == 1 and proc.stderr
+    port = free_port()
+    proc = health("-e", endpoint(port), env={"FACING_NO_MULTICAST_SCOUTING": "1"})
+    assert proc.returncode == 1 and len(proc.stderr.splitlines()) == 1
+    assert f"tcp/127.0.0.1:{port}" in proc.stderr
+
+
+def scouting_on_loopback() -> list[str]:
+    """Multicast scouting that stays on this machine: interface lo, a private group port."""
+    return [
+        f'scouting/multicast/address:"224.0.0.224:{free_port()}"',
+        'scouting/multicast/interface:"lo"',
+        "scouting/delay:0",
+    ]
+
+
+def test_health_by_scouting_says_so_and_which_instance_answered():
+    """Issue 59: a plain health found another service on the host by scouting and said
+    only "ok: instance vm-…"; finding none, it gave no hint of -e."""
+    cfg = scouting_on_loopback()
+    service = FacingService(Settings(instance="elsewhere", cfg=cfg, log_level="WARNING")).start()
+    try:
+        found = health(*(f"--cfg={c}" for c in cfg), env={})
+    finally:
+        service.close()
+    assert found.returncode == 0, found.stderr
+    assert found.stdout.startswith("ok: instance elsewhere (facing-service ")
+    assert "found by multicast scouting" in found.stdout
+    none = health(*(f"--cfg={c}" for c in scouting_on_loopback()), env={})
+    assert none.returncode == 1 and len(none.stderr.splitlines()) == 1
+    assert "found by multicast scouting" in none.stderr
+    assert "-e tcp/<host>:<port> --no-multicast-scouting" in none.stderr
 
 
 def test_health_finds_a_running_peer_mode_service_every_time(net):
@@ -111,11 +142,7 @@ def test_health_finds_a_running_peer_mode_service_every_time(net):
     (measured: 18 of 20). Waiting for its token first: 100 of 100.
 
     Multicast stays on this machine: interface lo, a private group port."""
-    cfg = [
-        f'scouting/multicast/address:"224.0.0.224:{free_port()}"',
-        'scouting/multicast/interface:"lo"',
-        "scouting/delay:0",
-    ]
+    cfg = scouting_on_loopback()
     service = FacingService(Settings(instance="peer-1", cfg=cfg, log_level="WARNING")).start()
     try:
         settings = load_settings({"cfg": cfg}, {})
@@ -155,3 +182,14 @@ def test_status_reports_what_the_session_is_connected_to(net):
     ((_, raw),) = get(client, "hri/services/facing/*/status")
     assert raw["connected"]["peers"] == [str(client.zid())]
     assert service.connected()["routers"] == []
+
+
+def test_health_through_a_router_with_no_service_names_the_endpoint_and_the_flags(net):
+    """Issue 59: the router answers but no service is behind it: the line names the
+    endpoint reached and the flags that reach a service elsewhere."""
+    router = net.router()
+    proc = health(
+        "-m", "client", "-e", endpoint(router.port), env={"FACING_NO_MULTICAST_SCOUTING": "1"}
+    )
+    assert proc.returncode == 1 and len(proc.stderr.splitlines()) == 1
+    assert f"at {endpoint(router.port)} in 2 s" in proc.stderr and "--namespace" in proc.stderr
