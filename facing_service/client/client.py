@@ -29,6 +29,7 @@ from typing import TypeVar
 import zenoh
 from typing_extensions import Unpack
 
+from ..config.session import mode_and_endpoints
 from ..contract import keys
 from ..contract.errors import ClientNotOpen, FacingError, NoService, UnknownFrame
 from ..contract.keys import BodyRef
@@ -42,12 +43,16 @@ from ..contract.schemas import (
     ServiceStatus,
 )
 from .bodies import BodyCache
-from .health import ask
+from .health import ask, no_service_seen
 from .options import ClientOptionFields, client_options
 from .replies import engagement_states, facing_states
 from .scene import Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
+
+#: How a service that tracks nobody anywhere ends its ``unknown_frame`` detail: an empty
+#: service (the README's start order), not a misspelt frame.
+NOBODY_ANYWHERE = "frames tracked: none"
 
 StateCallback = Callable[[FacingState], object]
 LevelCallback = Callable[[EngagementEvent], object]
@@ -95,11 +100,20 @@ class FacingClient:
         self._session: zenoh.Session | None = None
         self._subscribers: list[zenoh.Subscriber[None]] = []
         self._dispatcher: threading.Thread | None = None
+        #: Why no service was seen when the client opened (one line), None when one was.
+        self.absence: str | None = None
 
     # -- lifecycle -------------------------------------------------------------------
 
-    def open(self) -> FacingClient:
-        session = self._session = zenoh.open(self._config)
+    def open(
+        self, session: zenoh.Session | None = None, *, log_absence: bool = True
+    ) -> FacingClient:
+        """Open the session (or take ``session``, one the caller opened: the command line
+        opens it patiently while a router is awaited; the client closes it), subscribe,
+        wait up to ``timeout_s`` for a service and read its state. No service seen is no
+        error (it may start later): ``absence`` then says why, in one line, logged unless
+        the caller says it itself (``log_absence=False``)."""
+        session = self._session = session if session is not None else zenoh.open(self._config)
         self._dispatcher = threading.Thread(
             target=self._dispatch, name="facing-client", daemon=True
         )
@@ -118,12 +132,17 @@ class FacingClient:
         ]
         self._scene.open(session)
         if self._wait_for_service():
+            self.absence = None
             self._reseed()
         else:
-            log.warning(
-                "no facing service seen within %.1f s; the cache fills as results arrive",
-                self.timeout_s,
-            )
+            where = mode_and_endpoints(self._config, "connect")[1]
+            self.absence = no_service_seen(session, self.namespace, where)
+            if log_absence:
+                log.warning(
+                    "%s within %.1f s; the cache fills as results arrive",
+                    self.absence,
+                    self.timeout_s,
+                )
         return self
 
     def _wait_for_service(self) -> bool:
@@ -179,6 +198,7 @@ class FacingClient:
         """The frame a read is about: the client's, or the one named when the client
         watches every frame (naming another frame than the client's is a mistake: its
         cache holds nothing there)."""
+        self._open_session()  # a read before open() is a mistake, not an empty answer
         if frame is None or frame == self.frame:
             if self.frame == keys.ALL_FRAMES:
                 raise FacingError("this client watches every frame (*): name the frame")
@@ -293,7 +313,10 @@ class FacingClient:
         return self._register("robot_left", callback)
 
     def _register(self, name: str, callback: C, current: Iterable[object] = ()) -> C:
-        """Keep ``callback`` for the ``name`` events; report ``current`` to it at once."""
+        """Keep ``callback`` for the ``name`` events; report ``current`` to it at once.
+        Only on an open client: one never opened would never call it (issue 59), and
+        nothing is missed by registering after open(), as what holds is reported."""
+        self._open_session()
         self._on.setdefault(name, []).append(callback)
         for fact in current:
             self._events.put((callback, (fact,)))
@@ -364,7 +387,14 @@ class FacingClient:
         try:
             try:
                 states = self._ask(self.frame, None)
-            except UnknownFrame:
+            except UnknownFrame as error:  # nobody there yet, or a misspelt frame
+                if not error.detail.endswith(NOBODY_ANYWHERE):  # others are known: say it
+                    log.warning(
+                        "facing client: no service knows frame %r yet (%s); a misspelt "
+                        "frame stays empty",
+                        self.frame,
+                        error.detail,
+                    )
                 states = []
             self._scene.seed(self.session, self.timeout_s)
             selector = keys.engagement_key(self.namespace, keys.ALL_FRAMES, self.frame)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +43,30 @@ def statuses(
                 return answers, alive
         time.sleep(min(0.05, max(deadline - time.monotonic(), 0)))
     return [], alive
+
+
+def namespaces_with_service(session: zenoh.Session, timeout: float = 0.5) -> list[str]:
+    """The namespaces in which some facing service's liveliness token is seen now: what a
+    check that found none in its own namespace can suggest."""
+    found = set()
+    for reply in session.liveliness().get(keys.service_token("**", "*"), timeout=timeout):
+        if reply.ok is not None:
+            found.add(str(reply.ok.key_expr).rsplit("/services/facing/", 1)[0])
+    return sorted(found)
+
+
+def no_service_seen(session: zenoh.Session, namespace: str, where: Sequence[str]) -> str:
+    """Why a session saw no facing service in ``namespace``, in one line: nothing reached
+    at all (no router or peer), or no service in that namespace (and those that have one):
+    issue 59, a wrong namespace was blamed on the router."""
+    at = f" at {', '.join(public_endpoint(e) for e in where)}" if where else ""
+    info = session.info
+    if not list(info.routers_zid()) and not list(info.peers_zid()):
+        return f"nothing answers{at}: no router or peer reached (is one listening there?)"
+    others = [n for n in namespaces_with_service(session) if n != namespace]
+    return f"no facing service in namespace {namespace!r}{at}" + (
+        f" (namespaces with one: {', '.join(others)})" if others else ""
+    )
 
 
 def ask(

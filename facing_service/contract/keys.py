@@ -148,9 +148,10 @@ def mistyped_pose_keys(namespace: str) -> tuple[str, ...]:
     return mistakes if namespace == "bodies" else (*mistakes, "bodies/*/pose/**")
 
 
-def result_queryables(namespace: str, frame: str) -> tuple[str, str]:
-    """The two output key spaces the service answers queries on; ``frame`` may be ``*``."""
-    return facing_key(namespace, ALL_FRAMES, frame), frame_key(namespace, frame)
+def result_queryables(namespace: str) -> tuple[str, str]:
+    """The two result key spaces the service answers queries on, in every frame (one it
+    does not know is answered ``unknown_frame``, even with a fixed base frame)."""
+    return facing_key(namespace, ALL_FRAMES, ALL_FRAMES), frame_key(namespace, ALL_FRAMES)
 
 
 def published_spaces(namespace: str) -> tuple[str, ...]:
@@ -169,7 +170,7 @@ def published_spaces(namespace: str) -> tuple[str, ...]:
 def served_spaces(namespace: str) -> tuple[str, ...]:
     """Every key space the service answers queries on (its queryables, any frame)."""
     return (
-        *result_queryables(namespace, ALL_FRAMES),
+        *result_queryables(namespace),
         engagement_key(namespace, ALL_FRAMES, ALL_FRAMES),
         groups_key(namespace, ALL_FRAMES),
         gazing_key(namespace, ALL_FRAMES),
@@ -222,3 +223,11 @@ class PoseKeyParser:
             self._known.clear()
         parsed = self._known[key] = parse_pose_key(self.namespace, key)
         return parsed
+
+
+def natural_order(name: str) -> tuple[tuple[int, int | str], ...]:
+    """Sort key reading digit runs as numbers: p2 before p10 (a string sort puts p10
+    first), whatever the mix of letters and digits."""
+    return tuple(
+        (0, int(part)) if part.isdigit() else (1, part) for part in re.findall(r"\d+|\D+", name)
+    )

@@ -117,7 +117,7 @@ class FacingService:
 
     def start(self) -> FacingService:
         s = self.settings
-        ns, frame = s.namespace, s.base_frame
+        ns = s.namespace
         conf = zenoh_config(s)
         self._session_in_force = effective_session(s, conf)
         self._session = session = zenoh.open(conf)
@@ -151,7 +151,10 @@ class FacingService:
             ]
             for thread in self._threads:
                 thread.start()
-            body_space, frame_space = keys.result_queryables(ns, frame)
+            # Every frame, even with a fixed --base-frame: a query on another frame (a
+            # typo) is answered unknown_frame, naming this service's frames, not left
+            # unanswered (issue 59: the client then said [] where docs promise an error).
+            body_space, frame_space = keys.result_queryables(ns)
             self._entities = [
                 session.declare_queryable(
                     body_space, lambda q: self._enqueue(QueryItem(q, "facing"))
@@ -160,14 +163,16 @@ class FacingService:
                     frame_space, lambda q: self._enqueue(QueryItem(q, "frame"))
                 ),
                 session.declare_queryable(
-                    keys.engagement_key(ns, keys.ALL_FRAMES, frame),
+                    keys.engagement_key(ns, keys.ALL_FRAMES, keys.ALL_FRAMES),
                     lambda q: self._enqueue(QueryItem(q, "engagement")),
                 ),
                 session.declare_queryable(
-                    keys.groups_key(ns, frame), lambda q: self._enqueue(QueryItem(q, "groups"))
+                    keys.groups_key(ns, keys.ALL_FRAMES),
+                    lambda q: self._enqueue(QueryItem(q, "groups")),
                 ),
                 session.declare_queryable(
-                    keys.gazing_key(ns, frame), lambda q: self._enqueue(QueryItem(q, "gazing"))
+                    keys.gazing_key(ns, keys.ALL_FRAMES),
+                    lambda q: self._enqueue(QueryItem(q, "gazing")),
                 ),
                 session.declare_queryable(keys.status_key(ns, s.instance), self._on_status),
             ]

@@ -215,3 +215,43 @@ def test_engagement_is_replayed_to_late_callbacks_and_read_by_a_getter(net):
 def _level(session, body: str) -> str | None:
     replies = get(session, f"hri/bodies/{body}/engagement/cam")
     return replies[0][1]["level"] if replies else None
+
+
+def test_a_misspelt_frame_is_said_against_a_service_with_a_fixed_base_frame(net, caplog):
+    """Issue 59: against `run --base-frame base_link` (as deploy/ ships it),
+    `query(frame="base_lnk")` returned [] where docs/client.md promises UnknownFrame (the
+    service declared its queryables on its own frame only), and a client opened on the
+    misspelt frame said nothing."""
+    _, ep = net.service(base_frame="base_link")
+    tracker = net.client(ep)
+    wait_until_answered(tracker, "hri/services/facing/*/status")
+    caplog.set_level(logging.INFO, logger="facing_service")
+    with client_for(ep) as client:
+        assert client.query("base_link") == []  # known, nobody there
+        with pytest.raises(UnknownFrame, match="frames tracked: base_link"):
+            client.query("base_lnk")
+    with FacingClient("hri", "base_lnk", session_config=loopback_config(connect=[ep])) as typo:
+        assert typo.bodies() == {}
+    said = [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING]
+    assert any("no service knows frame 'base_lnk' yet" in line for line in said), said
+    for typed in ("groups", "gazing", "engagement"):  # the scene's spaces answer it too
+        ((key, error),) = get(tracker, f"hri/{typed}/base_lnk" if typed != "engagement"
+                              else "hri/bodies/*/engagement/base_lnk")  # fmt: skip
+        assert error["error"] == "unknown_frame", (typed, key, error)
+
+
+def test_a_client_used_before_open_says_so(net):
+    """Issue 59: bodies(), bodies_facing(), groups() returned empty and on_facing
+    registered without complaint on a client never opened; only query() raised."""
+    from facing_service import ClientNotOpen
+
+    client = FacingClient("hri", "base_link")
+    reads = [client.bodies, client.bodies_facing, client.engagement, client.groups,
+             client.greetings, client.gazing]  # fmt: skip
+    for read in reads:
+        with pytest.raises(ClientNotOpen, match="call open"):
+            read()
+    with pytest.raises(ClientNotOpen):
+        client.on_facing(lambda state: None)
+    with pytest.raises(ClientNotOpen):
+        client.on_group_formed(lambda frame, group: None)

@@ -49,7 +49,7 @@ def test_frame_filter_accepts_star_or_a_name():
 
 
 def test_output_key_spaces():
-    assert keys.result_queryables("hri", "*") == ("hri/bodies/*/facing/*", "hri/facing/*")
+    assert keys.result_queryables("hri") == ("hri/bodies/*/facing/*", "hri/facing/*")
     assert keys.pose_subscription("hri", "cam") == "hri/bodies/*/pose/cam"
 
 
