@@ -1,26 +1,37 @@
 """The flags every example takes, as zenoh's own examples share theirs (``common.py``):
-where the service is, which base frame, for how long."""
+where the service is, which base frame, for how long; and how an example ends on Ctrl-C."""
 
 from __future__ import annotations
 
 import argparse
 import json
+import signal
+import sys
 from collections.abc import Callable
+from typing import NoReturn
 
 import zenoh
 
+# Ctrl-C while an example's imports still load (the client's: zenoh, numpy, pydantic) ends
+# it quietly; ``run`` then makes Ctrl-C a KeyboardInterrupt again, which closes sessions.
+signal.signal(signal.SIGINT, lambda *_: sys.exit(0))
+
 
 def arguments(
-    doc: str, extra: Callable[[argparse.ArgumentParser], object] | None = None
+    doc: str, extra: Callable[[argparse.ArgumentParser], object] | None = None, frame: bool = True
 ) -> argparse.Namespace:
     """The parsed flags of an example whose docstring is ``doc`` (its first paragraph is
-    the ``--help`` description); ``extra`` adds the example's own."""
+    the ``--help`` description); ``extra`` adds the example's own; ``frame``: it reads one
+    base frame."""
     parser = argparse.ArgumentParser(description=" ".join(doc.split("\n\n")[0].split()))
     parser.add_argument(
         "-e", "--connect", action="append", default=[], metavar="ENDPOINT",
         help="the service's (or its router's) endpoint, e.g. tcp/127.0.0.1:7447; repeatable",
     )  # fmt: skip
-    parser.add_argument("--frame", default="base_link", help="the base frame (default base_link)")
+    if frame:
+        parser.add_argument(
+            "--frame", default="base_link", help="the base frame (default base_link)"
+        )
     parser.add_argument("--duration-s", type=float, help="stop after this long")
     if extra is not None:
         extra(parser)
@@ -35,3 +46,14 @@ def session_config(args: argparse.Namespace) -> zenoh.Config:
         config.insert_json5("connect/endpoints", json.dumps(args.connect))
         config.insert_json5("scouting/multicast/enabled", "false")
     return config
+
+
+def run(main: Callable[[], int | None]) -> NoReturn:
+    """Run an example's ``main`` and exit with its status; Ctrl-C ends it quietly (each
+    ``with`` block has closed its session by then), not with a traceback."""
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        code = main()
+    except KeyboardInterrupt:
+        code = 0
+    sys.exit(code or 0)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 
-from common import arguments
+from common import arguments, run
 
 from facing_service import FacingClient
 
@@ -28,4 +28,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run(main)

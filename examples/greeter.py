@@ -12,7 +12,7 @@ from __future__ import annotations
 import threading
 import time
 
-from common import arguments
+from common import arguments, run
 
 from facing_service import BodyRef, FacingClient, FacingState
 
@@ -27,7 +27,8 @@ class Greeter:
     def hello(self, state: FacingState) -> None:
         with self.lock:
             if state.body_id not in self.talking:
-                print(f"hello {state.body_id}! (at {state.distance_m:.1f} m)", flush=True)
+                at = "" if state.distance_m is None else f" (at {state.distance_m:.1f} m)"
+                print(f"hello {state.body_id}!{at}", flush=True)
             self.talking[state.body_id] = None
 
     def turned_away(self, state: FacingState) -> None:
@@ -65,4 +66,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run(main)

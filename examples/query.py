@@ -14,24 +14,30 @@ import sys
 import time
 
 import zenoh
-from common import arguments, session_config
+from common import arguments, run, session_config
 
 
-def main() -> None:
+def main() -> int:
     args = arguments(__doc__, extra=lambda p: p.add_argument("--threshold-deg", type=float))
     selector = f"hri/bodies/*/facing/{args.frame}"
     if args.threshold_deg is not None:
         selector += f"?threshold_deg={args.threshold_deg}"
     with zenoh.open(session_config(args)) as session:
         time.sleep(0.5)  # let the session meet the service before asking
-        for reply in session.get(selector, timeout=2.0):
+        replies = list(session.get(selector, timeout=2.0))
+        for reply in replies:
             if reply.ok is None:
                 print(f"refused: {reply.err.payload.to_string()}", file=sys.stderr)
                 continue
             result = json.loads(reply.ok.payload.to_bytes())
+            angle = result["angle_deg"]  # null when the robot is straight above the body
             print(f"{result['body_id']}: facing={result['facing']} "
-                  f"angle={result['angle_deg']:.0f}°", flush=True)  # fmt: skip
+                  f"angle={'-' if angle is None else f'{angle:.0f}°'}", flush=True)  # fmt: skip
+    if not replies:  # no answer at all: no service (an empty one answers with nobody)
+        print(f"no facing service answered {selector} within 2 s", file=sys.stderr)
+        return 1
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    run(main)

@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import time
 
 import zenoh
-from common import arguments, session_config
+from common import arguments, run, session_config
 
 
 def pose(body: str, frame: str, x: float, y: float, yaw: float, now: float) -> bytes:
@@ -33,25 +34,45 @@ def pose(body: str, frame: str, x: float, y: float, yaw: float, now: float) -> b
     ).encode()
 
 
-def main() -> None:
+def main() -> int:
     args = arguments(__doc__)
-    block = zenoh.CongestionControl.BLOCK  # a pose is a state change: never dropped
     with zenoh.open(session_config(args)) as session:
-        keys = {body: f"hri/bodies/{body}/pose/{args.frame}" for body in ("ann", "bob")}
-        started = time.monotonic()
-        while args.duration_s is None or time.monotonic() - started < args.duration_s:
-            t = time.monotonic() - started
-            y = 2.0 - (t % 8.0) / 2.0  # ann walks from 2 m left to 2 m right, every 8 s
-            toward = math.atan2(-y, -2.0)  # facing the robot at the origin...
-            session.put(keys["ann"], pose("ann", args.frame, 2.0, y, toward, time.time()),
-                        congestion_control=block)  # fmt: skip
-            session.put(keys["bob"], pose("bob", args.frame, 3.0, -1.0, 0.0, time.time()),
-                        congestion_control=block)  # fmt: skip
-            time.sleep(1 / 30)
-        for key in keys.values():  # both leave
-            session.delete(key, congestion_control=block)
-        print("published", flush=True)
+        # One publisher per body: a pose is a state change, never dropped (BLOCK); the
+        # publisher also says whether anybody subscribes (zenoh's matching status).
+        publishers = {
+            body: session.declare_publisher(
+                f"hri/bodies/{body}/pose/{args.frame}",
+                encoding=zenoh.Encoding.APPLICATION_JSON,
+                congestion_control=zenoh.CongestionControl.BLOCK,
+            )
+            for body in ("ann", "bob")
+        }
+        print(f"publishing ann and bob on hri/bodies/*/pose/{args.frame} 30 times a second"
+              + (f" for {args.duration_s:g} s" if args.duration_s else " (Ctrl-C ends)"),
+              flush=True)  # fmt: skip
+        started, sent, heard = time.monotonic(), 0, 0
+        try:
+            while args.duration_s is None or time.monotonic() - started < args.duration_s:
+                t = time.monotonic() - started
+                y = 2.0 - (t % 8.0) / 2.0  # ann walks from 2 m left to 2 m right, every 8 s
+                toward = math.atan2(-y, -2.0)  # facing the robot at the origin...
+                publishers["ann"].put(pose("ann", args.frame, 2.0, y, toward, time.time()))
+                publishers["bob"].put(pose("bob", args.frame, 3.0, -1.0, 0.0, time.time()))
+                sent += 2
+                heard += 2 * publishers["ann"].matching_status.matching
+                time.sleep(1 / 30)
+        except KeyboardInterrupt:
+            pass
+        for publisher in publishers.values():  # both leave: a DELETE says so
+            publisher.delete()
+            publisher.undeclare()
+    print(f"published {sent} poses, {heard} heard by a subscriber; ann and bob deleted")
+    if not heard:  # sent to nowhere: not a success
+        print("no subscriber heard them: is the facing service running, reachable from here?",
+              file=sys.stderr)  # fmt: skip
+        return 1
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    run(main)

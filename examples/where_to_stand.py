@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import time
 
-from common import arguments
+from common import arguments, run
 
 from facing_service import FacingClient, Place
 
@@ -44,4 +44,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    run(main)

@@ -1,5 +1,5 @@
 """``python -m facing_service``: the same CLI as the ``facing-service`` command."""
 
-from .cli import entry
+from .launch import entry
 
 entry()

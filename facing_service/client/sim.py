@@ -217,8 +217,10 @@ def simulate(
 
 class TrackerPublisher:
     """Publishes as a body tracker should: poses with BLOCK (zenoh's default, DROP, loses
-    them on the sending side under load), ``None`` as a DELETE. Counts what went out and,
-    with ``progress_every_s``, says so (``say``) that often."""
+    them on the sending side under load), ``None`` as a DELETE. Counts what went out, and
+    how much of it a subscriber heard (zenoh's matching status, one declared publisher per
+    body: issue 59, poses sent to nowhere were reported as published), and with
+    ``progress_every_s`` says so (``say``) that often."""
 
     def __init__(
         self,
@@ -229,25 +231,42 @@ class TrackerPublisher:
         self._session = session
         self._every_s = progress_every_s
         self._say = say
-        self.poses = self.deletes = 0
+        self._publishers: dict[str, zenoh.Publisher] = {}
+        self.poses = self.deletes = self.heard = 0
         self._started = self._reported = time.monotonic()
 
     def __call__(self, key: str, payload: bytes | None) -> None:
         if payload is None:
-            self._session.delete(key, congestion_control=zenoh.CongestionControl.BLOCK)
+            publisher = self._publishers.pop(key, None)
+            if publisher is None:
+                self._session.delete(key, congestion_control=zenoh.CongestionControl.BLOCK)
+            else:
+                publisher.delete()
+                publisher.undeclare()
             self.deletes += 1
         else:
-            self._session.put(
-                key,
-                payload,
-                encoding=zenoh.Encoding.APPLICATION_JSON,
-                congestion_control=zenoh.CongestionControl.BLOCK,
-            )
+            if (publisher := self._publishers.get(key)) is None:
+                publisher = self._publishers[key] = self._session.declare_publisher(
+                    key,
+                    encoding=zenoh.Encoding.APPLICATION_JSON,
+                    congestion_control=zenoh.CongestionControl.BLOCK,
+                )
+            publisher.put(payload)
             self.poses += 1
+            self.heard += publisher.matching_status.matching
         if (
             self._every_s is not None
             and (now := time.monotonic()) - self._reported >= self._every_s
         ):
             self._reported = now
             rate = self.poses / (now - self._started)
-            self._say(f"published {self.poses} poses ({rate:.0f}/s) and {self.deletes} deletes")
+            self._say(
+                f"published {self.poses} poses ({rate:.0f}/s) and {self.deletes} deletes"
+                + ("" if self.heard else "; no subscriber has heard any yet")
+            )
+
+    def close(self) -> None:
+        """Undeclare every body's publisher (the session's close would too)."""
+        for publisher in self._publishers.values():
+            publisher.undeclare()
+        self._publishers.clear()

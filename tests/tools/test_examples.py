@@ -5,6 +5,7 @@ service. The FacingClient examples run in test_watch_demo."""
 from __future__ import annotations
 
 import re
+import signal
 import subprocess
 import sys
 import time
@@ -45,7 +46,8 @@ def test_a_tracker_a_subscriber_a_get_and_a_status_read(net):
         for proc in procs:
             if proc.poll() is None:
                 proc.kill()
-    assert published.strip() == "published", published
+    assert re.search(r"^published \d+ poses, (\d+) heard by a subscriber; ann and bob deleted$",
+                     published, re.M), published  # fmt: skip
     assert re.search(r"^ann: facing=True angle=\d+°$", answered, re.M), answered
     assert re.search(r"^bob: facing=False angle=\d+°$", answered, re.M), answered
     assert re.search(
@@ -55,3 +57,46 @@ def test_a_tracker_a_subscriber_a_get_and_a_status_read(net):
     assert re.search(r"^bob looks elsewhere \(3\.\d m\)$", heard, re.M), heard
     assert "hri/bodies/ann/facing/base_link: lost" in heard, heard
     assert all(proc.returncode == 0 for proc in procs)
+
+
+def test_with_no_service_each_example_says_so_and_fails():
+    """Issue 59: publishing to nowhere said "published", a query and a subscriber nobody
+    answered printed nothing; each exited 0."""
+    port = free_port()  # nothing listens there
+    runs = {
+        "tracker.py": ("--duration-s", "1"),
+        "query.py": (),
+        "subscribe.py": ("--duration-s", "2.5"),
+        "status.py": (),
+    }
+    procs = {name: example(name, port, *flags) for name, flags in runs.items()}
+    said = {name: proc.communicate(timeout=30)[0] for name, proc in procs.items()}
+    assert all(proc.returncode == 1 for proc in procs.values()), said
+    assert (
+        "0 heard by a subscriber" in said["tracker.py"]
+        and "no subscriber heard" in said["tracker.py"]
+    )
+    assert "no facing service answered hri/bodies/*/facing/base_link" in said["query.py"]
+    assert "heard no result" in said["subscribe.py"]
+    assert "no facing service answered its status" in said["status.py"]
+    assert not any("Traceback" in out for out in said.values()), said
+
+
+def test_ctrl_c_ends_every_example_quietly_and_the_tracker_deletes_its_people(net):
+    """Issue 59: Ctrl-C printed a traceback (during the imports too), and the tracker then
+    never sent the DELETEs its docs promise."""
+    port = free_port()
+    net.service(listen=[endpoint(port)], base_frame="base_link")
+    lost = net.recorder(net.client(endpoint(port)), "hri/bodies/*/pose/base_link")
+    for name in ("facing_printer.py", "greeter.py", "where_to_stand.py", "tracker.py"):
+        for after_s in (0.2, 2.5):
+            proc = example(name, port)
+            time.sleep(after_s)
+            proc.send_signal(signal.SIGINT)
+            out, _ = proc.communicate(timeout=30)
+            assert proc.returncode == 0 and "Traceback" not in out, (name, after_s, out)
+    deletes = lost.wait_for(lambda item: item.kind == "delete", count=4)  # two runs, two each
+    assert {item.key for item in deletes} == {
+        "hri/bodies/ann/pose/base_link",
+        "hri/bodies/bob/pose/base_link",
+    }
