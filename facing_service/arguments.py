@@ -291,8 +291,9 @@ def build_parser() -> _Parser:
         help="address to listen on (default 127.0.0.1: this machine only)",
     )  # fmt: skip
     view.add_argument(
-        "--port", type=port_number, default=8780, help="port to listen on (default 8780)"
-    )
+        "--port", type=port_number, default=8780,
+        help="port to listen on (default 8780; 0: any free port, said when it starts)",
+    )  # fmt: skip
     add_zenoh_arguments(view)
 
     demo = commands.add_parser(
@@ -306,7 +307,8 @@ def build_parser() -> _Parser:
     demo.add_argument("--svg", type=Path, help="save the last frame as an SVG image")
     demo.add_argument(
         "--view-port", type=port_number, default=8780,
-        help="the live page's port on 127.0.0.1, beside the terminal view (0: any free)",
+        help="the live page's port on 127.0.0.1, beside the terminal view (default 8780; "
+        "0: any free port)",
     )  # fmt: skip
 
     export = commands.add_parser(

@@ -6,6 +6,7 @@ the logging and signals a process needs. Their flags and checks are ``arguments`
 from __future__ import annotations
 
 import argparse
+import difflib
 import json
 import logging
 import os
@@ -23,8 +24,8 @@ from .arguments import build_parser
 from .client import health
 from .client.client import FacingClient
 from .client.sim import Scene, TrackerPublisher, simulate
-from .client.watch import Watcher, natural_order
-from .config.disclosure import zenoh_failure
+from .client.watch import Watcher
+from .config.disclosure import public_endpoint, zenoh_failure
 from .config.patience import open_patiently
 from .config.session import waiting_for_router, zenoh_config
 from .config.settings import Settings
@@ -32,6 +33,7 @@ from .config.sources import load_settings
 from .contract import keys
 from .contract.errors import SettingsError
 from .contract.schemas import json_schemas
+from .launch import INTERRUPTED
 from .shell.run import run_until
 from .tools.demo import run_demo
 from .tools.record import replay_refusal
@@ -152,16 +154,31 @@ def _simulate(args: argparse.Namespace) -> int:
         return 1
     with session:
         publish = TrackerPublisher(session, progress_every_s=5.0, say=_say)
-        ticks = simulate(
-            publish,
-            Scene(people=args.people, seed=args.seed),
-            args.base_frame,
-            settings.namespace,
-            args.rate_hz,
-            args.duration_s,
-            should_stop=stop.is_set,
+        try:
+            ticks = simulate(
+                publish,
+                Scene(people=args.people, seed=args.seed),
+                args.base_frame,
+                settings.namespace,
+                args.rate_hz,
+                args.duration_s,
+                should_stop=stop.is_set,
+            )
+        finally:
+            publish.close()
+    print(
+        f"published {publish.poses} poses and {publish.deletes} deletes in {ticks} ticks, "
+        f"{publish.heard} heard by a subscriber"
+    )
+    if publish.poses and not publish.heard:  # sent to nowhere: not a success
+        where = ", ".join(public_endpoint(e) for e in settings.connect)
+        print(
+            f"facing-service simulate: no subscriber heard any pose on {key}: is a facing "
+            f"service running in namespace '{settings.namespace}', "
+            + (f"reachable at {where}?" if where else "found by scouting from here?"),
+            file=sys.stderr,
         )
-    print(f"published {publish.poses} poses and {publish.deletes} deletes in {ticks} ticks")
+        return 1
     return 0
 
 
@@ -179,17 +196,22 @@ def _viewer(args: argparse.Namespace, command: str, stop: threading.Event) -> Fa
         return 2
     if not getattr(args, "once", False):
         settings = waiting_for_router(settings)
-    client = FacingClient(
-        settings.namespace, args.base_frame, session_config=zenoh_config(settings)
-    )
-    try:
-        opened = open_patiently(client.open, settings, stop)
+    config = zenoh_config(settings)
+    client = FacingClient(settings.namespace, args.base_frame, session_config=config)
+    try:  # only the session's opening waits for the router, not the wait for a service
+        session = open_patiently(lambda: zenoh.open(config), settings, stop)
     except zenoh.ZError as error:
         print(zenoh_failure(command, error), file=sys.stderr)
         return 1
-    if opened is None:  # stopped while zenoh.open waits for the router, in native code:
+    if session is None:  # stopped while zenoh.open waits for the router, in native code:
         return 0  # entry() ends the process without waiting for it
-    return opened
+    once = getattr(args, "once", False)
+    client.open(session, log_absence=not once)
+    if once and client.absence is not None:  # one shot: nothing to draw, and say so
+        client.close()
+        print(f"facing-service {command}: {client.absence}", file=sys.stderr)
+        return 1
+    return client
 
 
 def _watch(args: argparse.Namespace) -> int:
@@ -249,7 +271,7 @@ def _demo(args: argparse.Namespace) -> int:
         args.svg,
         args.view_port,
     )
-    people = ", ".join(sorted(seen_facing, key=natural_order)) or "nobody"
+    people = ", ".join(sorted(seen_facing, key=keys.natural_order)) or "nobody"
     print(f"faced the robot during the demo: {people}")
     return 0
 
@@ -266,11 +288,23 @@ def _export_schemas(args: argparse.Namespace) -> int:
     return 0
 
 
+def _with_suggestions(unknown: Sequence[str], flags: Sequence[str]) -> str:
+    """The words a command did not take, each misspelt flag with the nearest it takes (as
+    a misspelt FACING_ variable gets one)."""
+    said = []
+    for word in unknown:
+        near = difflib.get_close_matches(word.split("=")[0], flags, n=1)
+        said.append(f"{word} (did you mean {near[0]}?)" if word.startswith("-") and near else word)
+    return " ".join(said)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args, unknown = parser.parse_known_args(argv)
     if unknown:  # said by the command's own parser: its usage, not the top level's
-        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(unknown)}")
+        command_parser = parser.commands[args.command]
+        flags = [o for action in command_parser._actions for o in action.option_strings]
+        command_parser.error(f"unrecognized arguments: {_with_suggestions(unknown, flags)}")
     command = {
         "run": _run,
         "health": _health,
@@ -292,7 +326,10 @@ def entry() -> NoReturn:
     native threads, which may still call into Python while the interpreter finalises, and a
     thread that does aborts the whole process ("FATAL: exception not rethrown", seen 1 time
     in 4 when a viewer had waited for its router). Output is flushed first."""
-    code = main()
+    try:
+        code = main()
+    except KeyboardInterrupt:  # before a command set its own handlers: end quietly
+        code = INTERRUPTED
     logging.shutdown()
     sys.stdout.flush()
     sys.stderr.flush()

@@ -139,7 +139,12 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
         (["run", "-l", "tcp/[::1:7447"], "--listen="),
         (["run", "-c", "/no/such.json5"], "--config '/no/such.json5': no such file"),
         (["run", "-c", "/tmp"], "--config '/tmp': not a file"),
-        (["run", "--threshold", "30"], "unrecognized arguments: --threshold 30"),
+        (["run", "--threshold", "30"], "unrecognized arguments: --threshold (did you mean "),
+        # issue 59: a misspelt flag gets the nearest, as a misspelt FACING_ variable does
+        (["run", "--treshold-deg", "30"], "--treshold-deg (did you mean --threshold-deg?) 30"),
+        # issue 59: nan was said as "Input should be less than 180"
+        (["run", "--threshold-deg", "nan"], "--threshold-deg=nan: Input should be a finite"),
+        (["run", "--stale-after-s", "inf"], "--stale-after-s=inf: Input should be a finite"),
     ],
 )
 def test_every_number_path_and_endpoint_is_checked_in_one_line(args, message):
@@ -162,6 +167,8 @@ def test_simulate_says_what_it_publishes(net):
             "simulate",
             "--duration-s",
             "0.3",
+            "--base-frame",
+            "cam",  # the test service's frame: poses on base_link went to nobody, unseen
             "-e",
             ep,
             *LOOPBACK_FLAGS,
@@ -172,8 +179,25 @@ def test_simulate_says_what_it_publishes(net):
     )
     assert proc.returncode == 0, proc.stderr
     first, last = proc.stdout.strip().splitlines()
-    assert first.startswith("simulating 5 people: poses on hri/bodies/<id>/pose/base_link at 30 Hz")
+    assert first.startswith("simulating 5 people: poses on hri/bodies/<id>/pose/cam at 30 Hz")
     assert last.startswith("published ") and " poses and " in last
+    assert not last.endswith(" 0 heard by a subscriber"), last
+
+
+@pytest.mark.slow
+def test_simulate_to_nowhere_says_nobody_heard_and_fails():
+    """Issue 59: publishing to an endpoint nobody listens on said "published 900 poses"
+    and exited 0; zenoh's matching status says nobody heard them."""
+    ep = endpoint(free_port())
+    proc = subprocess.run(
+        [sys.executable, "-m", "facing_service", "simulate", "--duration-s", "1", "-e", ep,
+         *LOOPBACK_FLAGS],
+        capture_output=True, text=True, timeout=30,
+    )  # fmt: skip
+    assert proc.returncode == 1, proc.stdout
+    assert proc.stdout.strip().endswith(" 0 heard by a subscriber"), proc.stdout
+    assert proc.stderr.startswith("facing-service simulate: no subscriber heard any pose")
+    assert f"reachable at {ep}?" in proc.stderr and len(proc.stderr.splitlines()) == 1
 
 
 def test_a_peer_says_at_once_that_its_endpoints_are_unreachable(caplog):
@@ -261,6 +285,60 @@ def test_watch_once_says_at_once_that_no_router_answers():
 
 
 @pytest.mark.slow
+def test_a_wrong_namespace_is_said_as_such_not_blamed_on_the_router(net):
+    """Issue 59: with the router (here the service itself) up, a viewer of another
+    namespace said "still waiting for a router at …"; it names the namespace now, and
+    those that answer. One shot exits 1; a live view goes on waiting for results."""
+    port = free_port()
+    net.service(listen=[endpoint(port)])
+    flags = ("-e", endpoint(port), "--no-multicast-scouting")
+    with running_cli("watch", "--once", *flags, "--namespace", "hri2") as proc:
+        once, _ = proc.communicate(timeout=20)
+    assert proc.returncode == 1, once
+    assert once.strip() == (
+        f"facing-service watch: no facing service in namespace 'hri2' at {endpoint(port)} "
+        "(namespaces with one: hri)"
+    )
+    with running_cli("view", "--port", "0", *flags, "--namespace", "robot1/hri") as proc:
+        time.sleep(4.0)
+        proc.send_signal(signal.SIGTERM)
+        live, _ = proc.communicate(timeout=10)
+    assert f"no facing service in namespace 'robot1/hri' at {endpoint(port)}" in live, live
+    assert "waiting for a router" not in live and "Traceback" not in live
+
+
+@pytest.mark.slow
+def test_watch_once_on_a_wrong_port_in_peer_mode_is_one_line_and_fails():
+    """Issue 59: a peer's session opens with nobody there; one shot drew an empty map,
+    blamed the router, spoke of a cache filling, and exited 0."""
+    ep = endpoint(free_port())
+    with running_cli("watch", "--once", "-e", ep, "--no-multicast-scouting") as proc:
+        output, _ = proc.communicate(timeout=20)
+    assert proc.returncode == 1, output
+    assert output.strip() == (
+        f"facing-service watch: nothing answers at {ep}: no router or peer reached (is one "
+        "listening there?)"
+    )
+
+
+@pytest.mark.slow
+def test_ctrl_c_while_the_command_still_imports_is_quiet():
+    """Issue 59: Ctrl-C in the first ~0.3 s of `run` printed 15 lines of importlib's
+    traceback; the entry point now imports the command's modules where it catches it.
+    (The interpreter's own start-up, before any of our code, stays Python's.)"""
+    for after_s in (0.15, 0.3, 0.5):
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "facing_service", "run", "-l", endpoint(free_port()),
+             *LOOPBACK_FLAGS],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        )  # fmt: skip
+        time.sleep(after_s)
+        proc.send_signal(signal.SIGINT)
+        output, _ = proc.communicate(timeout=20)
+        assert "Traceback" not in output and proc.returncode in (0, 130), (after_s, output)
+
+
+@pytest.mark.slow
 def test_log_level_reaches_zenohs_own_log_but_never_its_debug(monkeypatch):
     """--log-level DEBUG shows zenoh's own log (its info level), never zenoh's debug,
     which prints the session's config, secrets included (see test_router_secure)."""
@@ -335,7 +413,7 @@ def test_the_result_types_the_docs_name_are_importable_from_the_package():
 
 
 def test_the_watch_table_and_the_demo_order_ids_as_numbers():
-    from facing_service.client.watch import natural_order
+    from facing_service.contract.keys import natural_order
 
     ids = ["p10", "p4", "p1", "alice", "p2b", "p2a", "b7"]
     assert sorted(ids, key=natural_order) == ["alice", "b7", "p1", "p2a", "p2b", "p4", "p10"]

@@ -26,13 +26,33 @@ def test_the_readme_is_short_and_links_every_page():
     assert {f"docs/{page.name}" for page in PAGES} <= linked
 
 
-@pytest.mark.parametrize("doc", [ROOT / "README.md", *PAGES], ids=lambda p: p.name)
-def test_relative_links_resolve(doc):
+def anchors(page: Path) -> set[str]:
+    """The anchors GitHub gives a Markdown page's headings: lower case, punctuation
+    dropped, spaces as hyphens, a repeated one numbered (-1, -2 …)."""
+    seen: dict[str, int] = {}
+    out = set()
+    text = re.sub(r"(?ms)^```.*?^```", "", page.read_text())  # no headings in code blocks
+    for heading in re.findall(r"(?m)^#{1,6} +(.+?) *#*$", text):
+        slug = re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+        out.add(slug if slug not in seen else f"{slug}-{seen[slug]}")
+        seen[slug] = seen.get(slug, 0) + 1
+    return out
+
+
+@pytest.mark.parametrize(
+    "doc", [ROOT / "README.md", *PAGES, ROOT / "examples" / "README.md"], ids=lambda p: p.name
+)
+def test_relative_links_resolve_anchors_included(doc):
+    """Issue 59: two pages linked an anchor that had changed; a page's link and the
+    heading it names are checked together."""
     for target in LINK.findall(doc.read_text()):
-        if re.match(r"[a-z]+:", target) or target.startswith("#"):
+        if re.match(r"[a-z]+:", target):
             continue
-        path = (doc.parent / target.split("#")[0]).resolve()
+        file, _, anchor = target.partition("#")
+        path = (doc.parent / file).resolve() if file else doc
         assert path.exists(), f"{doc.name} links to {target}, which does not exist"
+        if anchor and path.suffix == ".md":
+            assert anchor in anchors(path), f"{doc.name} links to {target}: no such heading"
 
 
 def test_the_contract_names_every_rejection_reason_and_no_other():
@@ -99,26 +119,45 @@ def test_the_groups_tables_are_the_committed_results():
 
 
 @pytest.mark.slow
-def test_the_readmes_isolated_run_and_its_snippet_work_as_written():
+def test_the_readmes_isolated_run_its_health_check_and_its_snippet_work_as_written(net):
     """The README shows the isolated way first: the service on loopback without
-    multicast scouting, and a snippet that connects to it alone. Both run as written
-    (only the port changes), and the snippet prints the service's result."""
+    multicast scouting, the health command that reaches it, and a snippet that connects
+    to it alone. Each runs as written, in the README's order (only the port changes),
+    beside another service on this host (issue 59: plain `health` answered for that one):
+    health names our instance and endpoint, the snippet prints the service's result, and
+    no command prints a traceback or exits 0 having heard nothing."""
+    import signal
     import subprocess
     import sys
 
-    from facing_service.testing import free_port, running_cli
+    from facing_service.testing import endpoint, free_port, running_cli
 
-    readme = (ROOT / "README.md").read_text()
+    readme = " ".join((ROOT / "README.md").read_text().split())  # commands wrap lines
     run = re.search(r"`\.venv/bin/facing-service (run -l tcp/127\.0\.0\.1:7447[^`]*)`", readme)
-    snippet = re.search(r"python - <<'EOF'\n(.*?)\nEOF", readme, re.S)
-    assert run and snippet
+    health = re.search(
+        r"`\.venv/bin/facing-service (health -e tcp/127\.0\.0\.1:7447[^`]*)`", readme
+    )
+    snippet = re.search(r"python - <<'EOF'\n(.*?)\nEOF", (ROOT / "README.md").read_text(), re.S)
+    assert run and health and snippet
+    assert readme.index(run[0]) < readme.index(health[0]) < readme.index("python - <<'EOF'")
+    net.service(listen=[endpoint(free_port())], instance="someone-else")  # another service
     port = str(free_port())
-    with running_cli(*run[1].replace("7447", port).split()):
+    with running_cli(*run[1].replace("7447", port).split(), env={"FACING_INSTANCE": "ours"}) as svc:
+        checked = subprocess.run(
+            [sys.executable, "-m", "facing_service", *health[1].replace("7447", port).split()],
+            capture_output=True, text=True, timeout=60,
+        )  # fmt: skip
         done = subprocess.run(
             [sys.executable, "-c", snippet[1].replace("7447", port)],
             capture_output=True, text=True, timeout=60,
         )  # fmt: skip
-    assert done.returncode == 0, done.stderr
+        svc.send_signal(signal.SIGTERM)
+        said, _ = svc.communicate(timeout=10)
+    assert svc.returncode == 0 and "Traceback" not in said, said
+    for proc in (checked, done):
+        assert proc.returncode == 0 and "Traceback" not in proc.stdout + proc.stderr, proc
+    (line,) = checked.stdout.splitlines()
+    assert line.startswith("ok: instance ours (facing-service ") and f":{port}," in line, line
     (result,) = [json.loads(line) for line in done.stdout.splitlines()]
     assert result["body_id"] == "alice" and result["facing"] is True
 

@@ -52,7 +52,7 @@ class ClientOptions(SessionChecks):
     that signed the router's certificate, and the client's own certificate and key for
     mutual TLS (both or neither)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     namespace: str = "hri"
     frame: str = keys.ALL_FRAMES

@@ -16,7 +16,6 @@ import contextlib
 import io
 import json
 import math
-import re
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -80,14 +79,6 @@ def same_humans(states: Mapping[str, FacingState]) -> dict[str, tuple[str, ...]]
     return out
 
 
-def natural_order(name: str) -> tuple[tuple[int, int | str], ...]:
-    """Sort key reading digit runs as numbers: p2 before p10 (a string sort puts p10
-    first), whatever the mix of letters and digits."""
-    return tuple(
-        (0, int(part)) if part.isdigit() else (1, part) for part in re.findall(r"\d+|\D+", name)
-    )
-
-
 def arrow(yaw_deg: float) -> str:
     return _ARROWS[round((yaw_deg % 360) / 45) % 8]
 
@@ -130,7 +121,7 @@ def render(
             styles[(row, col)] = "bold magenta"
     grid[cy][cx] = "R"
     styles[(cy, cx)] = "bold cyan"
-    for person in sorted(people, key=lambda p: natural_order(p.body_id)):
+    for person in sorted(people, key=lambda p: keys.natural_order(p.body_id)):
         col, row = cx - round(person.y * scale_x), cy - round(person.x * scale_y)
         if not (0 <= row < height and 0 <= col < width):
             continue
@@ -152,7 +143,7 @@ def render(
     group_of = {m: g.id + (" +R" if g.robot else "") for g in groups for m in g.members}
     for name in ("id", "facing", "angle °", "distance m", "held s", "engagement", "group"):
         table.add_column(name, justify="left" if name == "id" else "right")
-    for person in sorted(people, key=lambda p: natural_order(p.body_id)):
+    for person in sorted(people, key=lambda p: keys.natural_order(p.body_id)):
         table.add_row(
             person.label,
             "yes" if person.facing else "no",

@@ -104,7 +104,8 @@ class Settings(SessionChecks):
     """Every setting of ``facing-service run``: the single source of the CLI's flags and
     help, the ``FACING_*`` variables and docs/configuration.md's table."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    # No setting is nan or infinite: said as "a finite number", not as a bound it missed.
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     namespace: str = flag("hri", "key prefix, one or more chunks")
     base_frame: str = flag(
@@ -121,9 +122,7 @@ class Settings(SessionChecks):
         ge=0.0,
         lt=180.0,
     )
-    stale_after_s: float = flag(
-        2.0, "a body with no accepted pose for this long is lost", gt=0.0, allow_inf_nan=False
-    )
+    stale_after_s: float = flag(2.0, "a body with no accepted pose for this long is lost", gt=0.0)
     max_payload_bytes: int = flag(
         DEFAULT_MAX_PAYLOAD_BYTES, "larger pose payloads are rejected", gt=0
     )
@@ -138,25 +137,21 @@ class Settings(SessionChecks):
     disengage_below: float = flag(
         0.35, "smoothed score below which ENGAGED turns DISENGAGING", ENGAGEMENT, ge=0.0, lt=1.0
     )
-    engagement_tau_s: float = flag(
-        0.25, "time constant of the smoothed score", ENGAGEMENT, gt=0.0, allow_inf_nan=False
-    )
+    engagement_tau_s: float = flag(0.25, "time constant of the smoothed score", ENGAGEMENT, gt=0.0)
     engage_dwell_s: float = flag(
         0.5,
         "ENGAGING must hold this long to become ENGAGED",
         ENGAGEMENT,
         ge=0.0,
-        allow_inf_nan=False,
     )
     disengage_dwell_s: float = flag(
         0.6,
         "DISENGAGING must hold this long to become DISENGAGED",
         ENGAGEMENT,
         ge=0.0,
-        allow_inf_nan=False,
     )
     engagement_period_s: float = flag(
-        1.0, "an unchanged level is republished this often", ENGAGEMENT, gt=0.0, allow_inf_nan=False
+        1.0, "an unchanged level is republished this often", ENGAGEMENT, gt=0.0
     )
     zones_m: list[float] = flag(
         [0.45, 1.2, 3.6],
@@ -184,14 +179,13 @@ class Settings(SessionChecks):
         lt=180.0,
     )
     head_engagement_tau_s: float = flag(
-        2.0, "time constant of a face's smoothed score", HEADS, gt=0.0, allow_inf_nan=False
+        2.0, "time constant of a face's smoothed score", HEADS, gt=0.0
     )
     head_dwell_s: float = flag(
         1.0,
         "a face's ENGAGING and DISENGAGING must hold this long",
         HEADS,
         ge=0.0,
-        allow_inf_nan=False,
     )
     head_engaged_after_s: float = flag(
         0.0,
@@ -200,7 +194,6 @@ class Settings(SessionChecks):
         HEADS,
         ge=0.0,
         le=60.0,
-        allow_inf_nan=False,
     )
     head_steady_deg: float = flag(
         0.0,
@@ -208,14 +201,12 @@ class Settings(SessionChecks):
         "twice it (0: steadiness off)",
         HEADS,
         ge=0.0,
-        allow_inf_nan=False,
     )
     head_steady_tau_s: float = flag(
         0.5,
         "time constant of a face's recent direction (steadiness)",
         HEADS,
         gt=0.0,
-        allow_inf_nan=False,
     )
     head_vote_deg: float = flag(
         24.0,
@@ -225,7 +216,6 @@ class Settings(SessionChecks):
         HEADS,
         ge=0.0,
         lt=180.0,
-        allow_inf_nan=False,
     )
     head_vote_tau_s: float = flag(
         1.5,
@@ -233,7 +223,6 @@ class Settings(SessionChecks):
         HEADS,
         gt=0.0,
         le=60.0,
-        allow_inf_nan=False,
     )
     head_vote_share: float = flag(
         0.75,
@@ -241,14 +230,12 @@ class Settings(SessionChecks):
         HEADS,
         gt=0.0,
         le=1.0,
-        allow_inf_nan=False,
     )
     group_hold_s: float = flag(
         0.3,
         "a new grouping is said once it has held this long (no flicker)",
         GROUPS,
         ge=0.0,
-        allow_inf_nan=False,
     )
     group_rate_hz: float = flag(
         10.0,
@@ -256,7 +243,6 @@ class Settings(SessionChecks):
         GROUPS,
         gt=0.0,
         le=1000.0,
-        allow_inf_nan=False,
     )
     group_max_people: int = flag(
         20,

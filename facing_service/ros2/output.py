@@ -40,6 +40,7 @@ import json
 from dataclasses import dataclass
 from typing import Any
 
+from ..contract.keys import natural_order
 from ..contract.levels import Level
 from ..contract.schemas import FrameFacing
 from ..contract.stamps import ZERO, Time
@@ -153,7 +154,7 @@ def group_message(frame_id: str, stamp: Time, group_id: int, members: Any) -> Ro
     message = ros2_types.message_type(GROUP)(
         header=ros2_types.header(frame_id, stamp),
         group_id=str(group_id),
-        members=sorted(ros_id(m) for m in members),
+        members=sorted((ros_id(m) for m in members), key=natural_order),
     )
     return RosMessage(GROUPS_TOPIC, GROUP, ros2_types.serialize(message, GROUP))
 

@@ -128,7 +128,7 @@ def place(pose: JoinPose) -> Place:
 def group_state(group: Group) -> GroupState:
     return GroupState(
         id=str(group.id),
-        members=sorted(group.members - {ROBOT}),
+        members=sorted(group.members - {ROBOT}, key=keys.natural_order),
         robot=group.robot,
         centre=Centre(x=group.centre[0], y=group.centre[1]),
         join=None if group.join is None else place(group.join),  # (None with the robot in)

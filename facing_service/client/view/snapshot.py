@@ -9,8 +9,9 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from ...contract.keys import natural_order
 from ...contract.schemas import GazePair, Greeting, GroupState
-from ..watch import PersonView, natural_order
+from ..watch import PersonView
 
 #: People sent to the page at most: a crowd of thousands renders bounded.
 MAX_DRAWN = 200
