@@ -16,6 +16,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import cast
 
 import zenoh
 
@@ -253,7 +254,8 @@ class TrackerPublisher:
                 )
             publisher.put(payload)
             self.poses += 1
-            self.heard += publisher.matching_status.matching
+            # eclipse-zenoh's stub types the property bool; it returns a MatchingStatus
+            self.heard += cast(zenoh.MatchingStatus, publisher.matching_status).matching
         if (
             self._every_s is not None
             and (now := time.monotonic()) - self._reported >= self._every_s
