@@ -65,13 +65,13 @@ class JsonSender:
     def __init__(self, session: zenoh.Session, namespace: str, capacity: int, heard: Heard):
         self._session = session
         self._keys = DeclaredKeys(session, 2 * capacity)
+        self._heard = heard  # before the listener: it may call back at once, on its thread
         space = keys.facing_key(namespace, keys.ALL_FRAMES, keys.ALL_FRAMES)
         self._watch = session.declare_publisher(space)
         self._listener = self._watch.declare_matching_listener(self._on_matching)
         # zenoh 1.10's stub says bool; the property is a MatchingStatus, as the listener's
         status: Any = self._watch.matching_status
         heard.results = bool(status.matching)
-        self._heard = heard
 
     def _on_matching(self, status: zenoh.MatchingStatus) -> None:
         self._heard.matching(status.matching)
