@@ -33,7 +33,6 @@ from .config.sources import load_settings
 from .contract import keys
 from .contract.errors import SettingsError
 from .contract.schemas import json_schemas
-from .launch import INTERRUPTED
 from .shell.run import run_until
 from .tools.demo import run_demo
 from .tools.record import replay_refusal
@@ -328,8 +327,8 @@ def entry() -> NoReturn:
     in 4 when a viewer had waited for its router). Output is flushed first."""
     try:
         code = main()
-    except KeyboardInterrupt:  # before a command set its own handlers: end quietly
-        code = INTERRUPTED
+    except KeyboardInterrupt:  # before a command set its own handlers: end quietly, as
+        code = 128 + signal.SIGINT  # shells report Ctrl-C
     logging.shutdown()
     sys.stdout.flush()
     sys.stderr.flush()

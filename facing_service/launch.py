@@ -5,17 +5,15 @@ later does, instead of printing a traceback from importlib (issue 59)."""
 from __future__ import annotations
 
 import os
+import signal
 import sys
 from typing import NoReturn
-
-#: The exit status of a process ended by Ctrl-C (128 + SIGINT), as shells report it.
-INTERRUPTED = 130
 
 
 def entry() -> NoReturn:
     try:
         from .cli import entry as run_command
-    except KeyboardInterrupt:
+    except KeyboardInterrupt:  # ended as shells report Ctrl-C: 128 + SIGINT
         sys.stderr.flush()
-        os._exit(INTERRUPTED)
+        os._exit(128 + signal.SIGINT)
     run_command()
