@@ -134,6 +134,21 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
         "head_vote_deg": (20.0, 22.0, 24.0, 26.0, 28.0, 30.0, 34.0),
         "head_vote_tau_s": (1.5, 2.5, 4.0),
     },
+    # Soft evidence that accumulates (issue 61): the facing score as a graded vote (+1 in
+    # the cone, -1 past its fall-off), summed over time within a memory, levels by the
+    # rule's own thresholds on its share; no gate decides alone. The memory is its one
+    # length; the cone (and where the votes turn negative) is the head's.
+    "evidence: cone, memory": {
+        "head_model": ("evidence",),
+        "head_threshold_deg": CONES,
+        "head_memory_s": (1.0, 1.5, 2.0, 3.0, 4.0),
+    },
+    "evidence: cone, fall-off, memory": {
+        "head_model": ("evidence",),
+        "head_threshold_deg": CONES,
+        "head_falloff_deg": (5.0, 10.0, 20.0),
+        "head_memory_s": (1.0, 2.0, 3.0),
+    },
     # Everything free: shows what fitting many parameters to five people does.
     "every head parameter": {
         "head_threshold_deg": (24.0, 28.0, 32.0),
@@ -147,7 +162,7 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
 
 #: What a family that does not search it runs with: the rule before it was an idea (the
 #: defaults hold the preferred idea's choice, which would leak into every other family).
-BEFORE = {"head_engaged_after_s": (0.0,), "head_vote_deg": (0.0,)}
+BEFORE = {"head_engaged_after_s": (0.0,), "head_vote_deg": (0.0,), "head_model": ("cone",)}
 
 
 def grid_of(family: str) -> dict[str, tuple[Any, ...]]:

@@ -1,6 +1,7 @@
 """Engagement levels, side by side: our smoothed-score state machine vs the reference
-vote-window rule of ROS4HRI's hri_engagement (facing_service.core.engagement.VoteWindow, a
-re-implementation for comparison, not our method), on the same noisy tracks.
+vote-window rule of ROS4HRI's hri_engagement (facing_service.core.rule: the service's
+``--engagement rule``; here each simulated body votes whether it faces the robot, within
+the tutorial's 20 deg), on the same noisy tracks.
 
     python -m benchmarks.engagement [--people 20] [--seed 0] [--quick]
 
@@ -27,6 +28,7 @@ from pathlib import Path
 
 from facing_service.config.profiles import engagement_params
 from facing_service.config.settings import Settings
+from facing_service.core import rule
 from facing_service.core.detector import classify_one
 from facing_service.core.engagement import (
     Engagement,
@@ -37,12 +39,12 @@ from facing_service.core.engagement import (
     step,
 )
 
-from .hri_engagement import VoteWindow
 from .labelled import LabelledSample, Segment, labelled_track
 
 RESULTS = Path(__file__).resolve().parent / "results" / "engagement.json"
 TARGETS = {"to_engaged_s": 1.0, "to_disengaged_s": 1.5, "spurious_per_person_minute": 0.1}
 TICK_S = 0.1  # the reference votes at 10 Hz; ours is also advanced at that rate
+RULE = rule.RuleParams()  # hri_engagement's window: 10 Hz, 10 s
 
 
 def script(rng: random.Random) -> list[Segment]:
@@ -79,7 +81,7 @@ def decide(sample: LabelledSample) -> tuple[float | None, float | None, bool]:
 def levels(track: list[LabelledSample], method: str, p: EngagementParams) -> list[tuple]:
     """The level changes ``(t, level)`` a method produces on a track."""
     changes: list[tuple[float, Level]] = []
-    ours, reference = Engagement(), VoteWindow()
+    ours, reference = Engagement(), rule.Votes()
     level = Level.UNKNOWN
     i, t, end = 0, 0.0, track[-1].t
     latest: LabelledSample | None = None
@@ -96,7 +98,8 @@ def levels(track: list[LabelledSample], method: str, p: EngagementParams) -> lis
             ours = advance(ours, t, p)
             new = ours.level
         elif fresh is not None:  # the reference only votes when it has a new observation
-            new = reference.vote(decide(fresh)[2])
+            reference = rule.tick(reference, 1 if decide(fresh)[2] else -1, RULE)
+            new = reference.level
         else:
             new = level
         if new is not level:

@@ -85,7 +85,10 @@ def _table(head: list[str], rows: list[list[str]]) -> list[str]:
 
 
 def _choice(choice: dict[str, Any]) -> str:
-    return ", ".join(f"{k.removeprefix('head_')} {v:g}" for k, v in sorted(choice.items()))
+    return ", ".join(
+        f"{k.removeprefix('head_')} {v if isinstance(v, str) else format(v, 'g')}"
+        for k, v in sorted(choice.items())
+    )
 
 
 def crossval_section(cv: dict[str, Any]) -> list[str]:
@@ -178,8 +181,35 @@ def recordings_section(results: dict[str, Any]) -> list[str]:
     return [*out, "", *_table(["", *FIGURE_HEAD, "changes/min"], summary)]
 
 
+def rule_mode_section(results: dict[str, Any]) -> list[str]:
+    """``--engagement rule`` through the real path, row by row beside the evaluation's
+    rule (hri_engagement as its node runs it, on the same recording's TF)."""
+    rows = []
+    for mode, rule in zip(results["rule_mode"]["rows"], results["rule"]["rows"], strict=True):
+        rows.append(
+            [
+                mode["recording"],
+                mode["person"],
+                mode["label"],
+                _pct(rule["engaged_or_not"]),
+                _pct(mode["engaged_or_not"]),
+                f"{100 * (mode['engaged_or_not'] - rule['engaged_or_not']):+.0f}",
+                _pct(rule["level"]),
+                _pct(mode["level"]),
+                _s(rule["first_engaged_s"]),
+                _s(mode["first_engaged_s"]),
+            ]
+        )
+    head = [
+        "recording", "person", "label", "rule: ENGAGED or not", "mode: ENGAGED or not",
+        "points", "rule: level", "mode: level", "rule: 1st ENGAGED", "mode: 1st ENGAGED",
+    ]  # fmt: skip
+    return _table(head, rows)
+
+
 PAGES: dict[str, tuple[str, Callable[[dict[str, Any]], list[str]]]] = {
     "engagement.md": ("cross-validation", lambda r: crossval_section(r["crossval"])),
+    "engagement.md#rule": ("the rule's mode", rule_mode_section),
     "ros2.md": ("the real path against the rule", recordings_section),
 }
 
@@ -195,12 +225,12 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     results = json.loads(RESULTS.read_text())
     stale = []
-    for page in PAGES:
-        path = ROOT / "docs" / page
+    for section in PAGES:
+        path = ROOT / "docs" / section.split("#")[0]
         text = path.read_text()
-        new = render(page, text, results)
+        new = render(section, text, results)
         if new != text:
-            stale.append(page)
+            stale.append(section)
             if not args.check:
                 path.write_text(new)
     if args.check and stale:

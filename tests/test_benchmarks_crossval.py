@@ -153,3 +153,22 @@ def test_cross_validation_catches_a_fit(results):
     fit = full["in_sample"]["without_ceiling"]["level"]
     held = full["by_person"]["without_ceiling"]["level"]
     assert fit - held >= 0.05, full
+
+
+def test_the_rules_mode_is_the_evaluations_rule_on_every_row():
+    """Issue 61: `--engagement rule` through the service's own ROS 2 adapter and tracker
+    (offline) stays within 2 points of the evaluation's rule (hri_engagement as its node
+    runs it: a timer over TF lookups of the gaze frame) on every row, ceiling included;
+    the real path's committed run too (docs/engagement.md's table)."""
+    recordings = crossval.load()
+    rule = {(r.recording, r.person): r for r in crossval.rule_rows()}
+    mode = Settings(**crossval.BASE, engagement="rule")
+    rows = [row for r in recordings for row in crossval.rows(r, mode)]
+    assert len(rows) == len(rule) == 12
+    for row in rows:
+        theirs = rule[row.recording, row.person]
+        assert abs(row.engaged_or_not - theirs.engaged_or_not) <= 0.02, (row, theirs)
+        assert row.final_ok == theirs.final_ok, (row, theirs)
+    committed = json.loads(RESULTS.read_text())
+    for real, theirs in zip(committed["rule_mode"]["rows"], committed["rule"]["rows"], strict=True):
+        assert abs(real["engaged_or_not"] - theirs["engaged_or_not"]) <= 0.02, (real, theirs)

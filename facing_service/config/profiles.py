@@ -6,25 +6,34 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from ..core.engagement import EngagementParams
+from ..core.engagement import EngagementParams, Model
 from ..core.groups import GroupParams, ScaleParams
+from ..core.mutual_gaze import GazeParams
 from ..core.records import Profile
+from ..core.rule import RuleParams
 from ..core.scene import SceneParams
 from .settings import Settings
 
 
 def engagement_params(settings: Settings) -> EngagementParams:
-    intimate, personal, social = settings.zones_m
+    """A body's engagement machine: the facing score's, or hri_engagement's rule for
+    everyone with ``--engagement rule``."""
+    s = settings
+    intimate, personal, social = s.zones_m
     return EngagementParams(
-        threshold_deg=settings.threshold_deg,
-        tau_s=settings.engagement_tau_s,
-        engage_above=settings.engage_above,
-        disengage_below=settings.disengage_below,
-        engage_dwell_s=settings.engage_dwell_s,
-        disengage_dwell_s=settings.disengage_dwell_s,
+        threshold_deg=s.threshold_deg,
+        tau_s=s.engagement_tau_s,
+        engage_above=s.engage_above,
+        disengage_below=s.disengage_below,
+        engage_dwell_s=s.engage_dwell_s,
+        disengage_dwell_s=s.disengage_dwell_s,
         intimate_m=intimate,
         personal_m=personal,
         social_m=social,
+        model=Model.RULE if s.engagement == "rule" else Model.CONE,
+        gaze=GazeParams(s.rule_field_of_view_deg, s.rule_max_distance_m, s.rule_threshold),
+        rule=RuleParams(s.rule_rate_hz, s.rule_window_s),
+        memory_s=s.head_memory_s,
     )
 
 
@@ -52,6 +61,13 @@ def head_profile(settings: Settings) -> Profile:
         vote_deg=s.head_vote_deg or None,
         vote_tau_s=s.head_vote_tau_s,
         vote_share=s.head_vote_share,
+        model=(
+            Model.RULE
+            if s.engagement == "rule"
+            else Model.EVIDENCE
+            if s.head_model == "evidence"
+            else Model.CONE
+        ),
     )
     return Profile(s.head_threshold_deg, s.hysteresis_deg, s.head_cone == "3d", engagement)
 

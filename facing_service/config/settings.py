@@ -131,6 +131,41 @@ class Settings(SessionChecks):
         "most bodies tracked over all frames; new ones beyond are rejected (`capacity`)",
         gt=0,
     )
+    engagement: Literal["service", "rule"] = flag(
+        "service",
+        "whose engagement levels: `service` (this service's machines, docs/engagement.md) or "
+        "`rule` (hri_engagement 2.0.1's rule exactly, for bodies and faces: --rule-*)",
+        ENGAGEMENT,
+    )
+    rule_field_of_view_deg: float = flag(
+        60.0,
+        "hri_engagement's field_of_view: of the person's gaze and the robot's, in the "
+        "visual social engagement score",
+        ENGAGEMENT,
+        gt=0.0,
+        lt=90.0,
+    )
+    rule_max_distance_m: float = flag(
+        4.0,
+        "hri_engagement's max_distance: no engagement beyond it",
+        ENGAGEMENT,
+        gt=0.0,
+        le=100.0,
+    )
+    rule_threshold: float = flag(
+        0.5,
+        "hri_engagement's engagement_threshold: a score above it votes engaged",
+        ENGAGEMENT,
+        gt=0.0,
+        lt=1.0,
+    )
+    rule_window_s: float = flag(
+        10.0, "hri_engagement's observation_window: the votes the rule averages", ENGAGEMENT,
+        gt=0.0, le=600.0,
+    )  # fmt: skip
+    rule_rate_hz: float = flag(
+        10.0, "hri_engagement's rate: votes a second", ENGAGEMENT, gt=0.0, le=1000.0
+    )
     engage_above: float = flag(
         0.6, "smoothed score at which a body starts ENGAGING", ENGAGEMENT, gt=0.0, le=1.0
     )
@@ -161,6 +196,20 @@ class Settings(SessionChecks):
     )
     # Heads (face frames, from ROS 2 input): chosen by cross-validation by person on the
     # shared recordings (benchmarks/crossval.py, docs/engagement.md).
+    head_model: Literal["cone", "evidence"] = flag(
+        "cone",
+        "a face's engagement machine (with --engagement service): `evidence` (its facing "
+        "score as a graded vote, accumulated over --head-memory-s) or `cone` (the score "
+        "smoothed, with dwell times and the soft vote)",
+        HEADS,
+    )
+    head_memory_s: float = flag(
+        2.0,
+        "seconds of full evidence a face's evidence machine holds; ENGAGED at 3/4 of it",
+        HEADS,
+        gt=0.0,
+        le=600.0,
+    )
     head_cone: Literal["3d", "planar"] = flag(
         "3d", "how a face's angle to the robot is measured: `3d` or `planar`", HEADS
     )

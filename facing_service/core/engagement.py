@@ -1,6 +1,9 @@
 """Engagement: from "facing now" to "engaging with the robot", quickly and without flicker.
 
-Pure functions over plain values; the clock is the caller's (seconds).
+Pure functions over plain values; the clock is the caller's (seconds). ``observe`` folds a
+pose into a body's engagement by its params' ``Model``: the facing score's machine (this
+module, below), soft evidence that accumulates (``core.evidence``), or hri_engagement's
+rule (``core.rule``, ``--engagement rule``).
 
 **Facing score** in [0, 1]: 1 when the body squarely faces the robot (inside the facing
 cone) at a comfortable distance; it falls off linearly with the angle beyond the cone (to 0
@@ -49,10 +52,13 @@ or roams in and out of the cone). Off (``vote_deg`` None) unless asked for.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 
 from ..contract.levels import Level
+from . import evidence
+from . import rule as hri_rule
+from .mutual_gaze import GazeParams, Vector, votes_engaged
 
 
 class Zone(str, Enum):
@@ -60,6 +66,16 @@ class Zone(str, Enum):
     PERSONAL = "personal"
     SOCIAL = "social"
     PUBLIC = "public"
+
+
+class Model(str, Enum):
+    """Which machine decides a level: the facing score's (``cone``, this module), soft
+    evidence that accumulates (``evidence``, ``core.evidence``), or hri_engagement's rule
+    (``rule``, ``core.rule``)."""
+
+    CONE = "cone"
+    EVIDENCE = "evidence"
+    RULE = "rule"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -89,6 +105,10 @@ class EngagementParams:
     vote_deg: float | None = None  # a sample votes "attending" within this angle (None: off)
     vote_tau_s: float = 3.0  # time constant of the share of recent votes
     vote_share: float = 0.75  # attending from this share (the rule's mean vote 0.5)
+    model: Model = Model.CONE
+    gaze: GazeParams = field(default_factory=GazeParams)  # the evidence of both others
+    rule: hri_rule.RuleParams = field(default_factory=hri_rule.RuleParams)
+    memory_s: float = 2.0  # the evidence machine's memory (seconds of full evidence)
 
 
 def vote(angle_deg: float | None, distance_m: float | None, p: EngagementParams) -> float:
@@ -105,9 +125,6 @@ def facing_score(angle_deg: float | None, distance_m: float | None, p: Engagemen
     by_angle = min(1.0, max(0.0, 1.0 - (angle_deg - p.threshold_deg) / p.falloff_deg))
     by_distance = min(1.0, max(0.0, (p.far_m - distance_m) / (p.far_m - p.near_m)))
     return by_angle * by_distance
-
-
-Vector = tuple[float, float, float]
 
 
 def steadiness(wander_deg: float, steady_deg: float) -> float:
@@ -161,6 +178,43 @@ class Engagement:
     facing_since: float | None = None  # every sample since then scored >= engage_above
     attention: float = 0.0  # the share of recent samples that voted (with the soft vote)
     voted: float = 0.0  # the latest sample's vote
+    evidence: float = 0.0  # accumulated (the evidence machine)
+    votes: hri_rule.Votes | None = None  # the window of votes (the rule)
+
+
+def observe(
+    state: Engagement,
+    t: float,
+    p: EngagementParams,
+    angle_deg: float | None,
+    distance_m: float | None,
+    robot: Vector,
+    person: Vector,
+) -> Engagement:
+    """Fold one pose at time ``t`` into a body's engagement, by the params' model:
+    ``robot`` is the robot in the body's frame, ``person`` the body in the base frame."""
+    if p.model is Model.RULE:
+        engaged = votes_engaged(robot, person, p.gaze)
+        votes = hri_rule.step(state.votes or hri_rule.Votes(), t, engaged, p.rule)
+        share = (sum(votes.votes) / len(votes.votes) + 1.0) / 2.0 if votes.votes else 0.0
+        since = state.since if votes.level is state.level else t
+        return Engagement(votes.level, share, share, since, t, votes=votes)
+    if p.model is Model.EVIDENCE:
+        dt = 0.0 if state.last is None else max(0.0, t - state.last)
+        v = evidence.vote(facing_score(angle_deg, distance_m, p))
+        held = evidence.accumulate(state.evidence, v, dt, p.memory_s)
+        level = evidence.level(state.level, held, p.memory_s)
+        since = state.since if level is state.level else t
+        share = held / p.memory_s
+        return Engagement(level, share, share, since, t, evidence=held)
+    return step(
+        state,
+        t,
+        facing_score(angle_deg, distance_m, p),
+        p,
+        robot,
+        vote(angle_deg, distance_m, p),
+    )
 
 
 def step(

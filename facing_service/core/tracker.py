@@ -17,7 +17,7 @@ from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing
 from ..contract.stamps import NS_PER_S, Time
 from . import detector
-from .engagement import EngagementParams, advance, facing_score, step, vote
+from .engagement import EngagementParams, Model, advance, observe
 from .journal import Journal, Store
 from .records import (
     BodyState,
@@ -376,17 +376,19 @@ class Tracker:
         p = track.profile.engagement
         t = state.stamp.seconds
         before = track.engagement.level
-        track.engagement = step(
+        track.engagement = observe(
             track.engagement,
             t,
-            facing_score(state.angle_deg, state.distance_m, p),
             p,
+            state.angle_deg,
+            state.distance_m,
             state.robot_in_body,
-            vote(state.angle_deg, state.distance_m, p),
+            state.position,
         )
         changed = track.engagement.level is not before
         key = state.body
-        if track.engagement.level is Level.DISENGAGING:  # dwell running: due even if silent
+        dwell = track.engagement.level is Level.DISENGAGING and p.model is Model.CONE
+        if dwell:  # the cone's dwell running: due even if silent
             left = track.engagement.since + p.disengage_dwell_s - t
             self._due[key] = now + max(0.0, left)
         elif key in self._due:

@@ -89,3 +89,28 @@ def test_evaluation_runs_at_small_size(tmp_path):
     # a simulation on its own clock: deterministic, so these are results, not timings
     assert report["ours"]["to_engaged_s"] < report["reference"]["to_engaged_s"]
     assert all(report["targets_met"].values()), proc.stdout
+
+
+def test_hri_engagements_rule_as_a_mode_levels_as_robots_run_them(net):
+    """Issue 61: `--engagement rule` is hri_engagement 2.0.1's rule on the JSON path (the
+    ROS 2 path: test_benchmarks_crossval): no level until half its 10 s window has votes,
+    then DISENGAGED, ENGAGING, and ENGAGED only once three quarters of the window voted
+    engaged; our levels, events and keys."""
+    _, ep = net.service(engagement="rule")
+    tracker = net.client(ep)
+    events = net.recorder(tracker, "hri/events/engagement/cam")
+    wait_until_answered(tracker, "hri/facing/cam")
+    replay(tracker, "ann", [90.0] * 180 + [0.0] * 450)  # away 6 s, then faces 15 s
+    engaged = events.wait_for(lambda i: i.value["level"] == "ENGAGED", timeout=10)[0]
+    levels = [(e.value["previous"], e.value["level"]) for e in events.items]
+    assert levels == [
+        ("UNKNOWN", "DISENGAGED"),
+        ("DISENGAGED", "ENGAGING"),
+        ("ENGAGING", "ENGAGED"),
+    ], levels
+    stamps = [e.value["stamp"]["sec"] + e.value["stamp"]["nanosec"] / 1e9 for e in events.items]
+    assert 104.9 < stamps[0] < 105.2  # 50 votes: 5 s after the first pose
+    # ENGAGING once 30 % of the window votes engaged: 60 -1 votes, then 26 +1 (mean -0.4)
+    assert 108.5 < stamps[1] < 108.9
+    # ENGAGED once the window's mean passes 0.5: 76 votes +1 and 24 -1 of the last 100
+    assert 113.5 < stamps[2] < 113.7, engaged.value
