@@ -525,7 +525,7 @@ def test_view_says_a_port_in_use_in_one_line(net):
         port = taken.getsockname()[1]
         proc = subprocess.run(
             [sys.executable, "-m", "facing_service", "view", "-e", ep, *LOOPBACK_FLAGS,
-             "--port", str(port)],
+             "--port", str(port), "--base-frame", "cam"],
             capture_output=True, text=True, timeout=30,
         )  # fmt: skip
     assert proc.returncode == 1

@@ -102,6 +102,7 @@ class FacingClient:
         self._dispatcher: threading.Thread | None = None
         #: Why no service was seen when the client opened (one line), None when one was.
         self.absence: str | None = None
+        self._said_unknown = False  # that no service knows this client's frame, once
 
     # -- lifecycle -------------------------------------------------------------------
 
@@ -388,7 +389,8 @@ class FacingClient:
             try:
                 states = self._ask(self.frame, None)
             except UnknownFrame as error:  # nobody there yet, or a misspelt frame
-                if not error.detail.endswith(NOBODY_ANYWHERE):  # others are known: say it
+                if not error.detail.endswith(NOBODY_ANYWHERE) and not self._said_unknown:
+                    self._said_unknown = True  # others are known: said once
                     log.warning(
                         "facing client: no service knows frame %r yet (%s); a misspelt "
                         "frame stays empty",
