@@ -1,7 +1,10 @@
 """Scenes made here, each modelled on one way the grouping failed on scenes kept outside the
-project (issue 51): a dense room of posters, a wide circle of five with 90-degree headings,
-loners standing near each other. Not data, and not used to choose: printed beside the
-shared sequences' figures so a choice that fails one of them is seen to.
+project (issues 51 and 60): a dense room of posters, a wide circle of five with 90-degree
+headings, loners standing near each other; a dense room of large groups (people 0.6 m
+apart, groups of four to six), a circle of five or six 0.8 m apart with headings rounded
+to 45 or 90 degrees, pairs side by side who are not a group. Not data: a rule that wins on
+the shared sequences and falls to "no groups" on one of them is not chosen
+(``groups.preferred``).
 
 Deterministic for a seed. Positions in metres, headings in radians, in ``groups.Frame``'s
 layout (the robot is added by ``groups.run`` at the origin, as everywhere).
@@ -89,6 +92,85 @@ def loners(rng: random.Random, frames: int = 60) -> list[Frame]:
     return out
 
 
+def _ring(
+    rng: random.Random, centre: tuple[float, float], count: int, spacing: float, noise_deg: float
+) -> tuple[list[tuple[float, float]], list[float]]:
+    """``count`` people on a ring around ``centre``, ``spacing`` m from their neighbours,
+    facing its centre within ``noise_deg``."""
+    radius = spacing / (2 * math.sin(math.pi / count))
+    start = rng.uniform(0, 2 * math.pi)
+    positions, headings = [], []
+    for k in range(count):
+        a = start + 2 * math.pi * k / count
+        p = (centre[0] + radius * math.cos(a), centre[1] + radius * math.sin(a))
+        positions.append(p)
+        headings.append(_facing(p, centre) + math.radians(rng.gauss(0, noise_deg)))
+    return positions, headings
+
+
+def dense_room(rng: random.Random, frames: int = 40) -> list[Frame]:
+    """Six groups of four to six people, each a ring 0.6 m between neighbours, the rings
+    packed so that neighbouring groups' people stand about 0.6 m apart too (SALSA's
+    spacing): the room is as dense as its groups."""
+    out = []
+    for _ in range(frames):
+        positions: list[tuple[float, float]] = []
+        headings: list[float] = []
+        truth = []
+        for g in range(6):
+            count = rng.randint(4, 6)
+            radius = 0.6 / (2 * math.sin(math.pi / count))
+            centre = (2.0 + 1.9 * (g % 3), -1.0 + 1.9 * (g // 3))
+            assert radius < 0.7  # rings 1.9 m apart: 0.5-0.8 m between neighbouring groups
+            ring, faces = _ring(rng, centre, count, 0.6, 10.0)
+            truth.append(frozenset(range(len(positions), len(positions) + count)))
+            positions += ring
+            headings += faces
+        out.append(Frame(tuple(range(len(positions))), np.array(positions), np.array(headings),
+                         tuple(truth)))  # fmt: skip
+    return out
+
+
+def close_circle(rng: random.Random, frames: int = 40) -> list[Frame]:
+    """Five or six people on a ring 0.8 m between neighbours, headings rounded to 45 or
+    90 degrees (as datasets annotate them), and two loners 3 m or more away."""
+    out = []
+    for k in range(frames):
+        count, step = (5 + k % 2), (math.pi / 4 if k % 4 < 2 else QUARTER)
+        positions, headings = _ring(rng, (3.0, 0.0), count, 0.8, 10.0)
+        headings = [round(h / step) * step for h in headings]
+        positions += [(3.0, 3.5), (6.5, -3.0)]
+        headings += [rng.randrange(4) * QUARTER for _ in range(2)]
+        out.append(Frame(tuple(range(count + 2)), np.array(positions), np.array(headings),
+                         (frozenset(range(count)),)))  # fmt: skip
+    return out
+
+
+def side_by_side(rng: random.Random, frames: int = 40) -> list[Frame]:
+    """Three or four pairs standing side by side 0.6 m apart, each pair facing the same
+    way (a screen, a window, a queue), pairs 2 m or more apart: nobody in a group."""
+    out = []
+    for _ in range(frames):
+        positions: list[tuple[float, float]] = []
+        headings: list[float] = []
+        for pair in range(rng.randint(3, 4)):
+            way = rng.uniform(-math.pi, math.pi)
+            at = (1.5 + 2.2 * pair, rng.uniform(-2.0, 2.0))
+            side = (-math.sin(way) * 0.3, math.cos(way) * 0.3)
+            for sign in (-1, 1):
+                positions.append((at[0] + sign * side[0], at[1] + sign * side[1]))
+                headings.append(way + math.radians(rng.gauss(0, 10.0)))
+        out.append(Frame(tuple(range(len(positions))), np.array(positions), np.array(headings), ()))
+    return out
+
+
 def scenes(seed: int = 51) -> dict[str, list[Frame]]:
     rng = random.Random(seed)
-    return {"posters": posters(rng), "wide circle": wide_circle(rng), "loners": loners(rng)}
+    return {
+        "posters": posters(rng),
+        "wide circle": wide_circle(rng),
+        "loners": loners(rng),
+        "dense room": dense_room(rng),
+        "close circle": close_circle(rng),
+        "side by side": side_by_side(rng),
+    }

@@ -231,16 +231,19 @@ def tables(results: dict[str, Any]) -> list[str]:
         lines += [
             "",
             "The shipped join through the live service (each case's frame, the member left out,"
-            " held 0.6 s as JSON poses at 30 Hz; `hri/groups/<frame>` queried at its end), on the"
-            " group the service found holding the remaining members: its place against where"
-            " the member stood, and against the core's place for the same people:",
+            " held 0.6 s as JSON poses at 30 Hz; `hri/groups/<frame>` queried at its end): a"
+            " place is given only for a group the service found (holding the remaining"
+            " members); its distance to where the member stood, beside the centroid's and the"
+            " naive slot's on the same cases, and against the core's place for the same people:",
             "",
-            "| sequence | cases | given a place | median m | live - core, worst m |",
-            "| --- | ---: | ---: | ---: | ---: |",
+            "| sequence | cases | given a place | median m | centroid m | naive slot m"
+            " | live - core, worst m |",
+            "| --- | ---: | ---: | ---: | ---: | ---: | ---: |",
         ]
         for s, r in results["live"].items():
             lines.append(
                 f"| {s} | {r['cases']} | {r['placed']:.0%} | {_m(r['median_m'])}"
+                f" | {_m(r.get('centroid_median_m'))} | {_m(r.get('naive_slot_median_m'))}"
                 f" | {_m(r['live_minus_core_m'])} |"
             )
     d = results["chosen_on_all"]
@@ -304,6 +307,7 @@ def evaluate_live(most: int, hold_s: float, root: Path = SHARED) -> dict[str, An
         picked = live_cases(load(s, root, every=1), most)
         said = live_said([shown for shown, _, _ in picked], hold_s)
         to_truth, to_core, placed = [], [], 0
+        baselines: dict[str, list[float]] = {"centroid": [], "naive_slot": []}
         for (shown, case, rest), groups in zip(picked, said, strict=True):
             group = next((g for g in groups if rest <= {int(m[1:]) for m in g["members"]}), None)
             if group is None or group["join"] is None:
@@ -311,6 +315,11 @@ def evaluate_live(most: int, hold_s: float, root: Path = SHARED) -> dict[str, An
             placed += 1
             join = group["join"]
             to_truth.append(math.hypot(join["x"] - case.truth[0], join["y"] - case.truth[1]))
+            for name, baseline in (("centroid", centroid), ("naive_slot", naive_slot)):
+                where = baseline(case)  # the same case, the same remaining members
+                baselines[name].append(
+                    math.hypot(where[0] - case.truth[0], where[1] - case.truth[1])
+                )
             inside = [i for i, pid in enumerate(shown.ids) if f"p{pid}" in group["members"]]
             others = [i for i in range(len(shown.ids)) if i not in inside]
             core_pose = join_pose(shown.positions[inside], shown.headings[inside],
@@ -321,6 +330,10 @@ def evaluate_live(most: int, hold_s: float, root: Path = SHARED) -> dict[str, An
             "cases": len(picked),
             "placed": placed / len(picked),
             "median_m": float(np.median(to_truth)) if to_truth else None,
+            **{
+                f"{name}_median_m": float(np.median(d)) if d else None
+                for name, d in baselines.items()
+            },
             "live_minus_core_m": float(np.max(to_core)) if to_core else None,
             "hold_s": hold_s,
         }

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 from benchmarks.groups import RESULTS, SHARED, evalgroups, f1, gcff_params, load, run
-from facing_service.core.groups import GroupParams, ScaleParams
 
 G = frozenset
 
@@ -55,10 +54,28 @@ def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
 
 def test_the_shipped_defaults_are_the_set_chosen_on_all_six_sequences():
     """What `python -m benchmarks.groups` chose on every shared sequence (its committed
-    results) is what the service runs: a default changed by hand fails here."""
-    chosen = json.loads(RESULTS.read_text())["default"]["room"]
-    assert chosen["groups"] == asdict(GroupParams())
-    assert chosen["scale"] == asdict(ScaleParams())
+    results: the preferred rule's set) is what the service runs: a default changed by
+    hand fails here."""
+    from facing_service.config.profiles import scene_params
+    from facing_service.config.settings import Settings
+
+    results = json.loads(RESULTS.read_text())
+    chosen = results["default"][results["preferred"]]
+    shipped = scene_params(Settings())
+    assert chosen["groups"] == asdict(shipped.groups)
+    assert chosen["scale"] == asdict(shipped.scale)
+
+
+def test_the_shipped_rule_is_the_best_at_its_worst_held_out_sequence():
+    """Issue 60: the rule that ships is chosen by its worst sequence held out by dataset
+    (not the mean), among those that fail no made scene another rule passes."""
+    from benchmarks.groups import INCUMBENT, RULES, preferred, worst_held_out
+
+    results = json.loads(RESULTS.read_text())
+    best = results["preferred"]
+    assert preferred(results) == best
+    assert all(set(RULES) <= set(scene) for scene in results["scenes"].values())
+    assert worst_held_out(results, best) >= worst_held_out(results, INCUMBENT)
 
 
 def test_the_scenes_made_for_the_failures_are_what_they_say():
@@ -69,6 +86,16 @@ def test_the_scenes_made_for_the_failures_are_what_they_say():
 
     made = scenes()
     assert all(not frame.truth for frame in made["loners"])
+    assert all(not frame.truth for frame in made["side by side"])
+    for frame in made["dense room"]:  # groups of four to six, as dense as their groups
+        assert {len(g) for g in frame.truth} <= {4, 5, 6}
+        assert float(np.median(nearest_distances(frame.positions))) == pytest.approx(0.6, abs=0.05)
+    for frame in made["close circle"]:  # five or six 0.8 m apart, headings rounded
+        (circle,) = frame.truth
+        ring = frame.positions[sorted(circle)]
+        assert len(circle) in (5, 6) and nearest_distances(ring).max() == pytest.approx(0.8)
+        steps = np.degrees(frame.headings) % 45
+        assert np.allclose(np.minimum(steps, 45 - steps), 0, atol=1e-9)
     assert all([len(g) for g in frame.truth] == [5] for frame in made["wide circle"])
     poster = made["posters"][0]
     nearest = float(np.median(nearest_distances(poster.positions)))

@@ -74,8 +74,8 @@ def head_profile(settings: Settings) -> Profile:
 
 def scene_params(settings: Settings) -> SceneParams:
     """Who faces whom is the facing rule (body cone and hysteresis) between people; the
-    groups' method keeps its one default set, lengths in the room's unit learnt from its
-    people (chosen by leave-one-dataset-out, docs/groups.md)."""
+    groups' method keeps its one default set, lengths in metres and each o-space a ring
+    of its people's own size (chosen by leave-one-dataset-out, docs/groups.md)."""
     s = settings
     return SceneParams(
         GroupParams(),

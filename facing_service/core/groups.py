@@ -3,24 +3,18 @@
 Pure numpy over positions and headings in one base frame, in metres and radians.
 
 The method is GCFF's (Setti, Russell, Bassetti, Cristani, PLOS ONE 2015; franzsetti/GCFF
-``gc.m``, MIT) with two changes that let one parameter set serve rooms of any spacing.
-GCFF: each person votes for the centre of their o-space a fixed stride in front of them;
-people are assigned to groups minimising the squared distance of their vote to their
-group's centre plus a fixed cost per group (the minimum description length, ``mdl``)
-plus a penalty for a member hidden behind another member as seen from the centre;
-centres are refitted as their members' mean, and the assignment is solved again until
-it settles.
-
-1. **Lengths in the room's own unit.** GCFF's stride and cost are tuned per scene (its
-   own tuned costs span 0.6 to 9 m² across datasets), because people stand closer in one
-   room than in another. Here every length is a multiple of the room's spacing,
-   ``RoomScale``: the median distance from each person to their nearest neighbour over
-   the last ``window_s`` seconds (clipped to a plausible range). The method is run on
-   positions divided by that scale, so the same scene twice as wide gives the same groups.
-2. **Each person's stride is their own**: ``stride_k`` times the distance to the nearest
-   person ahead of them (within ``cone_deg`` of their heading), kept within
-   ``[stride_min, stride_max]`` (nobody ahead: the least). GCFF's fixed stride is the
-   case ``stride_min = stride_max``.
+``gc.m``, MIT). GCFF: each person votes for the centre of their o-space a fixed stride in
+front of them; people are assigned to groups minimising the squared distance of their vote
+to their group's centre plus a fixed cost per group (the minimum description length,
+``mdl``) plus a penalty for a member hidden behind another member as seen from the centre;
+centres are refitted as their members' mean, and the assignment is solved again until it
+settles. Here each person's stride is their own (issue 60: the o-space is a ring whose
+size follows from its people): it reaches the point of their heading as far from the
+nearest person ahead (within ``cone_deg``) as from themselves, the centre of a ring both
+stand on, kept within ``[stride_min, stride_max]`` (nobody ahead: the least); GCFF's fixed
+stride is the case ``stride_min = stride_max``. Lengths are metres by default; with a
+``RoomScale`` they are the room's unit (its people's nearest-neighbour spacing), the rule
+of issues 41 to 51, measured and not shipped (docs/groups.md).
 
 The assignment is GCFF's energy (unary costs plus a cost per label) minimised by greedy
 label removal and reassignment rather than alpha-expansion: with no pairwise terms that
@@ -61,9 +55,14 @@ class GroupParams:
 
     stride_k: float = 0.5  # a vote's stride: this times the distance to the nearest ahead
     stride_min: float = 0.25  # ... no less (and this when nobody is ahead)
-    stride_max: float = 0.75  # ... no more (GCFF: min = max, its stride)
+    stride_max: float = 1.0  # ... no more (GCFF: min = max, its stride)
     cone_deg: float = 70.0  # "ahead": within this of a person's heading
     mdl: float = 1.5  # the cost of one more group (GCFF's MDL), in the unit squared
+    # The ring: the stride is to the point of one's heading as far from the nearest person
+    # ahead as from oneself (``stride_k * d / cos(angle)``, d/2 straight across): the
+    # centre of a ring both stand on, whatever its size and count (issue 60). Off: the
+    # stride is ``stride_k * d``, as if that person stood straight ahead.
+    ring: bool = True
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,14 +70,13 @@ class ScaleParams:
     """How the room's unit is learnt (``RoomScale``); ``min_m == max_m`` fixes it."""
 
     window_s: float = 60.0  # the people of the last this long set the spacing
-    # The spacing is kept within [min_m, max_m]: a dense crowd (people 0.6 m from their
-    # nearest neighbour, their groups 1 m apart: SALSA) is not a room of small groups, so
-    # the floor is 0.7 m (chosen over 0.5 on the six shared sequences, issue 51); a room of
-    # loners far apart is not one wide conversation (2 m scored the same on
-    # every shared sequence, as recorded and 1.5x wider, and called a false group in 81 %
-    # of the frames of a room of loners, 1.5 m in 70 %: benchmarks/groups.py, docs)
-    min_m: float = 0.7
-    max_m: float = 1.5
+    # The spacing is kept within [min_m, max_m]. The default is metres (min = max = 1 m):
+    # how far people stand in a conversation is proxemics, not a fraction of how crowded
+    # the room is; the learnt unit (a floor of 0.5 or 0.7 m, a cap of 1.5 m) won on the
+    # shared sequences but lost on rooms kept outside, and its gain on the worst held-out
+    # sequence is inside its interval (issue 60, docs/groups.md).
+    min_m: float = 1.0
+    max_m: float = 1.0
     default_m: float = 1.0  # nobody near anybody yet
 
 
@@ -127,9 +125,13 @@ def votes(positions: FloatArray, headings: FloatArray, p: GroupParams) -> FloatA
     dist = np.hypot(rel[..., 0], rel[..., 1])
     off = np.angle(np.exp(1j * (np.arctan2(rel[..., 1], rel[..., 0]) - headings[:, None])))
     ahead = (np.abs(off) < np.radians(p.cone_deg)) & (dist > 0)
-    nearest = np.where(ahead, dist, np.inf).min(axis=1, initial=np.inf)
+    near = np.where(ahead, dist, np.inf)
+    j = near.argmin(axis=1)  # the nearest person ahead (where anyone is)
+    rows = np.arange(len(positions))
+    nearest = near[rows, j]
+    reach = nearest / np.cos(off[rows, j]) if p.ring else nearest
     stride = np.where(
-        np.isfinite(nearest), np.clip(p.stride_k * nearest, p.stride_min, p.stride_max),
+        np.isfinite(nearest), np.clip(p.stride_k * reach, p.stride_min, p.stride_max),
         p.stride_min,
     )  # fmt: skip
     result: FloatArray = positions + stride[:, None] * facing
@@ -247,7 +249,9 @@ def on_the_ring(
 ) -> IntArray:
     """``labels`` with participant ``who`` (the robot) given a label of its own unless it
     stands on its group's ring: within ``RING`` times the farthest other member's distance
-    of the o-space centre the others vote for. Kendon's F-formation is a ring around a
+    of the o-space centre the others vote for, and no farther from it than the longest
+    stride (the widest o-space the method allows: a person 2.4 m away facing the robot is
+    engaging, not yet in a conversation with it). Kendon's F-formation is a ring around a
     shared space; the method's cost, lenient enough for GDet's 90-degree headings, let a
     robot that merely faces a conversation from 2 m into it (and one with a back turned
     to it within 2.2 m). People's groups are unchanged."""
@@ -257,7 +261,7 @@ def on_the_ring(
     unit = positions / scale_m
     centre = votes(unit, headings, p)[mates].mean(axis=0)
     spread = np.hypot(*(unit[mates] - centre).T).max()
-    if np.hypot(*(unit[who] - centre)) <= RING * spread:
+    if np.hypot(*(unit[who] - centre)) <= min(RING * spread, p.stride_max):
         return labels
     apart = labels.copy()
     apart[who] = labels.max() + 1
