@@ -89,7 +89,7 @@ def test_the_page_draws_the_scene_and_says_when_the_service_is_lost(net, browser
                 pose_json("bob", "cam", x=4.2, y=2.0, yaw_deg=180.0, **stamp),
             )
             send(tracker, f"{NAMESPACE}/bodies/cat/pose/cam",
-                 pose_json("cat", "cam", x=2.0, y=-1.0, **stamp))  # fmt: skip
+                 pose_json("cat", "cam", x=1.5, y=-0.8, **stamp))  # fmt: skip
         browser.wait_for("document.querySelectorAll('g.person').length === 3")
         browser.wait_for(
             "document.querySelector('g.person[data-id=\"cat\"]')?.dataset.level === 'ENGAGED'"
@@ -101,7 +101,8 @@ def test_the_page_draws_the_scene_and_says_when_the_service_is_lost(net, browser
         palette = {"ENGAGED": "#22aa22", "ENGAGING": "#e6a800", "DISENGAGING": "#e6a800",
                    "DISENGAGED": "#dd2222", "UNKNOWN": "#999999"}  # fmt: skip
         assert all(palette[level] == fill for level, fill in colours), colours
-        # two groups: ann and bob, and cat with the robot she faces 2.2 m away
+        # two groups: ann and bob, and cat with the robot she faces 1.7 m away (a pair
+        # farther apart than 2 m, twice the longest stride, is no ring with the robot)
         browser.wait_for("document.querySelectorAll('g.group').length === 2")
         assert (
             browser.evaluate("document.querySelectorAll('g.group[data-robot=\"true\"]').length")

@@ -42,7 +42,9 @@ def test_queries_answer_current_state_and_what_if_thresholds(rig):
     # the what-ifs left the service's state and decisions unchanged
     assert dict(get(client, f"{NAMESPACE}/bodies/*/facing/cam")) == replies
     assert get(client, FRAME_KEY)[0][1]["bodies_facing"] == ["a"]
-    assert get(client, f"{NAMESPACE}/facing/map") == []  # not served: no reply, not an error
+    # a frame this service does not track (here a fixed base frame): said, not left unanswered
+    ((kind, error),) = get(client, f"{NAMESPACE}/facing/map")
+    assert (kind, error["error"]) == ("error", "unknown_frame") and "cam" in error["detail"]
     assert service.status().counters["queries_refused"] == 0
 
 
