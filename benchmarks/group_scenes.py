@@ -22,6 +22,15 @@ from .groups import Frame
 QUARTER = math.pi / 2
 
 
+def _frame(
+    positions: list[tuple[float, float]],
+    headings: list[float],
+    truth: tuple[frozenset[int], ...] = (),
+) -> Frame:
+    """One made frame: everyone numbered in order, and the true groups."""
+    return Frame(tuple(range(len(positions))), np.array(positions), np.array(headings), truth)
+
+
 def _facing(source: tuple[float, float], target: tuple[float, float]) -> float:
     return math.atan2(target[1] - source[1], target[0] - source[0])
 
@@ -51,8 +60,7 @@ def posters(rng: random.Random, frames: int = 40, noise_deg: float = 25.0) -> li
             for person, target in [(presenter, middle), *((a, presenter) for a in audience)]:
                 positions.append(person)
                 headings.append(_facing(person, target) + math.radians(rng.gauss(0, noise_deg)))
-        out.append(Frame(tuple(range(len(positions))), np.array(positions), np.array(headings),
-                         tuple(truth)))  # fmt: skip
+        out.append(_frame(positions, headings, tuple(truth)))
     return out
 
 
@@ -71,8 +79,7 @@ def wide_circle(rng: random.Random, frames: int = 40) -> list[Frame]:
             headings.append(round(true / QUARTER) * QUARTER)
         positions += [(3.0, 4.5), (6.5, -3.0)]
         headings += [rng.randrange(4) * QUARTER for _ in range(2)]
-        out.append(Frame(tuple(range(7)), np.array(positions), np.array(headings),
-                         (frozenset(range(5)),)))  # fmt: skip
+        out.append(_frame(positions, headings, (frozenset(range(5)),)))
     return out
 
 
@@ -88,7 +95,7 @@ def loners(rng: random.Random, frames: int = 60) -> list[Frame]:
             if all(math.dist(q, o) >= 1.2 for o in positions):
                 positions.append(q)
         headings = [rng.randrange(4) * QUARTER for _ in positions]
-        out.append(Frame(tuple(range(count)), np.array(positions), np.array(headings), ()))
+        out.append(_frame(positions, headings))
     return out
 
 
@@ -126,8 +133,7 @@ def dense_room(rng: random.Random, frames: int = 40) -> list[Frame]:
             truth.append(frozenset(range(len(positions), len(positions) + count)))
             positions += ring
             headings += faces
-        out.append(Frame(tuple(range(len(positions))), np.array(positions), np.array(headings),
-                         tuple(truth)))  # fmt: skip
+        out.append(_frame(positions, headings, tuple(truth)))
     return out
 
 
@@ -141,8 +147,7 @@ def close_circle(rng: random.Random, frames: int = 40) -> list[Frame]:
         headings = [round(h / step) * step for h in headings]
         positions += [(3.0, 3.5), (6.5, -3.0)]
         headings += [rng.randrange(4) * QUARTER for _ in range(2)]
-        out.append(Frame(tuple(range(count + 2)), np.array(positions), np.array(headings),
-                         (frozenset(range(count)),)))  # fmt: skip
+        out.append(_frame(positions, headings, (frozenset(range(count)),)))
     return out
 
 
@@ -160,7 +165,7 @@ def side_by_side(rng: random.Random, frames: int = 40) -> list[Frame]:
             for sign in (-1, 1):
                 positions.append((at[0] + sign * side[0], at[1] + sign * side[1]))
                 headings.append(way + math.radians(rng.gauss(0, 10.0)))
-        out.append(Frame(tuple(range(len(positions))), np.array(positions), np.array(headings), ()))
+        out.append(_frame(positions, headings))
     return out
 
 
