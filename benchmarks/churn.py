@@ -210,8 +210,8 @@ def main() -> None:
                 restarts.append(now - start)
                 down_until = now + DOWN_S
             elif down_until is not None and now >= down_until:
-                router.start()
-                outages.append((restarts[-1], now - start + SETTLE_S))
+                router.start()  # back once it listens: its start-up is part of the outage
+                outages.append((restarts[-1], time.monotonic() - start + SETTLE_S))
                 down_until = None
                 next_restart = now + args.restart_every_s
             minute_s = (now - start) % 60
