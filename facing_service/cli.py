@@ -25,7 +25,7 @@ from .client import health
 from .client.client import FacingClient
 from .client.sim import Scene, TrackerPublisher, simulate
 from .client.watch import Watcher
-from .config.disclosure import public_endpoint, zenoh_failure
+from .config.disclosure import public_endpoints, zenoh_failure
 from .config.patience import open_patiently
 from .config.session import waiting_for_router, zenoh_config
 from .config.settings import Settings
@@ -170,7 +170,7 @@ def _simulate(args: argparse.Namespace) -> int:
         f"{publish.heard} heard by a subscriber"
     )
     if publish.poses and not publish.heard:  # sent to nowhere: not a success
-        where = ", ".join(public_endpoint(e) for e in settings.connect)
+        where = public_endpoints(settings.connect)
         print(
             f"facing-service simulate: no subscriber heard any pose on {key}: is a facing "
             f"service running in namespace '{settings.namespace}', "
@@ -193,7 +193,8 @@ def _viewer(args: argparse.Namespace, command: str, stop: threading.Event) -> Fa
     settings = _session_settings(args)
     if settings is None:
         return 2
-    if not getattr(args, "once", False):
+    once = getattr(args, "once", False)
+    if not once:
         settings = waiting_for_router(settings)
     config = zenoh_config(settings)
     client = FacingClient(settings.namespace, args.base_frame, session_config=config)
@@ -204,7 +205,6 @@ def _viewer(args: argparse.Namespace, command: str, stop: threading.Event) -> Fa
         return 1
     if session is None:  # stopped while zenoh.open waits for the router, in native code:
         return 0  # entry() ends the process without waiting for it
-    once = getattr(args, "once", False)
     client.open(session, log_absence=not once)
     if once and client.absence is not None:  # one shot: nothing to draw, and say so
         client.close()

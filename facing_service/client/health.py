@@ -16,7 +16,7 @@ from typing import Any
 
 import zenoh
 
-from ..config.disclosure import public_endpoint, zenoh_failure
+from ..config.disclosure import public_endpoints, zenoh_failure
 from ..config.session import probe_config, probe_endpoints
 from ..config.settings import Settings
 from ..config.sources import env_name, load_settings
@@ -59,7 +59,7 @@ def no_service_seen(session: zenoh.Session, namespace: str, where: Sequence[str]
     """Why a session saw no facing service in ``namespace``, in one line: nothing reached
     at all (no router or peer), or no service in that namespace (and those that have one):
     issue 59, a wrong namespace was blamed on the router."""
-    at = f" at {', '.join(public_endpoint(e) for e in where)}" if where else ""
+    at = f" at {public_endpoints(where)}" if where else ""
     info = session.info
     if not list(info.routers_zid()) and not list(info.peers_zid()):
         return f"nothing answers{at}: no router or peer reached (is one listening there?)"
@@ -107,7 +107,7 @@ def reached(settings: Settings) -> str:
     (then it finds whichever service is around, not necessarily the one meant)."""
     endpoints = probe_endpoints(settings)
     if endpoints:
-        return "at " + ", ".join(public_endpoint(e) for e in endpoints)
+        return "at " + public_endpoints(endpoints)
     return "found by multicast scouting"
 
 

@@ -11,6 +11,7 @@ it is set).
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from typing import Any
 
 REDACTED = "<redacted>"
@@ -114,6 +115,12 @@ def public_endpoint(endpoint: str) -> str:
     """An endpoint without its ``#`` config part, where zenoh takes inline TLS keys."""
     locator, sep, _config = endpoint.partition("#")
     return f"{locator}#{REDACTED}" if sep else locator
+
+
+def public_endpoints(endpoints: Iterable[str]) -> str:
+    """Endpoints as a message lists them: comma-separated, each without its config part
+    ("" for none)."""
+    return ", ".join(public_endpoint(e) for e in endpoints)
 
 
 def public_cfg_entry(entry: str) -> str:

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 import zenoh
 
-from .disclosure import public_endpoint
+from .disclosure import public_endpoints
 
 if TYPE_CHECKING:
     from .settings import Settings
@@ -70,7 +70,7 @@ def wait_until_open(opened: threading.Event, settings: Settings, stop: threading
                 "still waiting for a router at %s before the session opens (zenoh keeps "
                 "trying; --exit-without-router exits instead); nothing is read or published "
                 "meanwhile",
-                ", ".join(public_endpoint(e) for e in settings.connect) or "any endpoint",
+                public_endpoints(settings.connect) or "any endpoint",
             )
     if warned:
         log.info("the router answered after %.1f s: the session is open", time.monotonic() - start)

@@ -13,7 +13,7 @@ import logging
 import threading
 from collections.abc import Callable
 
-from ..config.disclosure import public_endpoint
+from ..config.disclosure import public_endpoints
 
 log = logging.getLogger("facing_service")
 
@@ -40,7 +40,7 @@ class LinkWatch:
         closing: threading.Event,
     ) -> None:
         self._links = links
-        self._where = ", ".join(public_endpoint(e) for e in endpoints)
+        self._where = public_endpoints(endpoints)
         self._clock = clock
         self._closing = closing
         self._since: float | None = None  # nobody to talk to since then

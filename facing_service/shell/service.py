@@ -40,7 +40,7 @@ from collections.abc import Callable
 
 import zenoh
 
-from ..config.disclosure import public_endpoint, public_settings
+from ..config.disclosure import public_endpoints, public_settings
 from ..config.profiles import engagement_params, head_profile
 from ..config.session import effective_session, mode_and_endpoints, zenoh_config
 from ..config.settings import Settings
@@ -206,7 +206,7 @@ class FacingService:
         said = {}
         for kind in ("connect", "listen"):
             mode, endpoints = mode_and_endpoints(conf, kind)
-            said[kind] = ", ".join(public_endpoint(e) for e in endpoints) or "none"
+            said[kind] = public_endpoints(endpoints) or "none"
         return f"mode {mode}, connect {said['connect']}, listen {said['listen']}"
 
     def close(self) -> None:

@@ -14,7 +14,7 @@ import threading
 
 import zenoh
 
-from ..config.disclosure import public_endpoint
+from ..config.disclosure import public_endpoints
 from ..config.session import mode_and_endpoints, zenoh_config
 from ..config.settings import Settings
 
@@ -36,7 +36,7 @@ def serve(config: zenoh.Config, stop: threading.Event) -> None:
         log.info(
             "zenoh router started: zenoh id %s, listening on %s, access control %s",
             session.zid(),
-            ", ".join(public_endpoint(e) for e in listen) or "nothing",
+            public_endpoints(listen) or "nothing",
             "on" if acl else "off",
         )
         stop.wait()

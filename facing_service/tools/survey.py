@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import zenoh
 import zenoh.ext
 
-from ..config.disclosure import public_endpoint, zenoh_failure
+from ..config.disclosure import public_endpoint, public_endpoints, zenoh_failure
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract.keys import cut
@@ -304,7 +304,7 @@ def inspect_robot(settings: Settings, seconds: float, base_frame: str) -> int:
                 time.monotonic(),
             )
 
-    links = ", ".join(public_endpoint(e) for e in settings.connect) or "zenoh's scouting"
+    links = public_endpoints(settings.connect) or "zenoh's scouting"
     print(f"listening {seconds:g} s for a robot's ROS 2 topics through {links}...", flush=True)
     entities: list[zenoh.Subscriber[None] | zenoh.ext.AdvancedSubscriber[None]] = []
     try:
