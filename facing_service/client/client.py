@@ -50,10 +50,6 @@ from .scene import Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
 
-#: How a service that tracks nobody anywhere ends its ``unknown_frame`` detail: an empty
-#: service (the README's start order), not a misspelt frame.
-NOBODY_ANYWHERE = "frames tracked: none"
-
 StateCallback = Callable[[FacingState], object]
 LevelCallback = Callable[[EngagementEvent], object]
 LostCallback = Callable[[BodyRef], object]
@@ -389,7 +385,7 @@ class FacingClient:
             try:
                 states = self._ask(self.frame, None)
             except UnknownFrame as error:  # nobody there yet, or a misspelt frame
-                if not error.detail.endswith(NOBODY_ANYWHERE) and not self._said_unknown:
+                if not error.nothing_tracked and not self._said_unknown:
                     self._said_unknown = True  # others are known: said once
                     log.warning(
                         "facing client: no service knows frame %r yet (%s); a misspelt "

@@ -3,6 +3,8 @@ catches ``FacingError`` for all of them, or one by name (``facing_service.errors
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 
 class FacingError(Exception):
     """Every error facing-service raises on purpose."""
@@ -26,6 +28,21 @@ class QueryRefused(FacingError, ValueError):
 class UnknownFrame(QueryRefused):
     """A query named a frame the service does not know (the detail names those it tracks):
     a typo in a frame name, not an empty room."""
+
+    @property
+    def nothing_tracked(self) -> bool:
+        """The service tracks nobody in any frame (empty, as it starts): every frame is
+        unknown to it, a misspelt one no more than the right one."""
+        return self.detail.endswith(_TRACKED + _NONE)
+
+
+_TRACKED, _NONE = "frames tracked: ", "none"
+
+
+def unknown_frame_detail(frame: str, tracked: Iterable[str]) -> str:
+    """The ``unknown_frame`` reply's detail, naming the frames the service tracks (what
+    ``UnknownFrame.nothing_tracked`` reads back)."""
+    return f"no frame {frame!r} in this service; {_TRACKED}{', '.join(sorted(tracked)) or _NONE}"
 
 
 class NoService(FacingError, ConnectionError):

@@ -10,6 +10,7 @@ import zenoh
 
 from ..config.settings import Settings
 from ..contract import keys
+from ..contract.errors import unknown_frame_detail
 from ..contract.schemas import QueryError
 from ..contract.stamps import ZERO
 from ..core.records import frame_facing
@@ -80,8 +81,7 @@ def _nothing_matched(
     ns, instance = settings.namespace, settings.instance
     empty = view.empty_scene(frame)
     if empty is None and frame not in view.tracked:
-        tracked = ", ".join(sorted(view.tracked)) or "none"
-        detail = f"no frame {frame!r} in this service; frames tracked: {tracked}"
+        detail = unknown_frame_detail(frame, view.tracked)
         return [], QueryError(error="unknown_frame", detail=detail)
     scene = empty or nobody(frame, ZERO)
     if space in ("groups", "gazing"):

@@ -40,3 +40,16 @@ def test_the_public_module_names_them_all():
         "ClientNotOpen", "FacingError", "NoService", "QueryRefused", "SettingsError",
         "UnknownFrame",
     }  # fmt: skip
+
+
+def test_an_unknown_frames_detail_says_whether_the_service_tracks_anything():
+    """The service writes the detail and the client reads it back through one pair of
+    functions: an empty service (every frame unknown) is not a misspelt frame."""
+    from facing_service.contract.errors import UnknownFrame, unknown_frame_detail
+
+    empty = unknown_frame_detail("base_lnk", {})
+    assert empty == "no frame 'base_lnk' in this service; frames tracked: none"
+    assert UnknownFrame("unknown_frame", empty).nothing_tracked
+    known = unknown_frame_detail("base_lnk", {"map": 2, "base_link": 1})
+    assert known.endswith("frames tracked: base_link, map")
+    assert not UnknownFrame("unknown_frame", known).nothing_tracked
