@@ -33,7 +33,6 @@ def engagement_params(settings: Settings) -> EngagementParams:
         model=Model.RULE if s.engagement == "rule" else Model.CONE,
         gaze=GazeParams(s.rule_field_of_view_deg, s.rule_max_distance_m, s.rule_threshold),
         rule=RuleParams(s.rule_rate_hz, s.rule_window_s),
-        memory_s=s.head_memory_s,
     )
 
 
@@ -48,8 +47,10 @@ def head_profile(settings: Settings) -> Profile:
     facing" for long, nor facing without a score that engages."""
     s = settings
     plateau = s.head_threshold_deg - (1.0 - s.engage_above) * s.head_falloff_deg
+    body = engagement_params(s)  # the rule, with --engagement rule, is everyone's
+    evidence = body.model is Model.CONE and s.head_model == "evidence"
     engagement = replace(
-        engagement_params(s),
+        body,
         threshold_deg=max(0.0, plateau),
         falloff_deg=s.head_falloff_deg,
         tau_s=s.head_engagement_tau_s,
@@ -61,13 +62,8 @@ def head_profile(settings: Settings) -> Profile:
         vote_deg=s.head_vote_deg or None,
         vote_tau_s=s.head_vote_tau_s,
         vote_share=s.head_vote_share,
-        model=(
-            Model.RULE
-            if s.engagement == "rule"
-            else Model.EVIDENCE
-            if s.head_model == "evidence"
-            else Model.CONE
-        ),
+        model=Model.EVIDENCE if evidence else body.model,
+        memory_s=s.head_memory_s,
     )
     return Profile(s.head_threshold_deg, s.hysteresis_deg, s.head_cone == "3d", engagement)
 
