@@ -20,6 +20,7 @@ from typing import cast
 
 import zenoh
 
+from ..config.disclosure import public_endpoints
 from ..contract import keys
 from ..contract.poses import pose_dict, yaw_rotation
 from ..contract.stamps import Time
@@ -272,3 +273,14 @@ class TrackerPublisher:
         for publisher in self._publishers.values():
             publisher.undeclare()
         self._publishers.clear()
+
+
+def nobody_heard(command: str, key: str, namespace: str, connect: list[str]) -> str:
+    """The line a command says when no subscriber heard any pose it published on ``key``
+    (to ``connect``'s endpoints): sent to nowhere is not a success (issue 59)."""
+    where = public_endpoints(connect)
+    return (
+        f"facing-service {command}: no subscriber heard any pose on {key}: is a facing "
+        f"service running in namespace '{namespace}', "
+        + (f"reachable at {where}?" if where else "found by scouting from here?")
+    )

@@ -5,30 +5,36 @@ results; nothing else needs to run."""
 from __future__ import annotations
 
 import threading
+import time
+from collections.abc import Callable
 from pathlib import Path
 
 import zenoh
 
 from ..client.client import FacingClient
-from ..client.sim import Scene, TrackerPublisher, simulate
+from ..client.sim import TrackerPublisher
 from ..client.watch import Watcher
 from ..config.settings import Settings
 from ..shell.service import FacingService
 from .loopback import endpoint, free_port, loopback_config
 
+#: What puts people into the demo: ``feed(publish, should_stop)`` publishes poses as a
+#: tracker would (``publish(key, None)``: a DELETE) until it is told to stop or has no more.
+Feed = Callable[[Callable[[str, bytes | None], None], Callable[[], bool]], object]
+
 
 def run_demo(
     settings: Settings,
-    scene: Scene,
-    rate_hz: float,
+    feed: Feed,
     duration_s: float | None,
     stop: threading.Event,
     svg: Path | None = None,
     view_port: int | None = None,
 ) -> set[str]:
-    """Until ``stop`` (or ``duration_s``): the service in ``settings.base_frame``, the
-    scene at ``rate_hz``, the terminal view, and the live page on ``view_port`` of
-    127.0.0.1 (None: no page). Returns who faced the robot meanwhile."""
+    """Until ``stop``, ``duration_s`` or the feed's end: the service in
+    ``settings.base_frame``, the people ``feed`` publishes (a simulated scene, a camera),
+    the terminal view, and the live page on ``view_port`` of 127.0.0.1 (None: no page).
+    Returns who faced the robot meanwhile."""
     here = endpoint(free_port())
     # The embedded session is a router and the simulator and the view are its clients:
     # a router does not forward between peers (it expects them to mesh), so as peers the
@@ -64,11 +70,13 @@ def run_demo(
                 target=_serve_page, args=(client, frame, view_port, stop), daemon=True
             )
             page.start()
+        deadline = None if duration_s is None else time.monotonic() + duration_s
+
+        def should_stop() -> bool:
+            return stop.is_set() or (deadline is not None and time.monotonic() >= deadline)
+
         feeder = threading.Thread(
-            target=simulate,
-            args=(TrackerPublisher(tracker), scene, frame, embedded.namespace, rate_hz),
-            kwargs={"duration_s": duration_s, "should_stop": stop.is_set},
-            daemon=True,
+            target=feed, args=(TrackerPublisher(tracker), should_stop), daemon=True
         )
         feeder.start()
         try:
