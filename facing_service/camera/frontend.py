@@ -1,0 +1,171 @@
+"""The camera front end's loop: frames in, each face's head pose out as the service's input
+(a pose per face per frame, a DELETE for a face lost), and a line whenever a face starts or
+stops facing the camera, so what the service will decide can be read off the terminal too.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable, Generator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..contract import keys
+from ..contract.poses import pose_dict
+from ..contract.stamps import Time
+from ..core.detector import classify_one
+from .face_ids import FaceIds, FaceSeen
+from .face_model import FaceModel, face_model
+from .frames import Image, Source, frames
+from .head_pose import FloatArray, HeadPose, Mount, fit_head
+from .intrinsics import DEFAULT_FOV_DEG, Intrinsics, from_field_of_view, load_calibration
+from .landmarks import FaceMesh, seen
+
+Publish = Callable[[str, bytes | None], None]
+
+
+@dataclass(frozen=True)
+class CameraOptions:
+    """What ``facing-service camera`` and ``demo --camera`` were asked for."""
+
+    source: Source
+    base_frame: str = "camera_link"
+    namespace: str = "hri"
+    max_faces: int = 5
+    id_prefix: str = "f"
+    threshold_deg: float = 20.0
+    fov_deg: float = DEFAULT_FOV_DEG
+    calibration: Path | None = None
+    mount: Mount | None = None
+
+
+@dataclass
+class CameraStats:
+    """What a run did: frames read, the most faces in one, the CPU and wall time spent on
+    frames (reading excluded), and each face's first result after its first frame."""
+
+    frames: int = 0
+    most_faces: int = 0
+    cpu_s: float = 0.0
+    busy_s: float = 0.0
+    first_result_ms: list[float] = field(default_factory=list)
+    ids: list[str] = field(default_factory=list)
+
+
+class CameraFeed:
+    """An opened camera front end: the source open, the calibration read, the models
+    loaded, so that every way it can fail is said before the first frame
+    (SourceError, CalibrationError); ``run`` then publishes until the source ends."""
+
+    def __init__(self, options: CameraOptions) -> None:
+        self.options = options
+        self._calibration = load_calibration(options.calibration) if options.calibration else None
+        self._frames: Generator[Image, None, None] | None = frames(options.source)
+        self._mesh = FaceMesh(options.max_faces)
+
+    def run(
+        self,
+        publish: Publish,
+        should_stop: Callable[[], bool] = lambda: False,
+        say: Callable[[str], None] = print,
+    ) -> CameraStats:
+        """Until the source ends or ``should_stop``: each frame's faces published, each
+        face lost (and, at the end, each still held) DELETEd."""
+        options, model = self.options, face_model()
+        stats, ids = CameraStats(), FaceIds(prefix=options.id_prefix)
+        lines = _FacingLines(options.threshold_deg, say)
+        camera: Intrinsics | None = None
+        started = time.monotonic()
+        try:
+            for image in self._frames or ():
+                if should_stop():
+                    break
+                wall, cpu = time.perf_counter(), time.process_time()
+                if camera is None:
+                    camera = _intrinsics(image, self._calibration, options.fov_deg)
+                heads = _heads(self._mesh(image), model, camera, options.mount)
+                named, lost = ids.update([face for face, _ in heads], time.monotonic())
+                stamp = Time.from_seconds(time.time())
+                for face_id, (_, head) in zip(named, heads, strict=True):
+                    publish(
+                        _key(options, face_id), _payload(face_id, options.base_frame, stamp, head)
+                    )
+                    if face_id not in stats.ids:
+                        stats.ids.append(face_id)
+                        stats.first_result_ms.append((time.perf_counter() - wall) * 1e3)
+                    lines.said(face_id, head, time.monotonic() - started)
+                for face_id in lost:
+                    publish(_key(options, face_id), None)
+                    lines.left(face_id, time.monotonic() - started)
+                stats.frames += 1
+                stats.most_faces = max(stats.most_faces, len(heads))
+                stats.busy_s += time.perf_counter() - wall
+                stats.cpu_s += time.process_time() - cpu
+        finally:
+            for face_id in ids.forget_all():
+                publish(_key(options, face_id), None)
+            self.close()
+        return stats
+
+    def close(self) -> None:
+        """Release the camera (or file) and the models; again is nothing."""
+        if self._frames is not None:
+            self._frames.close()  # the generator's finally releases the capture
+            self._mesh.close()
+            self._frames = None
+
+
+def _intrinsics(image: Image, calibration: Intrinsics | None, fov_deg: float) -> Intrinsics:
+    height, width = image.shape[:2]
+    if calibration is not None:
+        return calibration.for_frame(width, height)
+    return from_field_of_view(width, height, fov_deg)
+
+
+def _heads(
+    found: list[FloatArray], model: FaceModel, camera: Intrinsics, mount: Mount | None
+) -> list[tuple[FaceSeen, HeadPose]]:
+    """Each face the fit could place, with where it is in the frame."""
+    heads = []
+    for landmarks in found:
+        head = fit_head(landmarks, model, camera, mount)
+        if head is not None:
+            heads.append((seen(landmarks), head))
+    return heads
+
+
+def _key(options: CameraOptions, face_id: str) -> str:
+    return keys.pose_key(options.namespace, face_id, options.base_frame)
+
+
+def _payload(face_id: str, frame: str, stamp: Time, head: HeadPose) -> bytes:
+    """The service's input: the face frame (REP 155, x out of the face) as the pose."""
+    return json.dumps(pose_dict(face_id, frame, stamp, head.translation, head.rotation)).encode()
+
+
+@dataclass
+class _FacingLines:
+    """One line when a face appears, turns toward the camera or away, or leaves: the
+    service's own rule (``classify_one``, the angle in the ground plane) at its threshold."""
+
+    threshold_deg: float
+    say: Callable[[str], None]
+    _facing: dict[str, bool] = field(default_factory=dict)
+
+    def said(self, face_id: str, head: HeadPose, at_s: float) -> None:
+        _, angle, distance, facing = classify_one(
+            head.translation, head.rotation, self.threshold_deg
+        )
+        if self._facing.get(face_id) == facing:
+            return
+        self._facing[face_id] = facing
+        where = "-" if angle is None else f"{angle:.0f}°, {distance:.2f} m"
+        state = "facing the camera" if facing else "not facing the camera"
+        self.say(f"{at_s:6.1f} s  {face_id} {state} ({where})")
+
+    def left(self, face_id: str, at_s: float) -> None:
+        if self._facing.pop(face_id, None) is not None:
+            self.say(
+                f"{at_s:6.1f} s  {face_id} not seen (turned beyond the detector's reach, or gone)"
+            )
