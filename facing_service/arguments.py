@@ -17,6 +17,7 @@ from typing import Any, Literal, NoReturn, get_args, get_origin
 from .config.settings import SERVICE, ZENOH, Settings
 from .config.sources import env_help, env_name, flag_info, flag_name, shown_default
 from .config.version import VERSION
+from .contract import keys
 
 
 class _Parser(argparse.ArgumentParser):
@@ -147,6 +148,94 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--rate-hz", type=POSITIVE, default=30.0, help="poses per second (30)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (0)")
+
+
+def _finite(text: str) -> float:
+    """An argparse type: any finite number."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
+    return value
+
+
+def _field_of_view(text: str) -> float:
+    """An argparse type: a field of view in (0, 180) degrees."""
+    value = _number(0, strict=True)(text)
+    if value >= 180:
+        raise argparse.ArgumentTypeError(f"must be below 180 degrees, got {text}")
+    return value
+
+
+def _id_prefix(text: str) -> str:
+    """An argparse type: the start of a body id (a key chunk of letters, digits, _ or -)."""
+    if not keys.is_name(text + "1"):
+        raise argparse.ArgumentTypeError(f"not the start of an id: {text!r} ({keys.NAME_PATTERN})")
+    return text
+
+
+def _add_camera_arguments(parser: argparse.ArgumentParser) -> None:
+    """How the camera front end sees: its intrinsics, its mount, how many faces."""
+    lens = parser.add_mutually_exclusive_group()
+    lens.add_argument(
+        "--calibration", type=Path, metavar="FILE",
+        help="the camera's intrinsics: a ROS camera_info YAML or an OpenCV calibration file",
+    )  # fmt: skip
+    lens.add_argument(
+        "--fov-deg", type=_field_of_view, default=65.0,
+        help="without a calibration: the camera's horizontal field of view (default 65, a "
+        "laptop's or a USB webcam's; every distance scales with it)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--camera-pose", type=_finite, nargs=6, metavar=("X", "Y", "Z", "YAW", "PITCH", "ROLL"),
+        help="the camera's pose in --base-frame (metres, degrees; static_transform_publisher's "
+        "order); default: --base-frame is the camera's own (x forward, y left, z up)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--max-faces", type=_number(1, strict=False, integer=True), default=5,
+        help="faces followed at once (default 5)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--id-prefix", type=_id_prefix, default="f",
+        help="the faces' ids are this and a count (default f: f1, f2, ...); two cameras "
+        "publishing to one service need two prefixes",
+    )  # fmt: skip
+
+
+def _add_camera_command(commands: Any) -> None:
+    camera = commands.add_parser(
+        "camera",
+        help="people in front of a camera: their faces' poses as the service's input",
+        description="Read frames from a camera, a video or a folder of images, find each face "
+        "and its head pose (MediaPipe's face mesh, a generic face fitted with the camera's "
+        "intrinsics), keep an id per face and publish each as a pose (the REP 155 face frame: "
+        "x out of the face) on NS/bodies/<id>/pose/<base-frame>; a face lost is DELETEd. "
+        "Prints a line whenever a face starts or stops facing the camera. An optional extra: "
+        "pip install 'facing-service[camera]'.",
+    )
+    source = camera.add_mutually_exclusive_group()
+    source.add_argument("--device", type=_number(0, strict=False, integer=True), default=0,
+                        help="camera index (default 0: /dev/video0)")  # fmt: skip
+    source.add_argument(
+        "--video", type=Path, metavar="FILE", help="a video file, played in real time"
+    )
+    source.add_argument("--images", type=Path, metavar="DIR", help="a folder of images")
+    camera.add_argument(
+        "--loop", action="store_true", help="start a video or folder over at its end"
+    )
+    camera.add_argument("--images-fps", type=POSITIVE, default=5.0,
+                        help="with --images: images a second (default 5)")  # fmt: skip
+    camera.add_argument("--width", type=_number(1, strict=False, integer=True), default=640,
+                        help="frame width asked of a camera (default 640)")  # fmt: skip
+    camera.add_argument("--height", type=_number(1, strict=False, integer=True), default=480,
+                        help="frame height asked of a camera (default 480)")  # fmt: skip
+    camera.add_argument("--base-frame", default="camera_link",
+                        help="the frame of the poses (default camera_link)")  # fmt: skip
+    _add_camera_arguments(camera)
+    add_settings_arguments(camera, ["namespace", "threshold_deg"])
+    add_zenoh_arguments(camera)
 
 
 def build_parser() -> _Parser:
@@ -306,10 +395,19 @@ def build_parser() -> _Parser:
     demo.add_argument("--duration-s", type=POSITIVE, help="end by itself after this long")
     demo.add_argument("--svg", type=Path, help="save the last frame as an SVG image")
     demo.add_argument(
+        "--camera", nargs="?", const="0", metavar="SOURCE",
+        help="people in front of a camera instead of a simulated scene: a camera index "
+        "(default 0), a video file or a folder of images (played in a loop); the camera extra",
+    )  # fmt: skip
+    _add_camera_arguments(demo)
+    add_settings_arguments(demo, ["threshold_deg"])
+    demo.add_argument(
         "--view-port", type=port_number, default=8780,
         help="the live page's port on 127.0.0.1, beside the terminal view (default 8780; "
         "0: any free port)",
     )  # fmt: skip
+
+    _add_camera_command(commands)
 
     export = commands.add_parser(
         "export-schemas",

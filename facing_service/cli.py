@@ -13,7 +13,8 @@ import os
 import signal
 import sys
 import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from contextlib import nullcontext
 from types import FrameType
 from typing import NoReturn
 
@@ -21,11 +22,12 @@ import zenoh
 from rich.console import Console
 
 from .arguments import build_parser
+from .camera.native_log import without_native_chatter
 from .client import health
 from .client.client import FacingClient
-from .client.sim import Scene, TrackerPublisher, simulate
+from .client.sim import Scene, TrackerPublisher, nobody_heard, simulate
 from .client.watch import Watcher
-from .config.disclosure import public_endpoints, zenoh_failure
+from .config.disclosure import zenoh_failure
 from .config.patience import open_patiently
 from .config.session import waiting_for_router, zenoh_config
 from .config.settings import Settings
@@ -34,7 +36,7 @@ from .contract import keys
 from .contract.errors import SettingsError
 from .contract.schemas import json_schemas
 from .shell.run import run_until
-from .tools.demo import run_demo
+from .tools.demo import Feed, run_demo
 from .tools.record import replay_refusal
 from .tools.router import router_config, serve
 
@@ -170,13 +172,7 @@ def _simulate(args: argparse.Namespace) -> int:
         f"{publish.heard} heard by a subscriber"
     )
     if publish.poses and not publish.heard:  # sent to nowhere: not a success
-        where = public_endpoints(settings.connect)
-        print(
-            f"facing-service simulate: no subscriber heard any pose on {key}: is a facing "
-            f"service running in namespace '{settings.namespace}', "
-            + (f"reachable at {where}?" if where else "found by scouting from here?"),
-            file=sys.stderr,
-        )
+        print(nobody_heard("simulate", key, settings.namespace, settings.connect), file=sys.stderr)
         return 1
     return 0
 
@@ -256,23 +252,76 @@ def _say_page(url: str) -> None:
     _say(f"the live page is on {url} (Ctrl-C ends it)")
 
 
+def _camera(args: argparse.Namespace) -> int:
+    from .camera.extra import missing_extra  # the extra itself only when it is there
+
+    if missing := missing_extra():
+        print(f"facing-service camera: {missing}", file=sys.stderr)
+        return 2
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    from .camera.command import run_camera_command
+
+    return run_camera_command(args, settings, _stop_on_signals())
+
+
 def _demo(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
         return 2
     logging.basicConfig(level=logging.WARNING)
-    seen_facing = run_demo(
-        settings.model_copy(update={"base_frame": args.base_frame}),
-        Scene(people=args.people, seed=args.seed),
-        args.rate_hz,
-        args.duration_s,
-        _stop_on_signals(),
-        args.svg,
-        args.view_port,
-    )
+    scene = Scene(people=args.people, seed=args.seed)
+
+    def simulated(
+        publish: Callable[[str, bytes | None], None], should_stop: Callable[[], bool]
+    ) -> None:
+        simulate(publish, scene, args.base_frame, settings.namespace, args.rate_hz,
+                 should_stop=should_stop)  # fmt: skip
+
+    with nullcontext() if args.camera is None else without_native_chatter():
+        feed = simulated if args.camera is None else _camera_feed(args, settings) or simulated
+        seen_facing = run_demo(
+            settings.model_copy(update={"base_frame": args.base_frame}),
+            feed,
+            args.duration_s,
+            _stop_on_signals(),
+            args.svg,
+            args.view_port,
+        )
     people = ", ".join(sorted(seen_facing, key=keys.natural_order)) or "nobody"
     print(f"faced the robot during the demo: {people}")
     return 0
+
+
+def _camera_feed(args: argparse.Namespace, settings: Settings) -> Feed | None:
+    """``demo --camera``'s feed, or None after one line saying why the demo falls back to
+    its simulated people (no extra, no camera, a bad calibration)."""
+    from .camera.extra import missing_extra
+
+    if missing := missing_extra():
+        print(f"demo: {missing}; simulated people instead", flush=True)
+        return None
+    from .camera.command import demo_source, open_feed, options_of
+    from .camera.frames import SourceError
+
+    try:
+        source = demo_source(args.camera)
+    except SourceError as error:
+        print(f"demo: --camera {args.camera}: {error}; simulated people instead", flush=True)
+        return None
+    feed = open_feed(options_of(args, settings, source), "demo")
+    if isinstance(feed, int):
+        print("demo: simulated people instead", flush=True)
+        return None
+    print(f"demo: the people are the faces of {source.describe()}", flush=True)
+
+    def faces(
+        publish: Callable[[str, bytes | None], None], should_stop: Callable[[], bool]
+    ) -> None:
+        feed.run(publish, should_stop, lambda line: None)  # the view says who faces
+
+    return faces
 
 
 def _export_schemas(args: argparse.Namespace) -> int:
@@ -314,6 +363,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "watch": _watch,
         "view": _view,
         "demo": _demo,
+        "camera": _camera,
         "export-schemas": _export_schemas,
     }
     return command[args.command](args)

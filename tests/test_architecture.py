@@ -23,6 +23,7 @@ LAYERS = {
     "shell": 4,
     "client": 4,
     "tools": 5,
+    "camera": 5,  # the camera front end: beside tools/, imported only by the commands
 }
 TOP = 6  # cli, __main__, testing: the package's entry points, above every subpackage
 
