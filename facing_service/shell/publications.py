@@ -207,7 +207,8 @@ def query_replies(
 
 def threshold_parameter(parameters: Mapping[str, str], space: str = "facing") -> float | None:
     """The query's ``threshold_deg``, None when absent; ValueError when it is bad, or
-    asked of groups or who faces whom (worked out over time, not re-decided per query)."""
+    asked of engagement, groups or who faces whom (worked out over time, not re-decided per
+    query: a what-if there would be answered as if it were not asked)."""
     unknown = sorted(
         name for name in parameters if name not in QUERY_PARAMETERS and not name.startswith("_")
     )
@@ -219,7 +220,7 @@ def threshold_parameter(parameters: Mapping[str, str], space: str = "facing") ->
     raw = parameters.get("threshold_deg")
     if raw is None:
         return None
-    if space in ("groups", "gazing"):
+    if space in ("engagement", "groups", "gazing"):
         raise ValueError(f"threshold_deg applies to facing results, not to {space}")
     try:
         value = float(raw)

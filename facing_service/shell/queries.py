@@ -44,7 +44,7 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, settings: Settings) 
         query.drop()
         return
     states, frames = (view.states, view.frames) if threshold is None else view.evaluate(threshold)
-    engagements = view.engagements if item.space == "engagement" else []
+    engagements = view.engagements if item.space == "engagement" else []  # never re-decided
     ns, instance = settings.namespace, settings.instance
     replies = [
         (key, payload)

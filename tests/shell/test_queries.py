@@ -75,3 +75,17 @@ def test_a_query_on_a_body_not_tracked_beside_others_says_so(rig):
     rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == ["a"])
     ((kind, error),) = get(client, f"{NAMESPACE}/bodies/b/facing/cam")
     assert (kind, error["error"]) == ("error", "not_tracked") and "'cam'" in error["detail"]
+
+
+def test_a_what_if_cone_on_engagement_is_refused_not_ignored(rig):
+    """Issue 63, defect 1: ``threshold_deg`` on an engagement query was parsed, a
+    re-decision computed and thrown away: the levels answered as if it were not there.
+    Engagement is worked out over time (a score, dwell), not re-decided per query: the
+    parameter is refused there, as on groups and who faces whom."""
+    _, client, rec = rig()
+    send(client, pose_key("a"), pose_json("a", "cam", off_deg=10.0))
+    rec.wait_for(lambda i: i.key == FRAME_KEY and i.value["bodies_tracked"] == ["a"])
+    replies = get(client, f"{NAMESPACE}/bodies/*/engagement/cam?threshold_deg=35")
+    assert [kind for kind, _ in replies] == ["error"], replies
+    assert replies[0][1]["error"] == "bad_parameter"
+    assert "not to engagement" in replies[0][1]["detail"]
