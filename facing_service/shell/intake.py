@@ -135,6 +135,12 @@ class Intake:
             return attachment[-1:]
         return None
 
+    @property
+    def alive(self) -> bool:
+        """Whether the alarm thread runs: without it, a quiet input's deadlines (staleness,
+        dwell) never come, so the service's status watches it with its own threads."""
+        return self._alarm_thread.is_alive()
+
     def __len__(self) -> int:
         """Items waiting in the side queue (the channel's depth cannot be read)."""
         return len(self._side)

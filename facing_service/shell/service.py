@@ -13,6 +13,9 @@ Threads, and why:
 - zenoh callbacks (queries, a robot's other topics): only queue the item for the worker.
   A slow callback would stall every subscriber of the session.
 - the alarm (``intake``): wakes a waiting worker at its next deadline.
+- the link watch (``links``): says when no router or peer is reachable, and when one is
+  again (the status's ``outage_s``).
+Every one of them is watched: the status says ``failed`` when one has died.
 - the publisher (``publisher``): sends what the outbox holds, with BLOCK. A slow consumer
   slows it down; one that stops reading blocks it (up to zenoh's ``wait_before_close``).
   Only this thread waits, while the worker keeps ingesting, deciding and answering.
@@ -274,7 +277,11 @@ class FacingService:
             inbox_depth=len(self._intake) if self._intake is not None else 0,
             ros2=self._input.status(),
         )
-        alive = bool(self._threads) and all(t.is_alive() for t in self._threads)
+        alive = (
+            bool(self._threads)
+            and all(t.is_alive() for t in self._threads)
+            and (self._intake is None or self._intake.alive)
+        )
         failing = self._worker is not None and self._worker.faults.failing
         health = "failed" if not alive else "degraded" if failing else "ok"
         if health == "ok" and outage is not None and outage > NO_ROUTER_AFTER_S:

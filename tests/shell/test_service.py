@@ -11,7 +11,7 @@ from service_rig import FRAME_KEY, NAMESPACE, body_key, pose_key
 
 from facing_service.core.detector import classify
 
-from loopback import get, send, send_delete, wait_until_answered
+from loopback import get, send, send_delete, wait_until, wait_until_answered
 from poses import pose_dict, pose_json
 
 
@@ -216,3 +216,18 @@ def test_closing_gives_the_threads_one_budget_together(net):
     for thread in real:  # they all stop: the session is closed
         thread.join(5)
         assert not thread.is_alive()
+
+
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnhandledThreadExceptionWarning")
+def test_the_alarm_thread_dying_is_a_failed_status(net, monkeypatch):
+    """Issue 63, defect 2: the alarm thread ``Intake`` starts (timed expiry on a quiet
+    input) was not among the threads the status watches: if it died, staleness stopped and
+    the status still said ok."""
+    from facing_service.shell import intake
+
+    def dies(self: intake.Intake) -> None:
+        raise RuntimeError("the alarm thread dies")
+
+    monkeypatch.setattr(intake.Intake, "_ring", dies)
+    service, _ = net.service()
+    wait_until(lambda: service.status().status == "failed", 5, "a failed status")
