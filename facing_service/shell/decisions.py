@@ -109,7 +109,8 @@ class Decisions:
     def flush(self, poses: list[PoseSample], now: float) -> None:
         """Run the pending poses through the tracker, publish, and empty the list. When
         that meets a bug, the poses go again one by one: only the one at fault is lost
-        (refused as internal_error), never the batch's others."""
+        (refused as internal_error), never the batch's others. One bug is one error: the
+        pose that meets it alone, or the batch when none does."""
         if not poses:
             return
         batch = list(poses)
@@ -118,16 +119,17 @@ class Decisions:
             self._ingest(batch, now)
             return
         except Exception as error:
-            self._faults.caught(error, f"a batch of {len(batch)} poses")
-            if len(batch) == 1:
-                self._refuse(batch[0], error)
-                return
+            batch_error = error
+        culprits = 0
         for sample in batch:
             try:
                 self._ingest([sample], now)
             except Exception as error:
+                culprits += 1
                 self._faults.caught(error, f"the pose of {sample.body_id} in {sample.frame_id}")
                 self._refuse(sample, error)
+        if not culprits:  # met together only: each alone went through
+            self._faults.caught(batch_error, f"a batch of {len(batch)} poses")
 
     def _refuse(self, sample: PoseSample, error: Exception) -> None:
         detail = f"{type(error).__name__}: {error}"

@@ -51,9 +51,28 @@ def test_a_bug_on_one_pose_loses_that_pose_alone(caplog):
     results = [p.key for p in said if p.kind is Kind.RESULT]
     assert results == ["hri/bodies/ann/facing/cam", "hri/bodies/cat/facing/cam"]
     assert ledger.rejected[Rejection.INTERNAL_ERROR] == 1 and faults.failing
-    assert ledger.decided["worker_errors"] == 2  # the batch, then bob alone
+    # one bug met, one error (issue 63, defect 3: the batch's failure and bob's alone
+    # counted it twice)
+    assert ledger.decided["worker_errors"] == 1
     frames = [p for p in said if p.kind is Kind.FRAME]
     assert b'"bodies_tracked":["ann","cat"]' in frames[-1].payload  # bob rolled back
+
+
+class FailsOnAnnAndBobTogether(JsonOutput):
+    """A bug only two poses together meet: each alone goes through."""
+
+    def on_changes(self, changes: Changes) -> list[Publication]:
+        if {"ann", "bob"} <= {state.body_id for state in changes.results}:
+            raise RuntimeError("a bug for ann and bob together")
+        return super().on_changes(changes)
+
+
+def test_a_bug_no_single_pose_meets_is_one_error_and_loses_nothing():
+    made, ledger, _, faults = decisions_with(FailsOnAnnAndBobTogether(Settings()))
+    made.flush([sample("ann", sec=1), sample("bob", sec=1)], 0.0)
+    assert ledger.decided["worker_errors"] == 1 and faults.failing
+    assert ledger.rejected[Rejection.INTERNAL_ERROR] == 0
+    assert set(made.tracker.tracked_per_frame()) == {"cam"}
 
 
 def test_a_turn_without_errors_clears_degraded():
