@@ -226,14 +226,15 @@ class Tracker:
         changes.results.extend(states)
 
     def lose(
-        self, bodies: BodyRef | Iterable[BodyRef], now: float = 0.0, *, time_went_back: bool = False
+        self, bodies: BodyRef | Iterable[BodyRef], now: float, *, time_went_back: bool = False
     ) -> Changes:
         """The tracker said these bodies are gone (an input DELETE, or ids leaving a
         tracked list). Poses of each stamped at or before its last accepted one are
         refused for ``TOMBSTONE_S`` after (a late pose must not bring back a body its
         tracker deleted), unless it is lost because time went back: then older stamps are
         the new timeline. One aggregate per frame for all of them: a list replacing N ids
-        costs N DELETEs, not N aggregates of everyone."""
+        costs N DELETEs, not N aggregates of everyone. ``now`` (the clock's time) has no
+        default: a tombstone dated 0 on a monotonic clock has expired before it is made."""
         changes = Changes()
         frames = set()
         for key in [bodies] if isinstance(bodies, BodyRef) else bodies:

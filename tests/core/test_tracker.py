@@ -98,11 +98,24 @@ def test_bodies_are_independent_per_frame():
 def test_lose_removes_the_body_and_updates_the_frame():
     t = tracker()
     t.ingest([sample("a"), sample("b", off_deg=90)], now=0.0)
-    changes = t.lose(A)
+    changes = t.lose(A, 0.0)
     assert changes.lost == [("cam", "a")]
     assert changes.frames[0].bodies_facing == [] and changes.frames[0].bodies_tracked == ["b"]
-    assert t.lose(A).lost == []  # already gone: nothing to publish
-    assert t.lose(BodyRef(frame_id="nowhere", body_id="zzz")).lost == []
+    assert t.lose(A, 0.0).lost == []  # already gone: nothing to publish
+    assert t.lose(BodyRef(frame_id="nowhere", body_id="zzz"), 0.0).lost == []
+
+
+def test_a_loss_says_when_it_happened():
+    """Issue 63, defect 4: ``lose`` defaulted ``now`` to 0.0; on a monotonic clock (hours
+    since boot) a tombstone stamped at 0 had expired before it was made, and a late pose
+    brought back the body its tracker had just deleted. The time is the caller's to say."""
+    t = tracker()
+    t.ingest([sample("a", sec=5)], now=3600.0)
+    with pytest.raises(TypeError):
+        t.lose(A)  # type: ignore[call-arg]
+    t.lose(A, 3600.5)
+    late = t.ingest([sample("a", sec=4)], now=3600.6)  # stamped before the loss
+    assert late.results == [] and len(t) == 0
 
 
 def test_losing_many_bodies_at_once_says_one_aggregate():
@@ -172,7 +185,7 @@ def test_capacity_refuses_new_bodies_but_keeps_updating_known_ones():
         ("map", "a"),
     ]
     assert len(t.ingest([sample("a", sec=2), sample("b", sec=2)], now=0.1).results) == 2
-    t.lose(A)
+    t.lose(A, 0.15)
     changes = t.ingest([sample("c"), sample("d")], now=0.2)
     assert [s.body_id for s in changes.results] == ["c"]
     assert [s.body_id for s in changes.over_capacity] == ["d"]
