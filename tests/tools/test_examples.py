@@ -11,7 +11,8 @@ import sys
 import time
 from pathlib import Path
 
-from loopback import endpoint, free_port
+from loopback import endpoint, free_port, send, wait_until_answered
+from poses import pose_json
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -100,3 +101,24 @@ def test_ctrl_c_ends_every_example_quietly_and_the_tracker_deletes_its_people(ne
         "hri/bodies/ann/pose/base_link",
         "hri/bodies/bob/pose/base_link",
     }
+
+
+def test_the_subscriber_prints_a_body_straight_below_the_robot(net):
+    """Issue 63, defect 5: ``distance_m`` is null when the robot is straight above a
+    person (the README says so) and subscribe.py formatted it with ``:.1f``: a traceback
+    on the first such result. (Fixed with issue 59; this is its test.)"""
+    port = free_port()
+    net.service(listen=[endpoint(port)], base_frame="base_link")
+    subscriber = example("subscribe.py", port, "--duration-s", "4")
+    try:
+        time.sleep(1.5)  # the subscriber meets the service before the pose comes
+        tracker = net.client(endpoint(port))
+        wait_until_answered(tracker, "hri/facing/base_link")
+        send(tracker, "hri/bodies/under/pose/base_link",
+             pose_json("under", "base_link", x=0.0, y=0.0, yaw_deg=0.0))  # fmt: skip
+        heard, _ = subscriber.communicate(timeout=30)
+    finally:
+        if subscriber.poll() is None:
+            subscriber.kill()
+    assert "Traceback" not in heard, heard
+    assert re.search(r"^under looks elsewhere$", heard, re.M), heard
