@@ -96,3 +96,18 @@ def test_the_churn_benchmark_runs_and_says_every_outage(tmp_path):
     assert result["accepted"] >= result["sent_outside_outages"] > 0
     assert result["consumer"]["out_of_order"] == 0
     assert figure.read_text().startswith("<svg") and "<polyline" in figure.read_text()
+
+
+def test_nothing_measured_is_no_target_met():
+    """Issue 63, defect 6: the verdicts were ``all()`` over lists that may be empty, so a
+    report that measured nothing met every target."""
+    from benchmarks.report import TARGETS, verdicts
+
+    run = {"burst": {"lost": 0}, "soak": {"sent": 1, "received": 1},
+           "soak_after": {"sent": 1, "received": 1}}  # fmt: skip
+    report = {"grid": [], "core": [], "service_ros": run,
+              "ros_ratios": {"ros_cpu_per_pose": 1.0, "ros_burst_throughput": 1.0}}  # fmt: skip
+    met = verdicts(report)
+    assert not any(met[name] for name in TARGETS), met
+    assert not met["zero_loss"] and not met["nothing_superseded"] and not met["core_speedup"]
+    assert met["ros_zero_loss"]  # measured: one run, nothing lost
