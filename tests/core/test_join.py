@@ -47,10 +47,21 @@ def test_of_several_free_places_the_one_nearest_the_robot():
 
 
 def test_someone_standing_in_the_gap_takes_the_room():
+    """The gap was the only room: with someone in it there is none. (Issue 63, defect 7:
+    this test passed whenever join_pose returned None, and so could not fail on it; a
+    join_pose blind to outsiders now fails it, and the place beside one is checked.)"""
     members, headings = ring(4, 0.8, skip={2})
     outsider = np.array([[2.2, 0.0]])  # not a member, but there
-    pose = join_pose(members, headings, outsider, (0.0, 0.0), P)
-    assert pose is None or math.hypot(pose.x - 2.2, pose.y) >= P.min_clearance_m
+    assert join_pose(members, headings, outsider, (0.0, 0.0), P) is None
+    assert join_pose(members, headings, np.zeros((0, 2)), (0.0, 0.0), P) is not None
+
+
+def test_a_place_beside_someone_keeps_its_distance():
+    members, headings = ring(4, 0.8, skip={2})
+    beside = np.array([[2.2, 0.3]])  # in the gap's edge: the rest of the gap is still free
+    pose = join_pose(members, headings, beside, (0.0, 0.0), P)
+    assert pose is not None
+    assert math.hypot(pose.x - 2.2, pose.y - 0.3) >= P.min_clearance_m
 
 
 def test_a_closed_ring_has_no_room():
