@@ -5,7 +5,7 @@ the tutorial's 20 deg), on the same noisy tracks.
 
     python -m benchmarks.engagement [--people 20] [--seed 0] [--quick]
 
-Each simulated person follows a script (sim.labelled_track): walks up from the side,
+Each simulated person follows a script (benchmarks.labelled.labelled_track): walks up from the side,
 faces the robot 10 s, turns away, glances back for 0.6 s, walks past, stands with their
 back turned, faces the robot again, leaves; 5 deg yaw noise, 10 % of frames dropped plus
 0.5 s dropout bursts, 30 Hz. Both methods see the same samples through the same geometry

@@ -1,6 +1,14 @@
-"""The functional core: the facing test (``detector``), engagement levels
-(``engagement``), the latest state per body (``tracker``) and tf2's buffer rules
-(``tf_buffer``). Pure functions and plain data: no zenoh, no threads, no clock of its own."""
+"""The functional core: pure functions and plain data, no zenoh, no threads, no clock of
+its own (docs/architecture.md).
+
+- facing: ``detector`` (the cone test), ``tracker`` (the latest state per body, order,
+  staleness, hysteresis) with ``records`` (what a change says) and ``journal`` (its
+  containers, undone when a turn meets a bug), ``view`` (a turn's read-only view);
+- engagement: ``engagement`` (levels, the score), ``evidence`` (a head's soft evidence),
+  ``mutual_gaze`` and ``rule`` (hri_engagement's rule, as its mode);
+- the social scene: ``groups`` (F-formations, who faces whom), ``join`` (where to stand),
+  ``scene`` (both per frame, over time);
+- TF: ``tf_buffer`` (tf2's BufferCore rules), ``tf_cache``, ``tf_math``, ``tf_errors``."""
 
 from ..contract.levels import Level
 from .detector import classify

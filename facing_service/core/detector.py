@@ -6,8 +6,9 @@ The input is the pose of each ``body_<id>`` frame in the base frame (libhri's
 ``r = -R(q)^T t``; with REP 155's body frame (x out of the chest, z up) the body faces the
 robot when ``r`` lies ahead (``r.x > 0``) within a horizontal cone around x.
 
-Everything here works on whole arrays so that one call classifies a batch of bodies; the
-service never loops over bodies in Python for the geometry.
+``classify`` works on whole arrays, one call for a batch of bodies; ``classify_one`` is the
+same formula on floats, which the service uses per body for batches below ``SMALL_BATCH``
+(nearly all of a robot's: numpy's per-call cost dominates a few bodies).
 """
 
 from __future__ import annotations

@@ -100,7 +100,8 @@ class EngagementParams:
     steady_deg: float | None = None  # the score falls from this wander to 0 at twice it
     steady_tau_s: float = 0.5  # time constant of the recent mean direction
     # ENGAGED only once every sample of the last this long scored at least engage_above
-    # (sustained attention); None: once ENGAGING has held engage_dwell_s.
+    # (sustained attention); None (the default, and the shipped profiles'): once ENGAGING
+    # has held engage_dwell_s.
     sustain_s: float | None = None
     vote_deg: float | None = None  # a sample votes "attending" within this angle (None: off)
     vote_tau_s: float = 3.0  # time constant of the share of recent votes
