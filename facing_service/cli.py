@@ -135,7 +135,7 @@ def _inspect(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
         return 2
-    from .tools.survey import inspect_robot  # rosbags: only for the commands that read CDR
+    from .tools.inspect import inspect_robot  # rosbags: only for the commands that read CDR
 
     return inspect_robot(settings, args.seconds, args.base_frame)
 

@@ -279,7 +279,7 @@ def test_a_second_replay_clears_the_buffer_and_results_come_back(net, site, capl
 
 def test_inspect_shows_what_the_robot_publishes_and_the_flags_that_read_it(net, site, capsys):
     from facing_service.config.settings import Settings
-    from facing_service.tools.survey import inspect_robot
+    from facing_service.tools.inspect import inspect_robot
 
     ep, make_robot = site
     robot = make_robot(rmw_zenoh.HUMBLE_0_1_9, domain=3, namespace="bot1")
@@ -312,7 +312,7 @@ def chain_message(links: int, name=lambda i: f"link{i}") -> bytes:
 
 
 def surveyed(samples) -> list[str]:
-    from facing_service.tools.survey import Survey
+    from facing_service.tools.inspect import Survey
 
     survey = Survey()
     for key, payload in samples:
@@ -321,7 +321,7 @@ def surveyed(samples) -> list[str]:
 
 
 def test_inspect_walks_a_1500_link_chain_without_recursion_into_a_bounded_report():
-    from facing_service.tools.survey import TREE_LINES
+    from facing_service.tools.inspect import TREE_LINES
 
     lines = surveyed([("tf", chain_message(1500))])
     assert len(lines) < TREE_LINES + 40
@@ -352,7 +352,7 @@ def test_inspect_cuts_names_a_sender_chose():
 
 def test_inspect_exits_0_on_a_robot_publishing_a_1500_link_chain(net, site, capsys):
     from facing_service.config.settings import Settings
-    from facing_service.tools.survey import inspect_robot
+    from facing_service.tools.inspect import inspect_robot
 
     ep, make_robot = site
     robot = make_robot(rmw_zenoh.JAZZY_0_2_10)
@@ -373,7 +373,7 @@ def test_inspect_pointed_at_a_router_suggests_the_isolated_way_to_join_it():
     """Issue 46: `inspect -e tcp/localhost:7447` suggested a plain peer, which scouts by
     multicast and listens everywhere, against the README's isolation advice."""
     from facing_service.config.settings import Settings
-    from facing_service.tools.survey import session_flags
+    from facing_service.tools.inspect import session_flags
 
     plain = Settings(connect=["tcp/localhost:7447"])
     assert session_flags(plain) == "-m client -e tcp/localhost:7447 --no-multicast-scouting"
