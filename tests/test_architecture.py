@@ -179,7 +179,7 @@ def test_importing_the_client_loads_no_ros2_and_no_tf():
 
 
 #: The layers whose every module has a test file of its own beside its twin (issue 54).
-MIRRORED = ("contract", "core", "shell")
+MIRRORED = ("contract", "core", "ros2", "config", "shell")
 
 
 @pytest.mark.parametrize("layer", MIRRORED)

@@ -1,0 +1,160 @@
+"""People from the TF tree and the tracked lists: who exists, through which frame, at the
+latest common time; what is refused, and what is bounded (ros2/people)."""
+
+from __future__ import annotations
+
+from facing_service.contract.stamps import Time
+from facing_service.core.tf_math import RigidTransform
+from facing_service.ros2.people import MAX_FRAME_NAME, People, TfInput
+
+from ros_messages import S, yaw_q
+
+
+def tf_in(parent, child, sec, t=(0.0, 0.0, 0.0), q=(0.0, 0.0, 0.0, 1.0)) -> TfInput:
+    return TfInput(parent, child, Time(int(sec * S)), RigidTransform(t, q))
+
+
+def test_the_tracked_lists_define_who_exists():
+    people = People("base_link")
+    people.on_tf([tf_in("base_link", "body_a", 1, (2.0, 0.0, 0.0), yaw_q(180))], static=False)
+    assert people.on_tf([], static=False).poses == []
+    (pose,) = people.on_tracked("/humans/bodies/tracked", ["a"]).poses  # known at once
+    assert pose.body_id == "body_a" and pose.profile == "body"
+    assert pose.pose.translation == (2.0, 0.0, 0.0)
+    update = people.on_tracked("/humans/bodies/tracked", [])
+    assert update.lost == ["body_a"] and update.poses == []
+    assert people.on_tf([tf_in("base_link", "body_a", 2)], static=False).poses == []
+
+
+def test_a_person_is_seen_through_its_face_else_its_body():
+    people = People("base_link")
+    people.on_tf(
+        [
+            tf_in("base_link", "body_b1", 1, (3.0, 0.0, 0.0)),
+            tf_in("base_link", "face_f1", 1, (2.0, 0.0, 1.6)),
+        ],
+        static=False,
+    )
+    people.on_tracked("/humans/persons/tracked", ["p1"])
+    (body,) = people.on_person_link("p1", "body_id", "b1").poses
+    assert body.body_id == "person_p1" and body.profile == "body"
+    assert people.on_person_link("p1", "face_id", "f1").poses == []  # same stamp: not newer
+    (face,) = people.on_tf([tf_in("base_link", "face_f1", 2, (2.0, 0.0, 1.6))], static=False).poses
+    assert face.body_id == "person_p1" and face.profile == "head"
+
+
+def test_poses_move_only_forward_at_the_latest_common_time():
+    people = People("base_link")
+    people.on_tracked("/humans/bodies/tracked", ["a"])
+    update = people.on_tf([tf_in("base_link", "cam", 1), tf_in("cam", "body_a", 1)], static=False)
+    assert [p.pose.stamp for p in update.poses] == [Time.of(1)]
+    # body_a moves on, but cam has nothing newer: the latest common time stays at 1 s.
+    assert people.on_tf([tf_in("cam", "body_a", 2)], static=False).poses == []
+    assert people.on_tf([tf_in("cam", "body_a", 3)], static=False).poses == []
+    (moved,) = people.on_tf([tf_in("base_link", "cam", 3)], static=False).poses
+    assert moved.pose.stamp == Time.of(3)
+
+
+def test_a_moving_camera_updates_every_body_below_it_and_only_those():
+    people = People("base_link")
+    people.on_tracked("/humans/bodies/tracked", ["a", "b", "c"])
+    people.on_tf(
+        [
+            tf_in("base_link", "cam", 1),
+            tf_in("cam", "body_a", 1),
+            tf_in("cam", "body_b", 1),
+            tf_in("base_link", "body_c", 1),
+        ],
+        static=False,
+    )
+    update = people.on_tf(
+        [tf_in("base_link", "cam", 2), tf_in("cam", "body_a", 2), tf_in("cam", "body_b", 2)],
+        static=False,
+    )
+    assert sorted(p.body_id for p in update.poses) == ["body_a", "body_b"]
+
+
+def test_a_static_transform_into_a_dynamic_frame_is_refused_with_why():
+    """The shared two-person recordings give camera_color_optical_frame a /tf parent and
+    a /tf_static one; when /tf comes first the static one is refused, as tf2 does: the
+    rejection says why, so the log's summary does not alarm a newcomer for nothing."""
+    people = People("camera_link")
+    people.on_tf([tf_in("camera_link", "optical", 20)], static=False)
+    update = people.on_tf([tf_in("camera_color_frame", "optical", 0)], static=True)
+    ((reason, what),) = update.refused
+    assert reason == "tf_old_data"
+    assert what.startswith("camera_color_frame -> optical (a /tf_static transform of a frame")
+    assert "harmless when the /tf parent is the one meant" in what
+
+
+# -- bounds: what a robot can make People hold ----------------------------------------------
+
+
+def test_a_list_longer_than_max_ids_keeps_the_tracked_first_and_is_counted():
+    people = People("base_link", max_ids=3)
+    people.on_tracked("/humans/bodies/tracked", ["c"])
+    update = people.on_tracked("/humans/bodies/tracked", ["a", "b", "c", "d", "e"])
+    assert people.subjects() == ["body_a", "body_b", "body_c"]  # c kept, then list order
+    assert update.refused == [("capacity", "/humans/bodies/tracked: 5 ids, only the first 3 kept")]
+
+
+def test_links_of_untracked_persons_are_kept_then_the_oldest_forgotten():
+    """A link may come before its person's list (kept for then); a robot naming persons
+    without end costs at most max_ids links of each kind."""
+    people = People("base_link", max_ids=2)
+    people.on_tf([tf_in("base_link", "body_b1", 1, (2.0, 0.0, 0.0))], static=False)
+    assert people.on_person_link("p1", "body_id", "b1").refused == []
+    people.on_person_link("p2", "body_id", "b2")
+    update = people.on_person_link("p3", "body_id", "b3")
+    assert update.refused == [("capacity", "p1/body_id: forgotten, over 2 person links")]
+    people.on_tracked("/humans/persons/tracked", ["p2", "p3"])
+    assert [people.frame_of(s) for s in people.subjects()] == ["body_b2", "body_b3"]
+
+
+def test_a_huge_name_is_refused_and_quoted_cut():
+    """Frame names are sender-chosen and tf2 keeps every one: a name over MAX_FRAME_NAME
+    is refused with its own reason (it is not kept), and quoted cut."""
+    people = People("base_link")
+    update = people.on_tf([tf_in("base_link", "x" * 1_000_000, 1, (1.0, 0, 0))], static=False)
+    ((reason, what),) = update.refused
+    assert reason == "tf_frame_name_too_long"
+    assert len(what) < 200 and what.endswith("(1000000 chars)")
+    assert not people.tf.has_frame("x" * 1_000_000)
+    longest = "y" * MAX_FRAME_NAME
+    assert people.on_tf([tf_in("base_link", longest, 1, (1.0, 0, 0))], static=False).refused == []
+
+
+def test_first_results_are_said_from_what_the_buffer_holds():
+    """A list handled after the /tf that came with it: the poses of the last 2 s first."""
+    people = People("base_link")
+    for i in range(90):  # 3 s at 30 Hz before the list
+        people.on_tf([tf_in("base_link", "body_a", 1 + i / 30, (2.0, 0.0, 0.0))], static=False)
+    poses = people.on_tracked("/humans/bodies/tracked", ["a"]).poses
+    stamps = [p.pose.stamp for p in poses]
+    assert stamps == sorted(stamps) and len(stamps) == 60  # 2 s at 30 Hz, the latest last
+    assert stamps[-1] == int((1 + 89 / 30) * S)
+
+
+def test_cloned_person_ids_pointing_at_a_real_face_make_no_results():
+    """200 fresh person ids whose face_id names a real person's face used to multiply that
+    face's results 200-fold (each with its first results). A frame is the pose of one
+    person at a time: the clones are refused as link_taken, once each."""
+    people = People("base_link")
+    people.on_tracked("/humans/faces/tracked", ["f1"])
+    people.on_tf([tf_in("base_link", "face_f1", 1, (1.0, 0, 0))], static=False)
+    people.on_person_link("real", "face_id", "f1")
+    people.on_tracked("/humans/persons/tracked", ["real"])
+    clones = [f"c{i}" for i in range(200)]
+    refused = []
+    for clone in clones:
+        refused += people.on_person_link(clone, "face_id", "f1").refused
+    update = people.on_tracked("/humans/persons/tracked", ["real", *clones])
+    refused += update.refused
+    assert update.poses == []
+    assert [r for r, _ in refused] == ["link_taken"] * 200
+    poses = people.on_tf([tf_in("base_link", "face_f1", 2, (1.0, 0, 0))], static=False).poses
+    assert sorted(p.body_id for p in poses) == ["face_f1", "person_real"]
+    # the real person leaves: the face is free for the next person who resolves it
+    people.on_tracked("/humans/persons/tracked", clones)
+    poses = people.on_tf([tf_in("base_link", "face_f1", 3, (1.0, 0, 0))], static=False).poses
+    assert {p.body_id for p in poses if p.body_id.startswith("person_")} == {"person_c0"}
