@@ -22,7 +22,7 @@ is left out of choices and targets, and printed.
 Offline, so thousands of candidate runs take a minute: each recording goes once through
 the service's own ROS 2 adapter (``ros2_input.route`` into ``People``, as the worker does
 it), in receive order; then, per candidate, the person subjects' poses and losses go
-through the tracker a service with those settings runs (``service.tracker_for``), on the
+through the tracker a service with those settings runs (``config.profiles.tracker_for``), on the
 recording's clock. ``test_benchmarks_crossval`` checks that this gives the real path's
 figures for the shipped defaults, and that the defaults are what this procedure picks.
 """
@@ -40,6 +40,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
+from facing_service.config.profiles import tracker_for
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.levels import Level
@@ -48,7 +49,6 @@ from facing_service.core.records import Changes, PoseSample
 from facing_service.ros2.input import RosSample, route
 from facing_service.ros2.people import People
 from facing_service.ros2.wire import Wire
-from facing_service.shell.service import tracker_for
 
 from . import scoring
 from .bags import read_bag_raw

@@ -26,11 +26,12 @@ import zenoh
 
 from facing_service.config.settings import Settings
 from facing_service.contract import keys
-from facing_service.shell.forms import forms_for
+from facing_service.shell.compose import answers_for, parts_for
+from facing_service.shell.decisions import Decisions
 from facing_service.shell.intake import Intake
 from facing_service.shell.ledger import Ledger
 from facing_service.shell.outbox import Outbox
-from facing_service.shell.service import INBOX_SIZE, tracker_for
+from facing_service.shell.service import INBOX_SIZE
 from facing_service.shell.worker import Worker
 from facing_service.tools.loopback import loopback_config
 
@@ -79,12 +80,12 @@ def worker_on(session: zenoh.Session, clock: SoakClock) -> Iterator[tuple[Worker
     """A worker as the service makes it (default settings, JSON input and output)."""
     settings = Settings(base_frame="map")
     ledger = Ledger(clock)
-    source, outputs = forms_for(settings, ledger, clock)
+    parts = parts_for(settings, ledger, clock)
     closing = threading.Event()
-    intake = Intake(session, source.hot_key(), INBOX_SIZE, closing, clock)
+    intake = Intake(session, parts.source.hot_key(), INBOX_SIZE, closing, clock)
     outbox = Outbox()
-    worker = Worker(settings, clock, tracker_for(settings), source, outputs, ledger, outbox,
-                    intake, closing)  # fmt: skip
+    decisions = Decisions(parts, ledger, outbox)
+    worker = Worker(decisions, intake, answers_for(settings, ledger), clock, closing)
     try:
         yield worker, outbox
     finally:

@@ -267,3 +267,34 @@ def test_the_pipelines_name_functions_that_exist():
             wrong.append(f"{layer}/{module}: {name}")
     assert not wrong, wrong
     assert len([s for block in _BLOCKS for s in steps_named(block)]) >= 10  # it reads them
+
+
+#: The composition root and what runs it: the only modules of the shell that read the
+#: settings (issue 63); config/ makes the core's parameters from them, the commands (cli,
+#: tools, camera) and the client read their own flags.
+SETTINGS_READERS = {("shell", "compose"), ("shell", "service"), ("shell", "run")}
+
+
+def test_below_the_composition_root_nothing_reads_the_settings():
+    readers = []
+    for path in MODULES:
+        here = path.relative_to(PACKAGE).with_suffix("").parts
+        if here[0] not in ("shell", "core", "ros2", "contract") or here in SETTINGS_READERS:
+            continue
+        if any(target[-1:] == ("settings",) or name == "Settings"
+               for target, name in targets(here, path.read_text())):  # fmt: skip
+            readers.append("/".join(here))
+    assert not readers, f"read the settings below the composition root: {readers}"
+
+
+def test_no_constructor_in_the_shell_takes_more_than_five_things():
+    """A collaborator given what it uses takes few things (Worker took nine, Decisions
+    eight, before the composition root)."""
+    wide = []
+    for path in sorted((PACKAGE / "shell").glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.FunctionDef) and node.name == "__init__":
+                taken = len(node.args.args) - 1 + len(node.args.kwonlyargs)
+                if taken > 5:
+                    wide.append(f"{path.stem}: {taken}")
+    assert not wide, wide

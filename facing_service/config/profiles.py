@@ -1,17 +1,22 @@
-"""What the settings make of the core's parameters: the engagement machine's, and how
-chests and heads are decided. Kept apart from ``Settings`` (which only declares and
-checks the values) because this is where the settings' *meaning* for the core lives."""
+"""What the settings make of the core's parameters: the engagement machine's, how chests
+and heads are decided, the scenes', and the tracker a service runs. Kept apart from
+``Settings`` (which only declares and checks the values) because this is where the
+settings' *meaning* for the core lives."""
 
 from __future__ import annotations
 
 from dataclasses import replace
 
+from ..contract import keys
+from ..contract.robot import Distro, RosFormat
 from ..core.engagement import EngagementParams, Model
 from ..core.groups import GroupParams, ScaleParams
 from ..core.mutual_gaze import GazeParams
 from ..core.records import Profile
 from ..core.rule import RuleParams
 from ..core.scene import SceneParams
+from ..core.tracker import Tracker
+from ..ros2.wire import Wire
 from .settings import Settings
 
 
@@ -81,4 +86,31 @@ def scene_params(settings: Settings) -> SceneParams:
         hold_s=s.group_hold_s,
         period_s=1.0 / s.group_rate_hz,
         max_people=s.group_max_people,
+    )
+
+
+def tracker_for(settings: Settings) -> Tracker:
+    """The tracker a service with these settings runs (also the offline evaluation's, in
+    benchmarks.crossval: the same decisions without the network, and no zenoh)."""
+    fixed = [] if settings.base_frame == keys.ALL_FRAMES else [settings.base_frame]
+    return Tracker(
+        settings.threshold_deg,
+        settings.hysteresis_deg,
+        settings.stale_after_s,
+        frames=fixed,
+        max_bodies=settings.max_bodies,
+        engagement=engagement_params(settings),
+        engagement_period_s=settings.engagement_period_s,
+        head=head_profile(settings),
+    )
+
+
+def robot_wire(settings: Settings) -> Wire:
+    """Where the robot's topics are on zenoh, and the form we write in before (or instead
+    of) learning the robot's."""
+    return Wire(
+        RosFormat(settings.ros_format),
+        settings.ros_domain_id,
+        settings.ros_namespace,
+        settings.forced_distro or Distro.JAZZY,
     )

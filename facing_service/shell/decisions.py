@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 from ..contract.poses import Rejection
 from ..core.records import Changes, PoseSample
@@ -49,29 +50,29 @@ class Faults:
         self.in_turn = 0
 
 
+@dataclass(frozen=True)
+class Parts:
+    """What the worker's decisions are made with (``compose.parts_for`` makes them from
+    the settings): the tracker, the scenes, the input and the outputs."""
+
+    tracker: Tracker
+    scenes: Scenes
+    source: Input
+    outputs: Sequence[Output]
+
+
 class Decisions:
     """The one owner of the worker's collaborators (``tracker``, ``source``, ``outputs``,
     ``scenes``: the worker reads them here), and of what a turn decided."""
 
-    def __init__(
-        self,
-        tracker: Tracker,
-        source: Input,
-        outputs: Sequence[Output],
-        scenes: Scenes,
-        ledger: Ledger,
-        outbox: Outbox,
-        faults: Faults,
-        max_bodies: int,
-    ) -> None:
-        self.tracker = tracker
-        self.source = source
-        self.outputs = outputs
-        self.scenes = scenes
-        self._ledger = ledger
+    def __init__(self, parts: Parts, ledger: Ledger, outbox: Outbox) -> None:
+        self.tracker = parts.tracker
+        self.source = parts.source
+        self.outputs = parts.outputs
+        self.scenes = parts.scenes
+        self.ledger = ledger
         self._outbox = outbox
-        self._faults = faults
-        self._max_bodies = max_bodies
+        self.faults = Faults(ledger)  # its ``failing`` is read by the status
         self._decided: list[Publication] = []  # decided this turn of the loop
         self._accepted = 0  # samples whose results are in _decided
 
@@ -126,28 +127,28 @@ class Decisions:
                 self._ingest([sample], now)
             except Exception as error:
                 culprits += 1
-                self._faults.caught(error, f"the pose of {sample.body_id} in {sample.frame_id}")
+                self.faults.caught(error, f"the pose of {sample.body_id} in {sample.frame_id}")
                 self._refuse(sample, error)
         if not culprits:  # met together only: each alone went through
-            self._faults.caught(batch_error, f"a batch of {len(batch)} poses")
+            self.faults.caught(batch_error, f"a batch of {len(batch)} poses")
 
     def _refuse(self, sample: PoseSample, error: Exception) -> None:
         detail = f"{type(error).__name__}: {error}"
-        self._ledger.reject(Rejection.INTERNAL_ERROR, self.source.origin(sample), detail)
+        self.ledger.reject(Rejection.INTERNAL_ERROR, self.source.origin(sample), detail)
 
     def _ingest(self, poses: list[PoseSample], now: float) -> None:
         changes = self.apply(lambda: self.tracker.ingest(poses, now))
         for sample in changes.out_of_order:
-            self._ledger.reject(
+            self.ledger.reject(
                 Rejection.OUT_OF_ORDER,
                 self.source.origin(sample),
                 f"stamp {sample.pose.stamp} older than the latest accepted",
             )
         for sample in changes.over_capacity:
-            self._ledger.reject(
+            self.ledger.reject(
                 Rejection.CAPACITY,
                 self.source.origin(sample),
-                f"already tracking max_bodies={self._max_bodies}",
+                f"already tracking max_bodies={self.tracker.max_bodies}",
             )
         self._accepted += len(changes.results)
         if changes.restarted:  # a tracker restarted, its clock starting over: a new life
@@ -158,7 +159,7 @@ class Decisions:
                     "than its last, each newer than the one before): lost, and followed "
                     "on the new clock", body.body_id, body.frame_id, RESTART_EVIDENCE,
                 )  # fmt: skip
-            self._ledger.count("clock_restarts", len(bodies))
+            self.ledger.count("clock_restarts", len(bodies))
             self.apply(lambda: self.tracker.lose(bodies, now, time_went_back=True))
             self._ingest(changes.restarted, now)
 
@@ -174,5 +175,5 @@ class Decisions:
             self._outbox.add(self._decided)
             self._decided = []
         if self._accepted:
-            self._ledger.count("samples_accepted", self._accepted)
+            self.ledger.count("samples_accepted", self._accepted)
             self._accepted = 0

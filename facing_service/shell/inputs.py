@@ -16,7 +16,6 @@ from typing import Protocol
 
 import zenoh
 
-from ..config.settings import Settings
 from ..contract import keys
 from ..contract.keys import BodyRef
 from ..contract.poses import Rejected, Rejection, decode_pose
@@ -91,15 +90,18 @@ class JsonInput:
     Each tracked body's pose key is declared to zenoh (``DeclaredKeys``: why), from its
     first pose until it is lost, so that poses arrive on a cached route."""
 
-    def __init__(self, settings: Settings, ledger: Ledger) -> None:
-        self._namespace = settings.namespace
-        self._subscription = keys.pose_subscription(settings.namespace, settings.base_frame)
-        self._limit = settings.max_payload_bytes
-        self._pose_key = keys.PoseKeyParser(settings.namespace, 2 * settings.max_bodies)
+    def __init__(
+        self, namespace: str, base_frame: str, max_payload_bytes: int, max_bodies: int,
+        ledger: Ledger,
+    ) -> None:  # fmt: skip
+        self._namespace = namespace
+        self._subscription = keys.pose_subscription(namespace, base_frame)
+        self._limit = max_payload_bytes
+        self._pose_key = keys.PoseKeyParser(namespace, 2 * max_bodies)
         self._ledger = ledger
         self._mistyped: list[zenoh.Subscriber[None]] = []
         self._said: set[str] = set()  # the invalid keys said in the log
-        self._capacity = settings.max_bodies
+        self._capacity = max_bodies
         self.declared_keys: DeclaredKeys | None = None  # the pose keys declared, once open
 
     def hot_key(self) -> str:

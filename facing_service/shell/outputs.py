@@ -15,7 +15,6 @@ from typing import Protocol
 
 import zenoh
 
-from ..config.settings import Settings
 from ..core.records import Changes
 from ..core.scene import SceneUpdate
 from ..core.view import TurnView
@@ -78,10 +77,10 @@ class Output(Protocol):
 class JsonOutput:
     """Our keys, in JSON (docs/contract.md): results, aggregates, engagement, scenes."""
 
-    def __init__(self, settings: Settings) -> None:
-        self._namespace = settings.namespace
-        self._instance = settings.instance
-        self._capacity = settings.max_bodies
+    def __init__(self, namespace: str, instance: str, max_bodies: int) -> None:
+        self._namespace = namespace
+        self._instance = instance
+        self._capacity = max_bodies
         self._heard = Heard()  # anyone subscribed to results? (the sender's listener says)
 
     def on_changes(self, changes: Changes) -> list[Publication]:
@@ -114,11 +113,13 @@ class RosTopicsOutput:
     """The robot's own topics (``--output ros2``, see ``ros2.output``), in each form the
     robot is answered in."""
 
-    def __init__(self, settings: Settings, robot: Robot) -> None:
-        self._ros = RosOutput(settings.ros_engagement_rate_hz, settings.ros_intents)
+    def __init__(
+        self, robot: Robot, engagement_rate_hz: float, intents: bool, node_name: str
+    ) -> None:
+        self._ros = RosOutput(engagement_rate_hz, intents)
         self._robot = robot
-        self._node_name = settings.ros_node_name
-        self._intents = settings.ros_intents
+        self._node_name = node_name
+        self._intents = intents
 
     def on_changes(self, changes: Changes) -> list[Publication]:
         return ros_publications(self._ros.on_changes(changes))

@@ -8,7 +8,6 @@ from dataclasses import dataclass
 
 import zenoh
 
-from ..config.settings import Settings
 from ..contract import keys
 from ..contract.errors import unknown_frame_detail
 from ..contract.schemas import QueryError
@@ -27,7 +26,20 @@ class QueryItem:
     space: str  # which output key space it reached us through (publications.QUERY_SPACES)
 
 
-def answer(item: QueryItem, view: TurnView, ledger: Ledger, settings: Settings) -> None:
+class Answers:
+    """Answers the worker's queries as this service (``namespace``, ``instance``), counted
+    in ``ledger``."""
+
+    def __init__(self, namespace: str, instance: str, ledger: Ledger) -> None:
+        self.namespace = namespace
+        self.instance = instance
+        self._ledger = ledger
+
+    def __call__(self, item: QueryItem, view: TurnView) -> None:
+        answer(item, view, self._ledger, self)
+
+
+def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Answers) -> None:
     """Reply with the current state of every matching key, one reply per key."""
     query = item.query
     try:
@@ -45,7 +57,7 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, settings: Settings) 
         return
     states, frames = (view.states, view.frames) if threshold is None else view.evaluate(threshold)
     engagements = view.engagements if item.space == "engagement" else []  # never re-decided
-    ns, instance = settings.namespace, settings.instance
+    ns, instance = us.namespace, us.instance
     replies = [
         (key, payload)
         for key, payload in query_replies(
@@ -54,7 +66,7 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, settings: Settings) 
         if query.key_expr.intersects(zenoh.KeyExpr(key))
     ]
     if not replies:
-        replies, refusal = _nothing_matched(item.space, str(query.key_expr), view, settings)
+        replies, refusal = _nothing_matched(item.space, str(query.key_expr), view, us)
     else:
         refusal = None
     ledger.count("queries_answered")  # before the replies: a status read after them agrees
@@ -66,7 +78,7 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, settings: Settings) 
 
 
 def _nothing_matched(
-    space: str, selector: str, view: TurnView, settings: Settings
+    space: str, selector: str, view: TurnView, us: Answers
 ) -> tuple[list[tuple[str, bytes]], QueryError | None]:
     """A query that names one frame (its last chunk) and matched nothing still gets an
     answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
@@ -78,7 +90,7 @@ def _nothing_matched(
     frame = selector.rsplit("/", 1)[-1]
     if "*" in frame or "$" in frame:
         return [], None
-    ns, instance = settings.namespace, settings.instance
+    ns, instance = us.namespace, us.instance
     empty = view.empty_scene(frame)
     if empty is None and frame not in view.tracked:
         detail = unknown_frame_detail(frame, view.tracked)

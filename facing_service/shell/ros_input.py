@@ -13,11 +13,10 @@ from __future__ import annotations
 import logging
 from collections import OrderedDict, deque
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import zenoh
 
-from ..config.profiles import head_profile
-from ..config.settings import Settings
 from ..contract.keys import BodyRef
 from ..contract.poses import Rejected, Rejection
 from ..contract.schemas import Ros2Status
@@ -53,21 +52,32 @@ FLAPS_SHOWN_S = 10.0
 EVENTS_KEPT = 1024
 
 
+@dataclass(frozen=True)
+class RobotReading:
+    """How the robot's topics are read: the frame people are looked up in, the bounds on
+    what a robot may make the service hold, and how faces are judged (for the start line)."""
+
+    base_frame: str
+    max_ids: int
+    max_frames: int
+    max_message_bytes: int
+    head_threshold_deg: float
+    head_cone: str
+
+
 class RosInput:
     """The robot as the worker knows it. ``clock``: the service's monotonic clock."""
 
     def __init__(
-        self, settings: Settings, robot: Robot, ledger: Ledger, clock: Callable[[], float]
+        self, reading: RobotReading, robot: Robot, ledger: Ledger, clock: Callable[[], float]
     ) -> None:
-        self.settings = settings
+        self.reading = reading
         self._clock = clock
         self._ledger = ledger
         self.wire = robot.wire
         self.form = robot.form
         self.people = People(
-            settings.ros_base_frame,
-            max_ids=settings.max_bodies,
-            max_frames=settings.ros_max_frames,
+            reading.base_frame, max_ids=reading.max_ids, max_frames=reading.max_frames
         )
         self.findings: dict[str, str] = {}  # replaced whole by the worker
         self.next_diagnosis: float | None = None  # when the worker checks next
@@ -88,9 +98,8 @@ class RosInput:
     def open(self, session: zenoh.Session, hand_off: Callable[[object], None]) -> str:
         """The robot's side topics to ``hand_off`` (the intake), and the stray /tf keys;
         what is read, as the start line says it."""
-        s = self.settings
         self._subscriptions = RobotSubscriptions(
-            session, self.wire, hand_off, HOT_ROS_TOPIC, s.ros_max_message_bytes
+            session, self.wire, hand_off, HOT_ROS_TOPIC, self.reading.max_message_bytes
         )
         self._sniffers = [
             session.declare_subscriber(
@@ -126,7 +135,7 @@ class RosInput:
         if isinstance(item, zenoh.Sample):
             if item.kind != zenoh.SampleKind.PUT:
                 return None
-            item = received(item, self.settings.ros_max_message_bytes)
+            item = received(item, self.reading.max_message_bytes)
         assert isinstance(item, RosSample)
         update = self.route(item)
         if isinstance(update, Rejected):
@@ -150,7 +159,7 @@ class RosInput:
         going back is said at once (the next diagnosis is now)."""
         now = self._clock()
         layout, gid = read_attachment(sample.attachment) or (None, None)  # read once
-        limit = self.settings.ros_max_message_bytes
+        limit = self.reading.max_message_bytes
         update = route(self.people, self.wire, sample, limit, now, gid)
         if isinstance(update, Rejected):
             return update  # nothing learned from what does not decode as its topic's type
@@ -255,13 +264,13 @@ class RosInput:
 
     def start_line(self) -> str:
         """The start line's part: what is read, and how faces are judged."""
-        s, wire = self.settings, self.wire
+        r, wire = self.reading, self.wire
         where = f"domain {wire.domain_id}, " if wire.format.value == "rmw_zenoh" else ""
         ns = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
         return (
             f"; ROS 2 input in {wire.format.value} format ({where}{ns}), people looked up "
-            f"in {s.ros_base_frame}, faces facing within {head_profile(s).threshold_deg:.1f} "
-            f"deg ({s.head_cone})"
+            f"in {r.base_frame}, faces facing within {r.head_threshold_deg:.1f} "
+            f"deg ({r.head_cone})"
         )
 
     def origin(self, sample: PoseSample) -> str:

@@ -44,14 +44,13 @@ from collections.abc import Callable
 import zenoh
 
 from ..config.disclosure import public_endpoints, public_settings
-from ..config.profiles import engagement_params, head_profile
 from ..config.session import effective_session, mode_and_endpoints, zenoh_config
 from ..config.settings import Settings
 from ..config.version import VERSION
 from ..contract import keys
 from ..contract.schemas import ServiceStatus
-from ..core.tracker import Tracker
-from .forms import forms_for
+from .compose import answers_for, parts_for
+from .decisions import Decisions
 from .intake import Intake
 from .json_sender import JSON
 from .ledger import Ledger
@@ -75,22 +74,6 @@ INBOX_SIZE = 1024
 CLOSE_JOIN_S = 1.0
 
 
-def tracker_for(settings: Settings) -> Tracker:
-    """The tracker a service with these settings runs (also the offline evaluation's, in
-    benchmarks.crossval: the same decisions without the network)."""
-    fixed = [] if settings.base_frame == keys.ALL_FRAMES else [settings.base_frame]
-    return Tracker(
-        settings.threshold_deg,
-        settings.hysteresis_deg,
-        settings.stale_after_s,
-        frames=fixed,
-        max_bodies=settings.max_bodies,
-        engagement=engagement_params(settings),
-        engagement_period_s=settings.engagement_period_s,
-        head=head_profile(settings),
-    )
-
-
 class FacingService:
     """One running facing service on one zenoh session.
 
@@ -102,11 +85,15 @@ class FacingService:
         self.settings = settings
         self._clock = clock
         self._started_at = clock()
-        self._tracker = tracker_for(settings)
         self._outbox = Outbox()
         self._closing = threading.Event()
         self._ledger = Ledger(clock)
-        self._input, self._outputs = forms_for(settings, self._ledger, clock)
+        self._parts = parts_for(settings, self._ledger, clock)  # the composition root's
+        self._tracker, self._input, self._outputs = (
+            self._parts.tracker,
+            self._parts.source,
+            self._parts.outputs,
+        )
         self._intake: Intake | None = None
         self._worker: Worker | None = None  # made once the session is open
         self._session: zenoh.Session | None = None
@@ -134,16 +121,9 @@ class FacingService:
             intake, clock = self._intake, self._clock
             for output in self._outputs:
                 output.wake_with(lambda: intake.set_alarm(clock()))
+            decisions = Decisions(self._parts, self._ledger, self._outbox)
             self._worker = worker = Worker(
-                s,
-                self._clock,
-                self._tracker,
-                self._input,
-                self._outputs,
-                self._ledger,
-                self._outbox,
-                self._intake,
-                self._closing,
+                decisions, self._intake, answers_for(s, self._ledger), clock, self._closing
             )
             worker.first_aggregates()
             publisher = Publisher(session, self._outbox, self._ledger, self._closing, self._outputs)

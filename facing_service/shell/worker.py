@@ -17,23 +17,15 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 
 import zenoh
 
-from ..config.profiles import scene_params
-from ..config.settings import Settings
 from ..core.records import Changes, PoseSample
-from ..core.scene import Scenes
-from ..core.tracker import Tracker
 from ..core.view import TurnView
-from .decisions import Decisions, Faults
-from .inputs import Input
+from .decisions import Decisions
 from .intake import Intake
-from .ledger import Ledger
-from .outbox import Outbox
-from .outputs import Output
-from .queries import QueryItem, answer
+from .queries import QueryItem
 
 log = logging.getLogger("facing_service")
 
@@ -53,30 +45,23 @@ class Worker:
 
     def __init__(
         self,
-        settings: Settings,
-        clock: Callable[[], float],
-        tracker: Tracker,
-        source: Input,
-        outputs: Sequence[Output],
-        ledger: Ledger,
-        outbox: Outbox,
+        decisions: Decisions,
         intake: Intake,
+        answers: Callable[[QueryItem, TurnView], None],
+        clock: Callable[[], float],
         closing: threading.Event,
     ) -> None:
-        self._clock = clock
-        self._ledger = ledger
+        self._decisions = decisions
+        self._ledger = decisions.ledger
+        self.faults = decisions.faults  # its ``failing`` is read by the status
         self._intake = intake
+        self._answers = answers
+        self._clock = clock
         self._closing = closing
-        self._settings = settings  # for the queries' answers
-        self._ledger.tracked = tracker.tracked_per_frame()
+        self._ledger.tracked = decisions.tracker.tracked_per_frame()
         self._horizon = clock()  # when the worker took what it handles now
         self._drained = True  # the last take emptied the intake
         self._carried: list[object] = []  # the rest of a batch over BATCH_BUDGET_S
-        self.faults = Faults(ledger)  # its ``failing`` is read by the status
-        self._decisions = Decisions(
-            tracker, source, outputs, Scenes(scene_params(settings)), ledger, outbox,
-            self.faults, settings.max_bodies,
-        )  # fmt: skip
 
     def first_aggregates(self) -> None:
         """Every declared frame's aggregate, before any input (sent once the publisher
@@ -194,7 +179,7 @@ class Worker:
             self._decisions.to_outbox()
             view = TurnView(self._decisions.tracker, self._decisions.scenes)
             self._ledger.tracked = view.tracked  # the status then agrees with the answer
-            answer(item, view, self._ledger, self._settings)
+            self._answers(item, view)
         elif (loss := self._decisions.source.read(item, poses)) is not None:
             self._decisions.flush(poses, self._horizon)  # the poses before it first
             self._decisions.lose(loss, self._horizon)

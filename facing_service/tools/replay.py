@@ -26,11 +26,11 @@ from rosbags.highlevel import AnyReader
 from rosbags.interfaces import Qos, QosDurability
 
 from ..config.disclosure import zenoh_failure
+from ..config.profiles import robot_wire
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..ros2 import types as ros2_types
 from ..ros2.wire import GID_SIZE, RosFormat, Wire
-from ..shell.robot import robot_wire
 from ..shell.ros_bus import CDR, TopicWriter
 from .record import Recording
 

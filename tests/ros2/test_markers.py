@@ -152,6 +152,7 @@ def test_the_place_to_stand_hashes_as_upstreams_pose_stamped():
 
 
 def test_markers_go_out_at_most_ten_times_a_second_whatever_the_rate():
+    from facing_service.config.profiles import tracker_for
     from facing_service.config.settings import Settings
     from facing_service.contract.keys import BodyRef
     from facing_service.contract.poses import decode_pose
@@ -159,7 +160,6 @@ def test_markers_go_out_at_most_ten_times_a_second_whatever_the_rate():
     from facing_service.core.view import TurnView
     from facing_service.ros2.markers import MARKERS_TOPIC
     from facing_service.ros2.output import RosOutput
-    from facing_service.shell.service import tracker_for
 
     from poses import pose_json
 

@@ -309,14 +309,13 @@ def test_where_to_stand_goes_out_as_pose_stamped_and_its_topic_goes_with_it():
     """Issue 53 on a ROS 2 robot: the place to join a group the robot is not in, as a
     geometry_msgs/PoseStamped in the base frame (a navigation goal as it is), every period
     while the group has room; its publisher undeclared once the group is gone."""
-    from facing_service.config.profiles import scene_params
+    from facing_service.config.profiles import scene_params, tracker_for
     from facing_service.contract.keys import BodyRef
     from facing_service.contract.poses import decode_pose
     from facing_service.core.records import PoseSample
     from facing_service.core.scene import Scenes
     from facing_service.core.view import TurnView
     from facing_service.ros2.output import POSE_STAMPED, RosOutput
-    from facing_service.shell.service import tracker_for
 
     settings = Settings(base_frame="base_link", group_hold_s=0.0)
     tracker, scenes = tracker_for(settings), Scenes(scene_params(settings))

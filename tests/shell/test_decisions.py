@@ -14,7 +14,7 @@ from facing_service.config.settings import Settings
 from facing_service.contract.poses import Rejection
 from facing_service.core.records import Changes
 from facing_service.core.scene import Scenes
-from facing_service.shell.decisions import Decisions, Faults
+from facing_service.shell.decisions import Decisions, Faults, Parts
 from facing_service.shell.inputs import JsonInput
 from facing_service.shell.ledger import Ledger
 from facing_service.shell.outbox import Kind, Outbox, Publication
@@ -33,17 +33,15 @@ class FailsOnBob(JsonOutput):
 def decisions_with(output: JsonOutput) -> tuple[Decisions, Ledger, Outbox, Faults]:
     settings = Settings(base_frame="cam")
     ledger, outbox = Ledger(time.monotonic), Outbox()
-    faults = Faults(ledger)
-    made = Decisions(
-        tracker(), JsonInput(settings, ledger), [output], Scenes(scene_params(settings)),
-        ledger, outbox, faults, settings.max_bodies,
-    )  # fmt: skip
-    return made, ledger, outbox, faults
+    source = JsonInput("hri", "cam", 65536, settings.max_bodies, ledger)
+    parts = Parts(tracker(), Scenes(scene_params(settings)), source, [output])
+    made = Decisions(parts, ledger, outbox)
+    return made, ledger, outbox, made.faults
 
 
 def test_a_bug_on_one_pose_loses_that_pose_alone(caplog):
     caplog.set_level(logging.ERROR, logger="facing_service")
-    made, ledger, outbox, faults = decisions_with(FailsOnBob(Settings()))
+    made, ledger, outbox, faults = decisions_with(FailsOnBob("hri", "test", 100))
     poses = [sample("ann", sec=1), sample("bob", sec=1), sample("cat", sec=1)]
     made.flush(poses, 0.0)
     made.to_outbox()
@@ -68,7 +66,7 @@ class FailsOnAnnAndBobTogether(JsonOutput):
 
 
 def test_a_bug_no_single_pose_meets_is_one_error_and_loses_nothing():
-    made, ledger, _, faults = decisions_with(FailsOnAnnAndBobTogether(Settings()))
+    made, ledger, _, faults = decisions_with(FailsOnAnnAndBobTogether("hri", "test", 100))
     made.flush([sample("ann", sec=1), sample("bob", sec=1)], 0.0)
     assert ledger.decided["worker_errors"] == 1 and faults.failing
     assert ledger.rejected[Rejection.INTERNAL_ERROR] == 0
@@ -76,7 +74,7 @@ def test_a_bug_no_single_pose_meets_is_one_error_and_loses_nothing():
 
 
 def test_a_turn_without_errors_clears_degraded():
-    made, _, outbox, faults = decisions_with(JsonOutput(Settings()))
+    made, _, outbox, faults = decisions_with(JsonOutput("hri", "test", 100))
     faults.caught(RuntimeError("earlier"), "a test")
     faults.end_turn(True)
     assert faults.failing

@@ -9,7 +9,6 @@ import time
 import zenoh
 from service_rig import body_key, pose_key
 
-from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.core.records import PoseSample
 from facing_service.shell.inputs import JsonInput
@@ -58,7 +57,7 @@ def test_a_pose_key_is_declared_from_the_first_pose_until_the_body_is_lost(net):
     _, ep = net.service()
     session = net.client(ep)  # the tracker too: its own puts reach its own subscriber
     ledger = Ledger(time.monotonic)
-    source = JsonInput(Settings(base_frame="cam"), ledger)
+    source = JsonInput("hri", "cam", 65536, 100, ledger)
     samples = session.declare_subscriber(source.hot_key(), zenoh.handlers.FifoChannel(16))
     try:
         assert source.open(session, lambda item: None) == "hri/bodies/*/pose/cam"

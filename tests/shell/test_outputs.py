@@ -8,9 +8,9 @@ from trackers import sample, tracker
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.core.view import TurnView
+from facing_service.shell.compose import robot_for
 from facing_service.shell.outbox import Kind
 from facing_service.shell.outputs import JsonOutput, RosTopicsOutput
-from facing_service.shell.robot import Robot
 
 
 def changes():
@@ -20,7 +20,7 @@ def changes():
 
 
 def test_json_keys_say_results_while_heard_and_state_changes_always():
-    output = JsonOutput(Settings(namespace="hri", instance="front"))
+    output = JsonOutput("hri", "front", 100)
     first, lost = changes()
     said = output.on_changes(first)
     assert [p.kind for p in said][:1] == [Kind.RESULT] and said[0].key == "hri/bodies/a/facing/cam"
@@ -33,7 +33,7 @@ def test_json_keys_say_results_while_heard_and_state_changes_always():
 
 
 def test_a_subscriber_appearing_wakes_the_worker_to_say_every_current_result():
-    output = JsonOutput(Settings(namespace="hri"))
+    output = JsonOutput("hri", "test", 100)
     woken: list[bool] = []
     output.wake_with(lambda: woken.append(True))
     t = tracker()
@@ -52,8 +52,8 @@ def test_a_subscriber_appearing_wakes_the_worker_to_say_every_current_result():
 
 def test_json_keys_have_no_periodic_work_and_the_robots_topics_say_what_they_add():
     settings = Settings(output="ros2", ros_intents=True)
-    json_output = JsonOutput(settings)
+    json_output = JsonOutput("hri", "test", 100)
     assert json_output.next_due() is None and json_output.start_line() == ""
-    ros = RosTopicsOutput(settings, Robot.of(settings, answering=True))
+    ros = RosTopicsOutput(robot_for(settings, answering=True), 1.0, True, "facing_service")
     assert ros.start_line().endswith("markers, /intents)")
     assert ros.next_due() is not None  # engagement_status is republished every period

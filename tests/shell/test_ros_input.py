@@ -15,8 +15,8 @@ from facing_service.core.records import PoseSample
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.input import RosSample
 from facing_service.ros2.wire import Wire
+from facing_service.shell.compose import robot_for, robot_reading
 from facing_service.shell.ledger import Ledger
-from facing_service.shell.robot import Robot
 from facing_service.shell.ros_input import RosInput
 
 from ros_messages import string
@@ -24,7 +24,9 @@ from ros_messages import string
 
 def ros_input(**given) -> RosInput:
     settings = Settings(input="ros2", base_frame="base_link", **given)
-    return RosInput(settings, Robot.of(settings, False), Ledger(time.monotonic), time.monotonic)
+    return RosInput(
+        robot_reading(settings), robot_for(settings, False), Ledger(time.monotonic), time.monotonic
+    )
 
 
 def test_it_says_what_it_reads_and_where_a_pose_came_from():

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+from facing_service.config.profiles import robot_wire
 from facing_service.config.settings import Settings
 from facing_service.contract.robot import Distro, RosFormat
-from facing_service.shell.robot import Robot, robot_wire
+from facing_service.shell.compose import robot_for
 
 
 def test_the_wire_is_where_the_settings_say_the_robots_topics_are():
@@ -13,7 +14,7 @@ def test_the_wire_is_where_the_settings_say_the_robots_topics_are():
 
 
 def test_a_forced_distro_is_the_form_answered_in_from_the_start():
-    robot = Robot.of(Settings(ros_distro="humble"), answering=True)
+    robot = robot_for(Settings(ros_distro="humble"), answering=True)
     assert [form.distro for form in robot.form.forms] == [Distro.HUMBLE]
-    learned = Robot.of(Settings(), answering=False)
+    learned = robot_for(Settings(), answering=False)
     assert learned.form.forms[0].distro is Distro.JAZZY  # until the robot's keys say
