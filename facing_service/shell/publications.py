@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
+from enum import Enum
 from typing import Any
 
 from ..contract import keys
@@ -32,8 +33,24 @@ from .outbox import Kind, Publication
 
 #: Selector parameters the queryable understands; zenoh reserves names starting with "_".
 QUERY_PARAMETERS = frozenset({"threshold_deg"})
+
+
 #: The output key spaces a query can reach the service through.
-QUERY_SPACES = ("facing", "frame", "engagement", "groups", "gazing")
+class QuerySpace(str, Enum):
+    """The output key spaces a query can reach the service through (one queryable each)."""
+
+    FACING = "facing"  # NS/bodies/<id>/facing/<frame>
+    FRAME = "frame"  # NS/facing/<frame>
+    ENGAGEMENT = "engagement"  # NS/bodies/<id>/engagement/<frame>
+    GROUPS = "groups"  # NS/groups/<frame>
+    GAZING = "gazing"  # NS/gazing/<frame>
+
+
+QUERY_SPACES = tuple(QuerySpace)
+#: Worked out over time, not re-decided per query: a what-if cone is refused there.
+OVER_TIME = (QuerySpace.ENGAGEMENT, QuerySpace.GROUPS, QuerySpace.GAZING)
+#: Scenes: a frame this service knows answers them with its empty lists.
+SCENE_SPACES = (QuerySpace.GROUPS, QuerySpace.GAZING)
 
 
 def result_publications(
@@ -174,7 +191,7 @@ def ros_publications(messages: Iterable[RosMessage]) -> list[Publication]:
 
 
 def query_replies(
-    space: str,
+    space: QuerySpace | str,
     namespace: str,
     instance: str,
     states: Iterable[BodyState],
@@ -184,13 +201,14 @@ def query_replies(
 ) -> list[tuple[str, bytes]]:
     """Every ``(key, payload)`` a query on ``space`` (one of ``QUERY_SPACES``) could be
     answered with; the shell keeps those whose key the query's selector matches."""
-    if space == "facing":
+    space = _space(space)
+    if space is QuerySpace.FACING:
         return [
             (keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance)) for s in states
         ]
-    if space == "frame":
+    if space is QuerySpace.FRAME:
         return [(keys.frame_key(namespace, f.frame_id), frame_json(f, instance)) for f in frames]
-    if space == "engagement":
+    if space is QuerySpace.ENGAGEMENT:
         return [
             (
                 keys.engagement_key(namespace, e.body_id, e.frame_id),
@@ -198,14 +216,24 @@ def query_replies(
             )
             for e in engagements
         ]
-    if space == "groups":
+    if space is QuerySpace.GROUPS:
         return [(keys.groups_key(namespace, u.frame_id), groups_json(u, instance)) for u in scenes]
-    if space == "gazing":
+    if space is QuerySpace.GAZING:
         return [(keys.gazing_key(namespace, u.frame_id), gazing_json(u, instance)) for u in scenes]
-    raise ValueError(f"unknown query space {space!r}; known: {', '.join(QUERY_SPACES)}")
+    raise AssertionError(f"a query space without replies: {space}")  # every member has them
 
 
-def threshold_parameter(parameters: Mapping[str, str], space: str = "facing") -> float | None:
+def _space(space: QuerySpace | str) -> QuerySpace:
+    try:
+        return QuerySpace(space)
+    except ValueError:
+        known = ", ".join(s.value for s in QUERY_SPACES)
+        raise ValueError(f"unknown query space {space!r}; known: {known}") from None
+
+
+def threshold_parameter(
+    parameters: Mapping[str, str], space: QuerySpace | str = QuerySpace.FACING
+) -> float | None:
     """The query's ``threshold_deg``, None when absent; ValueError when it is bad, or
     asked of engagement, groups or who faces whom (worked out over time, not re-decided per
     query: a what-if there would be answered as if it were not asked)."""
@@ -220,8 +248,8 @@ def threshold_parameter(parameters: Mapping[str, str], space: str = "facing") ->
     raw = parameters.get("threshold_deg")
     if raw is None:
         return None
-    if space in ("engagement", "groups", "gazing"):
-        raise ValueError(f"threshold_deg applies to facing results, not to {space}")
+    if (space := _space(space)) in OVER_TIME:
+        raise ValueError(f"threshold_deg applies to facing results, not to {space.value}")
     try:
         value = float(raw)
     except ValueError:

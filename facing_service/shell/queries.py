@@ -17,13 +17,19 @@ from ..core.scene import nobody
 from ..core.view import TurnView
 from .json_sender import JSON
 from .ledger import Ledger
-from .publications import frame_json, query_replies, threshold_parameter
+from .publications import (
+    SCENE_SPACES,
+    QuerySpace,
+    frame_json,
+    query_replies,
+    threshold_parameter,
+)
 
 
 @dataclass(frozen=True)
 class QueryItem:
     query: zenoh.Query
-    space: str  # which output key space it reached us through (publications.QUERY_SPACES)
+    space: QuerySpace  # which output key space it reached us through
 
 
 class Answers:
@@ -56,7 +62,7 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Answers) -> None
         query.drop()
         return
     states, frames = (view.states, view.frames) if threshold is None else view.evaluate(threshold)
-    engagements = view.engagements if item.space == "engagement" else []  # never re-decided
+    engagements = view.engagements if item.space is QuerySpace.ENGAGEMENT else []
     ns, instance = us.namespace, us.instance
     replies = [
         (key, payload)
@@ -78,7 +84,7 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Answers) -> None
 
 
 def _nothing_matched(
-    space: str, selector: str, view: TurnView, us: Answers
+    space: QuerySpace, selector: str, view: TurnView, us: Answers
 ) -> tuple[list[tuple[str, bytes]], QueryError | None]:
     """A query that names one frame (its last chunk) and matched nothing still gets an
     answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
@@ -96,9 +102,9 @@ def _nothing_matched(
         detail = unknown_frame_detail(frame, view.tracked)
         return [], QueryError(error="unknown_frame", detail=detail)
     scene = empty or nobody(frame, ZERO)
-    if space in ("groups", "gazing"):
+    if space in SCENE_SPACES:
         return query_replies(space, ns, instance, (), (), (), [scene]), None
-    if space == "frame":
+    if space is QuerySpace.FRAME:
         said = frame_json(
             frame_facing(frame, empty.stamp if empty is not None else None, [], []), instance
         )

@@ -56,6 +56,7 @@ from .json_sender import JSON
 from .ledger import Ledger
 from .links import NO_ROUTER_AFTER_S, LinkWatch
 from .outbox import Outbox
+from .publications import QuerySpace
 from .publisher import Publisher
 from .queries import QueryItem
 from .threads import daemon_thread
@@ -72,6 +73,21 @@ INBOX_SIZE = 1024
 #: How long closing waits for the service's threads, all of them together (then the
 #: session's close releases any still blocked): SIGTERM ends the process within 2 s.
 CLOSE_JOIN_S = 1.0
+
+
+def query_spaces(namespace: str) -> dict[QuerySpace, str]:
+    """Each query space's key expression. Every frame, even with a fixed --base-frame: a
+    query on another frame (a typo) is answered unknown_frame, naming this service's
+    frames, not left unanswered (issue 59: the client then said [] where docs promise an
+    error)."""
+    body_space, frame_space = keys.result_queryables(namespace)
+    return {
+        QuerySpace.FACING: body_space,
+        QuerySpace.FRAME: frame_space,
+        QuerySpace.ENGAGEMENT: keys.engagement_key(namespace, keys.ALL_FRAMES, keys.ALL_FRAMES),
+        QuerySpace.GROUPS: keys.groups_key(namespace, keys.ALL_FRAMES),
+        QuerySpace.GAZING: keys.gazing_key(namespace, keys.ALL_FRAMES),
+    }
 
 
 class FacingService:
@@ -134,29 +150,9 @@ class FacingService:
             ]
             for thread in self._threads:
                 thread.start()
-            # Every frame, even with a fixed --base-frame: a query on another frame (a
-            # typo) is answered unknown_frame, naming this service's frames, not left
-            # unanswered (issue 59: the client then said [] where docs promise an error).
-            body_space, frame_space = keys.result_queryables(ns)
+            spaces = query_spaces(ns)
             self._entities = [
-                session.declare_queryable(
-                    body_space, lambda q: self._enqueue(QueryItem(q, "facing"))
-                ),
-                session.declare_queryable(
-                    frame_space, lambda q: self._enqueue(QueryItem(q, "frame"))
-                ),
-                session.declare_queryable(
-                    keys.engagement_key(ns, keys.ALL_FRAMES, keys.ALL_FRAMES),
-                    lambda q: self._enqueue(QueryItem(q, "engagement")),
-                ),
-                session.declare_queryable(
-                    keys.groups_key(ns, keys.ALL_FRAMES),
-                    lambda q: self._enqueue(QueryItem(q, "groups")),
-                ),
-                session.declare_queryable(
-                    keys.gazing_key(ns, keys.ALL_FRAMES),
-                    lambda q: self._enqueue(QueryItem(q, "gazing")),
-                ),
+                *(self._queryable(session, space, key) for space, key in spaces.items()),
                 session.declare_queryable(keys.status_key(ns, s.instance), self._on_status),
             ]
             self._token = session.liveliness().declare_token(keys.service_token(ns, s.instance))
@@ -172,8 +168,8 @@ class FacingService:
             session.zid(),
             self._links(),
             subscription,
-            body_space,
-            frame_space,
+            spaces[QuerySpace.FACING],
+            spaces[QuerySpace.FRAME],
             keys.status_key(ns, s.instance),
             s.threshold_deg,
             s.hysteresis_deg,
@@ -182,6 +178,12 @@ class FacingService:
             self._input.start_line() + "".join(o.start_line() for o in self._outputs),
         )
         return self
+
+    def _queryable(
+        self, session: zenoh.Session, space: QuerySpace, key: str
+    ) -> zenoh.Queryable[None]:
+        """A queryable whose queries the worker answers in order with the samples."""
+        return session.declare_queryable(key, lambda q: self._enqueue(QueryItem(q, space)))
 
     def _links(self) -> str:
         """Mode and endpoints, as the start line says them (no secret: see disclosure)."""
