@@ -298,3 +298,21 @@ def test_no_constructor_in_the_shell_takes_more_than_five_things():
                 if taken > 5:
                     wide.append(f"{path.stem}: {taken}")
     assert not wide, wide
+
+
+#: Argument tables: a flat list of add_argument calls reads best whole.
+ARGUMENT_TABLES = {("arguments", "build_parser")}
+MAX_FUNCTION_LINES = 60
+
+
+def test_no_function_is_over_60_lines():
+    """Issue 63: a function a reader holds in their head at once."""
+    long = []
+    for path in MODULES:
+        module = path.relative_to(PACKAGE).with_suffix("").parts[-1]
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                lines = node.end_lineno - node.lineno + 1  # type: ignore[operator]
+                if lines > MAX_FUNCTION_LINES and (module, node.name) not in ARGUMENT_TABLES:
+                    long.append(f"{path.relative_to(PACKAGE)}: {node.name} ({lines})")
+    assert not long, long

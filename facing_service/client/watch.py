@@ -104,6 +104,41 @@ def render(
     """The map and the table for one instant; ``elsewhere``: people tracked in other
     frames (frame -> how many), said when this frame has nobody; ``groups``: the frame's
     F-formations (each centre drawn ``o``, each member's group in the table)."""
+    canvas = _map(people, radius_m, width, height, groups)
+    table = _table(people, frame_id, groups)
+    facing = sum(1 for p in people if p.facing)
+    title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
+    parts: list[RenderableType] = [Panel(canvas, title=title, expand=False)]
+    others = {f: n for f, n in (elsewhere or {}).items() if f != frame_id and n}
+    if not people and others:
+        said = ", ".join(f"{f} ({n})" for f, n in sorted(others.items()))
+        first = sorted(others)[0]
+        parts.append(
+            Text(
+                f"nobody in frame {frame_id}; people are tracked in {said}: "
+                f"watch --base-frame {first}",
+                style="bold yellow",
+            )
+        )
+    parts.append(table)
+    if groups:
+        said = "; ".join(
+            f"{g.id}: {', '.join(g.members)}" + (" and the robot" if g.robot else "")
+            for g in groups
+        )
+        parts.append(Text(f"groups (o): {said}", style="magenta"))
+    return Group(*parts)
+
+
+def _map(
+    people: list[PersonView],
+    radius_m: float,
+    width: int,
+    height: int,
+    groups: Sequence[GroupState],
+) -> Text:
+    """The top-down map: 1 m rings, the o-space centres, the robot, each person an arrow
+    along their heading, named as far as it fits."""
     grid = [[" "] * width for _ in range(height)]
     styles: dict[tuple[int, int], str] = {}
     cx, cy = width // 2, height // 2
@@ -138,7 +173,11 @@ def render(
             canvas.append(grid[row][col], styles.get((row, col), ""))
         if row < height - 1:
             canvas.append("\n")
+    return canvas
 
+
+def _table(people: list[PersonView], frame_id: str, groups: Sequence[GroupState]) -> Table:
+    """One row a person: facing, angle, distance, how long it held, engagement, group."""
     table = Table(title=f"frame {frame_id}", caption=LEGEND, caption_justify="left", expand=False)
     group_of = {m: g.id + (" +R" if g.robot else "") for g in groups for m in g.members}
     for name in ("id", "facing", "angle °", "distance m", "held s", "engagement", "group"):
@@ -158,28 +197,7 @@ def render(
             group_of.get(person.body_id, "-"),
             style="bold green" if person.facing else None,
         )
-    facing = sum(1 for p in people if p.facing)
-    title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
-    parts: list[RenderableType] = [Panel(canvas, title=title, expand=False)]
-    others = {f: n for f, n in (elsewhere or {}).items() if f != frame_id and n}
-    if not people and others:
-        said = ", ".join(f"{f} ({n})" for f, n in sorted(others.items()))
-        first = sorted(others)[0]
-        parts.append(
-            Text(
-                f"nobody in frame {frame_id}; people are tracked in {said}: "
-                f"watch --base-frame {first}",
-                style="bold yellow",
-            )
-        )
-    parts.append(table)
-    if groups:
-        said = "; ".join(
-            f"{g.id}: {', '.join(g.members)}" + (" and the robot" if g.robot else "")
-            for g in groups
-        )
-        parts.append(Text(f"groups (o): {said}", style="magenta"))
-    return Group(*parts)
+    return table
 
 
 def _number(value: float | None, digits: int) -> str:

@@ -159,7 +159,12 @@ class Tracker:
             if k == len(generations):
                 generations.append([])
             generations[k].append(sample)
+        self._decide(generations, now, changes)
+        return changes
 
+    def _decide(self, generations: list[list[PoseSample]], now: float, changes: Changes) -> None:
+        """Each generation decided in one call (per body below SMALL_BATCH, vectorized
+        above), then the frames they touched."""
         touched: set[str] = set()
         for generation in generations:
             if len(generation) < detector.SMALL_BATCH:
@@ -168,7 +173,6 @@ class Tracker:
                 self._decide_together(generation, now, changes)
             touched.update(s.frame_id for s in generation)
         changes.frames = self._frame_changes(touched)
-        return changes
 
     def _clock_restarted(self, key: BodyRef, stamp: Time, last: Time) -> bool:
         """Whether this pose, older than the body's ``last``, completes the evidence that

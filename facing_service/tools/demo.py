@@ -36,18 +36,7 @@ def run_demo(
     the terminal view, and the live page on ``view_port`` of 127.0.0.1 (None: no page).
     Returns who faced the robot meanwhile."""
     here = endpoint(free_port())
-    # The embedded session is a router and the simulator and the view are its clients:
-    # a router does not forward between peers (it expects them to mesh), so as peers the
-    # view would get results but never the poses it draws people from.
-    embedded = settings.model_copy(
-        update={
-            "mode": "router",
-            "listen": [here],
-            "no_multicast_scouting": True,
-            "cfg": ["scouting/delay:0"],
-            "log_level": "WARNING",
-        }
-    )
+    embedded = _embedded(settings, here)
     frame = embedded.base_frame
     peer = loopback_config(connect=[here], mode="client")
     seen_facing: set[str] = set()
@@ -90,6 +79,21 @@ def run_demo(
                 page.join(timeout=2.0)
             watcher.close()
     return seen_facing
+
+
+def _embedded(settings: Settings, here: str) -> Settings:
+    """The embedded service's settings: a router on ``here``, the simulator and the views
+    its clients. A router does not forward between peers (it expects them to mesh), so
+    as peers the view would get results but never the poses it draws people from."""
+    return settings.model_copy(
+        update={
+            "mode": "router",
+            "listen": [here],
+            "no_multicast_scouting": True,
+            "cfg": ["scouting/delay:0"],
+            "log_level": "WARNING",
+        }
+    )
 
 
 def _serve_page(client: FacingClient, frame: str, port: int, stop: threading.Event) -> None:
