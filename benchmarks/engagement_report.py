@@ -18,8 +18,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .pages import replace_section
 from .scoring import CEILING
+from .sections import replace_section
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results" / "recordings.json"
@@ -223,6 +223,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="exit 1 when a page differs")
     args = parser.parse_args(argv)
+    return page(args.check)
+
+
+def page(check: bool) -> int:
+    """Both pages' measured sections from the committed results; with ``check``, write
+    nothing and return 1 when one differs."""
     results = json.loads(RESULTS.read_text())
     stale = []
     for section in PAGES:
@@ -231,9 +237,9 @@ def main(argv: list[str] | None = None) -> int:
         new = render(section, text, results)
         if new != text:
             stale.append(section)
-            if not args.check:
+            if not check:
                 path.write_text(new)
-    if args.check and stale:
+    if check and stale:
         print(f"stale against {RESULTS.name}: {', '.join(stale)} (run without --check)")
         return 1
     return 0

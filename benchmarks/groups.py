@@ -42,7 +42,7 @@ import numpy as np
 
 from facing_service.core.groups import GroupParams, RoomScale, ScaleParams, detect, groups
 
-from .pages import generate
+from .sections import generate
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "fformations"
@@ -572,7 +572,7 @@ END = "<!-- end of measured -->"
 
 
 def page(check: bool) -> int:
-    """The page's measured section from the committed results (``pages.generate``)."""
+    """The page's measured section from the committed results (``sections.generate``)."""
     return generate(PAGE, RESULTS, BEGIN, END, tables, check, "python -m benchmarks.groups --page")
 
 

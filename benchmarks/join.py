@@ -39,7 +39,7 @@ import numpy as np
 from facing_service.core.join import JoinParams, join_pose
 
 from .groups import SEQUENCES, SHARED, Frame, load
-from .pages import generate
+from .sections import generate
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results" / "join.json"
@@ -266,7 +266,7 @@ END = "<!-- end of join -->"
 
 
 def page(check: bool) -> int:
-    """The page's measured section from the committed results (``pages.generate``)."""
+    """The page's measured section from the committed results (``sections.generate``)."""
     return generate(PAGE, RESULTS, BEGIN, END, tables, check, "python -m benchmarks.join --page")
 
 

@@ -1,43 +1,41 @@
-"""Measured sections of the docs, rewritten from results files between two marker lines,
-so that a page's figures are generated, never copied by hand."""
+"""Every generated section of the docs, regenerated or checked in one command:
+
+    python -m benchmarks.pages            # rewrite each page's measured sections
+    python -m benchmarks.pages --check    # exit 1 when one differs from its results file
+
+Each section is written from a committed results file (benchmarks/results/), never typed
+in: docs/performance.md (latest.json), docs/engagement.md and docs/ros2.md
+(recordings.json, engagement.json), docs/groups.md (groups.json, join.json). The table in
+benchmarks/README.md says which command makes each results file.
+"""
 
 from __future__ import annotations
 
-import json
+import argparse
+import sys
 from collections.abc import Callable
-from pathlib import Path
-from typing import Any
+
+from . import engagement_report, groups, join, report
+
+#: (what, how it is regenerated or checked)
+PAGES: list[tuple[str, Callable[[bool], int]]] = [
+    ("docs/performance.md", report.page),
+    ("docs/engagement.md, docs/ros2.md", engagement_report.page),
+    ("docs/groups.md: groups", groups.page),
+    ("docs/groups.md: where to stand", join.page),
+]
 
 
-def replace_section(text: str, begin: str, end: str, lines: list[str]) -> str:
-    """``text`` with what stands between its ``begin`` and ``end`` lines made ``lines``."""
-    head, sep, rest = text.partition(begin)
-    if not sep:
-        raise SystemExit(f"no '{begin}' line")
-    _, sep, tail = rest.partition(end)
-    if not sep:
-        raise SystemExit(f"no '{end}' line after '{begin}'")
-    return "\n".join([head + begin, *lines, end]) + tail
-
-
-def generate(
-    page: Path,
-    results: Path,
-    begin: str,
-    end: str,
-    tables: Callable[[Any], list[str]],
-    check: bool,
-    command: str,
-) -> int:
-    """Rewrite ``page``'s section between ``begin`` and ``end`` from the ``results`` JSON
-    (``tables`` makes its lines); with ``check``, write nothing and return 1 when the page
-    differs, saying which ``command`` regenerates it."""
-    text = page.read_text()
-    new = replace_section(text, begin, end, tables(json.loads(results.read_text())))
-    if new == text:
-        return 0
-    if check:
-        print(f"{page.name} is stale against {results.name} ({command})")
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--check", action="store_true", help="exit 1 when a page is stale")
+    args = parser.parse_args(argv)
+    stale = [what for what, page in PAGES if page(args.check) != 0]
+    if stale:
+        print(f"stale: {'; '.join(stale)}")
         return 1
-    page.write_text(new)
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

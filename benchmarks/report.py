@@ -264,22 +264,28 @@ def section(page: str, report: dict[str, Any]) -> str:
     return f"{head}{BEGIN}\n{render(report)}\n{END}{rest.split(END, 1)[1]}"
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true", help="only compare; exit 1 on drift")
-    parser.add_argument("--results", type=Path, default=RESULTS)
-    args = parser.parse_args()
-    report = json.loads(args.results.read_text())
-    page = PAGE.read_text()
-    wanted = section(page, report)
-    if args.check:
-        if wanted != page:
-            print(f"{PAGE} differs from {args.results}: run python -m benchmarks.report")
+def page(check: bool, results: Path = RESULTS) -> int:
+    """docs/performance.md's measured section from ``results``; with ``check``, write
+    nothing and return 1 when it differs."""
+    report = json.loads(results.read_text())
+    text = PAGE.read_text()
+    wanted = section(text, report)
+    if check:
+        if wanted != text:
+            print(f"{PAGE} differs from {results}: run python -m benchmarks.report")
             return 1
         return 0
     PAGE.write_text(wanted)
     print(f"wrote the measured section of {PAGE}")
     return 0
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--check", action="store_true", help="only compare; exit 1 on drift")
+    parser.add_argument("--results", type=Path, default=RESULTS)
+    args = parser.parse_args()
+    return page(args.check, args.results)
 
 
 if __name__ == "__main__":

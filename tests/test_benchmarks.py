@@ -111,3 +111,10 @@ def test_nothing_measured_is_no_target_met():
     assert not any(met[name] for name in TARGETS), met
     assert not met["zero_loss"] and not met["nothing_superseded"] and not met["core_speedup"]
     assert met["ros_zero_loss"]  # measured: one run, nothing lost
+
+
+def test_every_generated_page_is_its_results_files():
+    """One command checks every measured section of the docs (issue 63)."""
+    from benchmarks import pages
+
+    assert pages.main(["--check"]) == 0, "regenerate: python -m benchmarks.pages"

@@ -40,7 +40,14 @@ def anchors(page: Path) -> set[str]:
 
 
 @pytest.mark.parametrize(
-    "doc", [ROOT / "README.md", *PAGES, ROOT / "examples" / "README.md"], ids=lambda p: p.name
+    "doc",
+    [
+        ROOT / "README.md",
+        *PAGES,
+        ROOT / "examples" / "README.md",
+        ROOT / "benchmarks" / "README.md",
+    ],
+    ids=lambda p: str(p.relative_to(ROOT)),
 )
 def test_relative_links_resolve_anchors_included(doc):
     """Issue 59: two pages linked an anchor that had changed; a page's link and the
