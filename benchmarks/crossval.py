@@ -36,16 +36,17 @@ import multiprocessing
 import os
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from facing_service.config.profiles import tracker_for
+from facing_service.config.profiles import head_profile, tracker_for
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.levels import Level
 from facing_service.contract.poses import Rejected
 from facing_service.core.records import Changes, PoseSample
+from facing_service.core.tracker import Tracker
 from facing_service.ros2.input import RosSample, route
 from facing_service.ros2.people import People
 from facing_service.ros2.wire import Wire
@@ -165,6 +166,31 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
 BEFORE = {"head_engaged_after_s": (0.0,), "head_vote_deg": (0.0,), "head_model": ("cone",)}
 
 
+#: Research knobs: searched here, never the product's flags (issue 63: no user should
+#: meet a knob that defaults to off and was never chosen): the head's engagement
+#: parameter each sets, and the value that turns it off.
+RESEARCH: dict[str, tuple[str, Any]] = {
+    "head_steady_deg": ("steady_deg", None),  # steadiness
+    "head_steady_tau_s": ("steady_tau_s", 0.5),
+    "head_engaged_after_s": ("sustain_s", None),  # sustained attention
+}
+
+
+def setup(candidate: Mapping[str, Any]) -> tuple[Settings, dict[str, Any]]:
+    """A candidate as the service's settings and the research knobs it sets beside them."""
+    product = {k: v for k, v in candidate.items() if k not in RESEARCH}
+    research = {RESEARCH[k][0]: v or RESEARCH[k][1] for k, v in candidate.items() if k in RESEARCH}
+    return Settings(**BASE, **product), research
+
+
+def research_tracker(settings: Settings, research: Mapping[str, Any]) -> Tracker:
+    """The service's tracker, its head's engagement changed by the research knobs."""
+    if not research:
+        return tracker_for(settings)
+    head = head_profile(settings)
+    return tracker_for(settings, replace(head, engagement=replace(head.engagement, **research)))
+
+
 def grid_of(family: str) -> dict[str, tuple[Any, ...]]:
     """A family's full grid: what it searches, and ``BEFORE`` where it does not."""
     return {**BEFORE, **FAMILIES[family]}
@@ -215,9 +241,12 @@ def read_recording(recording: Labelled) -> Recording:
     )
 
 
-def events(recording: Recording, settings: Settings) -> list[tuple[int, str, Level]]:
-    """The engagement events (stamp ns, body, level) a service with ``settings`` says."""
-    tracker = tracker_for(settings)
+def events(
+    recording: Recording, settings: Settings, research: Mapping[str, Any] | None = None
+) -> list[tuple[int, str, Level]]:
+    """The engagement events (stamp ns, body, level) a service with ``settings`` says
+    (with ``research``: its head's research knobs set)."""
+    tracker = research_tracker(settings, research or {})
     said: list[tuple[int, str, Level]] = []
 
     def collect(changes: Changes) -> None:
@@ -236,8 +265,10 @@ def events(recording: Recording, settings: Settings) -> list[tuple[int, str, Lev
     return said
 
 
-def rows(recording: Recording, settings: Settings) -> list[Row]:
-    said = events(recording, settings)
+def rows(
+    recording: Recording, settings: Settings, research: Mapping[str, Any] | None = None
+) -> list[Row]:
+    said = events(recording, settings, research)
     return [
         scoring.score(
             recording.name,
@@ -353,8 +384,8 @@ def _worker_start(recordings: list[Recording]) -> None:
 
 def _score(candidate: Candidate) -> list[Row]:
     """Every person-recording, in order, under one candidate's settings."""
-    settings = Settings(**BASE, **dict(candidate))
-    return [row for r in _RECORDINGS for row in rows(r, settings)]
+    settings, research = setup(dict(candidate))
+    return [row for r in _RECORDINGS for row in rows(r, settings, research)]
 
 
 def score_all(

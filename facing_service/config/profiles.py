@@ -61,9 +61,6 @@ def head_profile(settings: Settings) -> Profile:
         tau_s=s.head_engagement_tau_s,
         engage_dwell_s=s.head_dwell_s,
         disengage_dwell_s=s.head_dwell_s,
-        steady_deg=s.head_steady_deg or None,
-        steady_tau_s=s.head_steady_tau_s,
-        sustain_s=s.head_engaged_after_s or None,
         vote_deg=s.head_vote_deg or None,
         vote_tau_s=s.head_vote_tau_s,
         vote_share=s.head_vote_share,
@@ -89,9 +86,10 @@ def scene_params(settings: Settings) -> SceneParams:
     )
 
 
-def tracker_for(settings: Settings) -> Tracker:
+def tracker_for(settings: Settings, head: Profile | None = None) -> Tracker:
     """The tracker a service with these settings runs (also the offline evaluation's, in
-    benchmarks.crossval: the same decisions without the network, and no zenoh)."""
+    benchmarks.crossval: the same decisions without the network, and no zenoh; ``head``:
+    a head profile of its own, for the research knobs the evaluation searches)."""
     fixed = [] if settings.base_frame == keys.ALL_FRAMES else [settings.base_frame]
     return Tracker(
         settings.threshold_deg,
@@ -101,7 +99,7 @@ def tracker_for(settings: Settings) -> Tracker:
         max_bodies=settings.max_bodies,
         engagement=engagement_params(settings),
         engagement_period_s=settings.engagement_period_s,
-        head=head_profile(settings),
+        head=head or head_profile(settings),
     )
 
 

@@ -236,27 +236,6 @@ class Settings(SessionChecks):
         HEADS,
         ge=0.0,
     )
-    head_engaged_after_s: float = flag(
-        0.0,
-        "a face becomes ENGAGED once it has stayed in its cone this long, every sample "
-        "(0: once ENGAGING has held --head-dwell-s)",
-        HEADS,
-        ge=0.0,
-        le=60.0,
-    )
-    head_steady_deg: float = flag(
-        0.0,
-        "a face's score falls from this wander away from its recent direction, to 0 at "
-        "twice it (0: steadiness off)",
-        HEADS,
-        ge=0.0,
-    )
-    head_steady_tau_s: float = flag(
-        0.5,
-        "time constant of a face's recent direction (steadiness)",
-        HEADS,
-        gt=0.0,
-    )
     head_vote_deg: float = flag(
         24.0,
         'a face votes "attending" within this angle of the robot; attending (the share '

@@ -127,7 +127,7 @@ def test_promotion_needs_a_fresh_observation():
     assert advance(state, state.last + 1.0, P).level is Level.ENGAGING  # silent: no promotion
 
 
-HEAD = head_profile(Settings(head_steady_deg=5.0)).engagement  # steadiness on
+HEAD = replace(head_profile(Settings()).engagement, steady_deg=5.0)  # steadiness on (research)
 
 
 def looking(yaw_degs, params, dt=1 / 30):
