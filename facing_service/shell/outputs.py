@@ -22,6 +22,7 @@ from ..ros2.output import RosOutput
 from .json_sender import Heard, JsonSender
 from .outbox import Kind, Publication
 from .publications import (
+    Speaker,
     publications,
     result_publications,
     ros_publications,
@@ -79,22 +80,22 @@ class JsonOutput:
 
     def __init__(self, namespace: str, instance: str, max_bodies: int) -> None:
         self._namespace = namespace
-        self._instance = instance
+        self._us = Speaker(namespace, instance)
         self._capacity = max_bodies
         self._heard = Heard()  # anyone subscribed to results? (the sender's listener says)
 
     def on_changes(self, changes: Changes) -> list[Publication]:
-        return publications(changes, self._namespace, self._instance, self._heard.results)
+        return publications(changes, self._us, self._heard.results)
 
     def on_scene(self, update: SceneUpdate) -> list[Publication]:
-        return scene_publications(update, self._namespace, self._instance)
+        return scene_publications(update, self._us)
 
     def tick(self, now: float, view: TurnView) -> list[Publication]:
         """A subscriber appeared: every tracked body's current result, at once."""
         if not self._heard.joined:
             return []
         self._heard.joined = False
-        return result_publications(view.states, self._namespace, self._instance)
+        return result_publications(view.states, self._us)
 
     def next_due(self) -> float | None:
         return 0.0 if self._heard.joined else None

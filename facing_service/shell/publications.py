@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from enum import Enum
-from typing import Any
+from typing import Any, NamedTuple
 
 from ..contract import keys
 from ..contract.levels import Level
@@ -53,10 +53,17 @@ OVER_TIME = (QuerySpace.ENGAGEMENT, QuerySpace.GROUPS, QuerySpace.GAZING)
 SCENE_SPACES = (QuerySpace.GROUPS, QuerySpace.GAZING)
 
 
-def result_publications(
-    states: Iterable[BodyState], namespace: str, instance: str
-) -> list[Publication]:
+class Speaker(NamedTuple):
+    """Who says a publication: the service's namespace (its keys) and instance (in every
+    payload). One value for the pair every builder here takes."""
+
+    namespace: str
+    instance: str
+
+
+def result_publications(states: Iterable[BodyState], us: Speaker) -> list[Publication]:
     """Each body's result on its key."""
+    namespace, instance = us
     result = Kind.RESULT
     return [
         Publication(keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance), result)
@@ -64,14 +71,13 @@ def result_publications(
     ]
 
 
-def publications(
-    changes: Changes, namespace: str, instance: str, results: bool = True
-) -> list[Publication]:
+def publications(changes: Changes, us: Speaker, results: bool = True) -> list[Publication]:
     """Everything one tracker call changed, in publishing order: per-body results (unless
     nobody listens to them: ``results`` False); then each engagement update (its state,
     then its event when the level changed); then the lost bodies' DELETEs; then the
     frames' aggregates."""
-    out = result_publications(changes.results, namespace, instance) if results else []
+    namespace, instance = us
+    out = result_publications(changes.results, us) if results else []
     for update in changes.engagement:
         if update.level is not Level.UNKNOWN:
             out.append(
@@ -107,10 +113,10 @@ def publications(
     return out
 
 
-def scene_publications(update: SceneUpdate, namespace: str, instance: str) -> list[Publication]:
+def scene_publications(update: SceneUpdate, us: Speaker) -> list[Publication]:
     """A frame's scene changed: each group formed or changed (PUT) and dissolved
     (DELETE), then the frame's whole list; who faces whom when a pair changed."""
-    frame = update.frame_id
+    (namespace, instance), frame = us, update.frame_id
     out = [
         Publication(
             keys.group_key(namespace, frame, str(g.id)),
@@ -192,8 +198,7 @@ def ros_publications(messages: Iterable[RosMessage]) -> list[Publication]:
 
 def query_replies(
     space: QuerySpace | str,
-    namespace: str,
-    instance: str,
+    us: Speaker,
     states: Iterable[BodyState],
     frames: Iterable[FrameFacing],
     engagements: Iterable[EngagementUpdate],
@@ -201,7 +206,7 @@ def query_replies(
 ) -> list[tuple[str, bytes]]:
     """Every ``(key, payload)`` a query on ``space`` (one of ``QUERY_SPACES``) could be
     answered with; the shell keeps those whose key the query's selector matches."""
-    space = _space(space)
+    space, (namespace, instance) = _space(space), us
     if space is QuerySpace.FACING:
         return [
             (keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance)) for s in states

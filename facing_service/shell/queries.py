@@ -20,6 +20,7 @@ from .ledger import Ledger
 from .publications import (
     SCENE_SPACES,
     QuerySpace,
+    Speaker,
     frame_json,
     query_replies,
     threshold_parameter,
@@ -37,15 +38,14 @@ class Answers:
     in ``ledger``."""
 
     def __init__(self, namespace: str, instance: str, ledger: Ledger) -> None:
-        self.namespace = namespace
-        self.instance = instance
+        self.us = Speaker(namespace, instance)
         self._ledger = ledger
 
     def __call__(self, item: QueryItem, view: TurnView) -> None:
-        answer(item, view, self._ledger, self)
+        answer(item, view, self._ledger, self.us)
 
 
-def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Answers) -> None:
+def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Speaker) -> None:
     """Reply with the current state of every matching key, one reply per key."""
     query = item.query
     try:
@@ -63,12 +63,9 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Answers) -> None
         return
     states, frames = (view.states, view.frames) if threshold is None else view.evaluate(threshold)
     engagements = view.engagements if item.space is QuerySpace.ENGAGEMENT else []
-    ns, instance = us.namespace, us.instance
     replies = [
         (key, payload)
-        for key, payload in query_replies(
-            item.space, ns, instance, states, frames, engagements, view.scenes
-        )
+        for key, payload in query_replies(item.space, us, states, frames, engagements, view.scenes)
         if query.key_expr.intersects(zenoh.KeyExpr(key))
     ]
     if not replies:
@@ -84,7 +81,7 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Answers) -> None
 
 
 def _nothing_matched(
-    space: QuerySpace, selector: str, view: TurnView, us: Answers
+    space: QuerySpace, selector: str, view: TurnView, us: Speaker
 ) -> tuple[list[tuple[str, bytes]], QueryError | None]:
     """A query that names one frame (its last chunk) and matched nothing still gets an
     answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
@@ -96,14 +93,14 @@ def _nothing_matched(
     frame = selector.rsplit("/", 1)[-1]
     if "*" in frame or "$" in frame:
         return [], None
-    ns, instance = us.namespace, us.instance
+    ns, instance = us
     empty = view.empty_scene(frame)
     if empty is None and frame not in view.tracked:
         detail = unknown_frame_detail(frame, view.tracked)
         return [], QueryError(error="unknown_frame", detail=detail)
     scene = empty or nobody(frame, ZERO)
     if space in SCENE_SPACES:
-        return query_replies(space, ns, instance, (), (), (), [scene]), None
+        return query_replies(space, us, (), (), (), [scene]), None
     if space is QuerySpace.FRAME:
         said = frame_json(
             frame_facing(frame, empty.stamp if empty is not None else None, [], []), instance

@@ -20,6 +20,7 @@ from facing_service.core.records import BodyState, Changes, EngagementUpdate
 from facing_service.ros2.output import RosMessage
 from facing_service.shell.outbox import Kind, Publication
 from facing_service.shell.publications import (
+    Speaker,
     publications,
     query_replies,
     ros_publications,
@@ -60,7 +61,7 @@ def test_one_call_is_said_in_publishing_order_on_the_contract_keys():
         lost=[at("c")],
         frames=[frame(["a"], ["a", "b"])],
     )
-    said = publications(changes, "hri", ME)
+    said = publications(changes, Speaker("hri", ME))
     assert [(p.key, p.kind) for p in said] == [
         ("hri/bodies/a/facing/cam", Kind.RESULT),
         ("hri/bodies/b/facing/cam", Kind.RESULT),
@@ -100,7 +101,7 @@ def test_one_call_is_said_in_publishing_order_on_the_contract_keys():
 
 
 def test_nothing_changed_says_nothing():
-    assert publications(Changes(), "hri", ME) == []
+    assert publications(Changes(), Speaker("hri", ME)) == []
 
 
 def test_ros_messages_travel_as_ros_publications():
@@ -113,7 +114,7 @@ def test_query_replies_per_space():
     engagements = [update("a", Level.ENGAGED, None)]
 
     def replies(space):
-        return query_replies(space, "r1/hri", ME, states, frames, engagements)
+        return query_replies(space, Speaker("r1/hri", ME), states, frames, engagements)
 
     ((key, payload),) = replies("facing")
     assert key == "r1/hri/bodies/a/facing/cam"
