@@ -13,7 +13,7 @@ from ..contract.keys import BodyRef
 from ..contract.levels import Level
 from ..contract.schemas import EngagementEvent, FacingState
 from ..contract.stamps import Time
-from .scene import Event
+from .scene import ClientEvent, Event
 
 #: The levels at which a body counts as engaged: ``disengaged`` follows only these.
 ENGAGED_LEVELS = (Level.ENGAGED, Level.DISENGAGING)
@@ -44,11 +44,11 @@ class BodyCache:
         if state.instance is not None:
             self._vouchers.setdefault(key, set()).add(state.instance)
         was_facing = previous is not None and previous.facing
-        events: list[Event] = [("change", (state,))]
+        events: list[Event] = [(ClientEvent.CHANGE, (state,))]
         if state.facing and not was_facing:
-            events.append(("facing", (state,)))
+            events.append((ClientEvent.FACING, (state,)))
         elif was_facing and not state.facing:
-            events.append(("not_facing", (state,)))
+            events.append((ClientEvent.NOT_FACING, (state,)))
         return events
 
     def take_level(self, event: EngagementEvent) -> list[Event]:
@@ -69,16 +69,16 @@ class BodyCache:
         else:
             self.levels[key] = event
         if level is Level.ENGAGED and not was_engaged:
-            return [("engaged", (event,))]
+            return [(ClientEvent.ENGAGED, (event,))]
         if level in (Level.DISENGAGED, Level.UNKNOWN) and was_engaged:
-            return [("disengaged", (event,))]
+            return [(ClientEvent.DISENGAGED, (event,))]
         return []
 
     def delete(self, body: BodyRef) -> list[Event]:
         """The service deleted a body's result (gone from its frame, or stale)."""
         known = body in self.states
         self._forget(body)
-        return [("lost", (body,))] if known else []
+        return [(ClientEvent.LOST, (body,))] if known else []
 
     def instance_gone(self, instance: str) -> list[Event]:
         """A service instance vanished: the bodies it alone vouched for are lost (and
@@ -96,8 +96,8 @@ class BodyCache:
                 gone = last.model_copy(
                     update={"previous": last.level, "level": "UNKNOWN", "level_value": 0}
                 )
-                events.append(("disengaged", (gone,)))
-            events.append(("lost", (body,)))
+                events.append((ClientEvent.DISENGAGED, (gone,)))
+            events.append((ClientEvent.LOST, (body,)))
         return events
 
     def _forget(self, body: BodyRef) -> EngagementEvent | None:

@@ -46,7 +46,7 @@ from .bodies import BodyCache
 from .health import ask, no_service_seen
 from .options import ClientOptionFields, client_options
 from .replies import engagement_states, facing_states
-from .scene import Event, SceneListener
+from .scene import ClientEvent, Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
 
@@ -90,7 +90,7 @@ class FacingClient:
         self._config = session_config or self.options.zenoh_config()
         self._lock = threading.Lock()
         self._bodies = BodyCache()  # under the lock
-        self._on: dict[str, list[Callable[..., object]]] = {}
+        self._on: dict[ClientEvent, list[Callable[..., object]]] = {}
         self._scene = SceneListener(self.namespace, self.frame, self._is_live, self._emit)
         self._events: queue.SimpleQueue[_Call | None] = queue.SimpleQueue()  # None: stop
         self._session: zenoh.Session | None = None
@@ -258,20 +258,20 @@ class FacingClient:
         facing it). Bodies already facing when it is registered are reported at once."""
         with self._lock:
             current = [s for s in self._bodies.states.values() if s.facing]
-            return self._register("facing", callback, current)
+            return self._register(ClientEvent.FACING, callback, current)
 
     def on_not_facing(self, callback: StateCallback) -> StateCallback:
         """``callback(state)`` when a body that faced the robot turns away."""
-        return self._register("not_facing", callback)
+        return self._register(ClientEvent.NOT_FACING, callback)
 
     def on_lost(self, callback: LostCallback) -> LostCallback:
         """``callback(body)`` (a ``BodyRef``: ``body.frame_id``, ``body.body_id``) when a
         body is lost (deleted, stale, or its last vouching service gone)."""
-        return self._register("lost", callback)
+        return self._register(ClientEvent.LOST, callback)
 
     def on_change(self, callback: StateCallback) -> StateCallback:
         """``callback(state)`` for every result."""
-        return self._register("change", callback)
+        return self._register(ClientEvent.CHANGE, callback)
 
     def on_engaged(self, callback: LevelCallback) -> LevelCallback:
         """``callback(event)`` when a body becomes ENGAGED (docs/engagement.md). Bodies
@@ -281,35 +281,35 @@ class FacingClient:
         with self._lock:
             levels = self._bodies.levels.values()
             current = [e for e in levels if e.level == Level.ENGAGED.name]
-            return self._register("engaged", callback, current)
+            return self._register(ClientEvent.ENGAGED, callback, current)
 
     def on_disengaged(self, callback: LevelCallback) -> LevelCallback:
         """``callback(event)`` when an engaged body becomes DISENGAGED or is lost."""
-        return self._register("disengaged", callback)
+        return self._register(ClientEvent.DISENGAGED, callback)
 
     def on_group_formed(self, callback: GroupCallback) -> GroupCallback:
         """``callback(frame, group)`` when a group forms."""
-        return self._register("group_formed", callback)
+        return self._register(ClientEvent.GROUP_FORMED, callback)
 
     def on_group_changed(self, callback: GroupChangeCallback) -> GroupChangeCallback:
         """``callback(frame, group, previous)`` when a group's members change (the robot
         joining or leaving too)."""
-        return self._register("group_changed", callback)
+        return self._register(ClientEvent.GROUP_CHANGED, callback)
 
     def on_group_dissolved(self, callback: GroupCallback) -> GroupCallback:
         """``callback(frame, group)`` when a group dissolves (the group as it was)."""
-        return self._register("group_dissolved", callback)
+        return self._register(ClientEvent.GROUP_DISSOLVED, callback)
 
     def on_robot_joined(self, callback: GroupCallback) -> GroupCallback:
         """``callback(frame, group)`` when the robot becomes a member of a group."""
-        return self._register("robot_joined", callback)
+        return self._register(ClientEvent.ROBOT_JOINED, callback)
 
     def on_robot_left(self, callback: GroupCallback) -> GroupCallback:
         """``callback(frame, group)`` when the robot leaves a group, or the group it was
         in dissolves (the group as it was)."""
-        return self._register("robot_left", callback)
+        return self._register(ClientEvent.ROBOT_LEFT, callback)
 
-    def _register(self, name: str, callback: C, current: Iterable[object] = ()) -> C:
+    def _register(self, name: ClientEvent, callback: C, current: Iterable[object] = ()) -> C:
         """Keep ``callback`` for the ``name`` events; report ``current`` to it at once.
         Only on an open client: one never opened would never call it (issue 59), and
         nothing is missed by registering after open(), as what holds is reported."""

@@ -13,6 +13,7 @@ from __future__ import annotations
 import logging
 import threading
 from collections.abc import Callable
+from enum import Enum
 from typing import Any
 
 import zenoh
@@ -23,8 +24,25 @@ from ..contract.stamps import Time
 
 log = logging.getLogger("facing_service.client")
 
-Event = tuple[str, tuple[Any, ...]]
-SCENE_EVENTS = ("group_formed", "group_changed", "group_dissolved", "robot_joined", "robot_left")
+
+class ClientEvent(str, Enum):
+    """What ``FacingClient``'s callbacks are registered for (its ``on_<event>`` methods)."""
+
+    CHANGE = "change"
+    FACING = "facing"
+    NOT_FACING = "not_facing"
+    LOST = "lost"
+    ENGAGED = "engaged"
+    DISENGAGED = "disengaged"
+    GROUP_FORMED = "group_formed"
+    GROUP_CHANGED = "group_changed"
+    GROUP_DISSOLVED = "group_dissolved"
+    ROBOT_JOINED = "robot_joined"
+    ROBOT_LEFT = "robot_left"
+
+
+#: An event and its callback's arguments.
+Event = tuple[ClientEvent, tuple[Any, ...]]
 
 
 class SceneCache:
@@ -160,18 +178,18 @@ def changes(frame: str, before: list[GroupState], after: list[GroupState]) -> li
     for gid, group in new.items():
         previous = old.get(gid)
         if previous is None:
-            events.append(("group_formed", (frame, group)))
+            events.append((ClientEvent.GROUP_FORMED, (frame, group)))
         elif previous.members != group.members or previous.robot != group.robot:
-            events.append(("group_changed", (frame, group, previous)))
+            events.append((ClientEvent.GROUP_CHANGED, (frame, group, previous)))
         if group.robot and (previous is None or not previous.robot):
-            events.append(("robot_joined", (frame, group)))
+            events.append((ClientEvent.ROBOT_JOINED, (frame, group)))
         if previous is not None and previous.robot and not group.robot:
-            events.append(("robot_left", (frame, previous)))
+            events.append((ClientEvent.ROBOT_LEFT, (frame, previous)))
     for gid, group in old.items():
         if gid not in new:
-            events.append(("group_dissolved", (frame, group)))
+            events.append((ClientEvent.GROUP_DISSOLVED, (frame, group)))
             if group.robot:
-                events.append(("robot_left", (frame, group)))
+                events.append((ClientEvent.ROBOT_LEFT, (frame, group)))
     return events
 
 
