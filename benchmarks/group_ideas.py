@@ -21,7 +21,14 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from facing_service.core.groups import GroupParams, RoomScale, ScaleParams, detect, groups, votes
+from facing_service.core.social.groups import (
+    GroupParams,
+    RoomScale,
+    ScaleParams,
+    detect,
+    groups,
+    votes,
+)
 
 from .group_scenes import scenes
 from .groups import FRAME_S, SEQUENCES, Frame, f1, load

@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from facing_service.core.groups import GroupParams, RoomScale, ScaleParams, detect, groups
+from facing_service.core.social.groups import GroupParams, RoomScale, ScaleParams, detect, groups
 
 from .sections import generate
 

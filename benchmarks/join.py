@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from facing_service.core.join import JoinParams, join_pose
+from facing_service.core.social.join import JoinParams, join_pose
 
 from .groups import SEQUENCES, SHARED, Frame, load
 from .sections import generate

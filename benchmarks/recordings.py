@@ -44,7 +44,7 @@ from facing_service.contract import keys
 from facing_service.contract.levels import Level
 from facing_service.core import rule
 from facing_service.core.mutual_gaze import GazeParams, from_gaze_pose, votes_engaged
-from facing_service.core.tf_errors import TfError
+from facing_service.core.tf.errors import TfError
 from facing_service.ros2.input import tf_inputs
 from facing_service.ros2.people import People
 from facing_service.ros2.wire import RosFormat, Wire

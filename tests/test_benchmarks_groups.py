@@ -82,7 +82,7 @@ def test_the_scenes_made_for_the_failures_are_what_they_say():
     """The stress scenes (benchmarks/group_scenes.py): loners hold no group, the wide
     circle one of five, the posters a crowd denser than its groups."""
     from benchmarks.group_scenes import scenes
-    from facing_service.core.groups import nearest_distances
+    from facing_service.core.social.groups import nearest_distances
 
     made = scenes()
     assert all(not frame.truth for frame in made["loners"])

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from benchmarks import join
-from facing_service.core.join import JoinParams
+from facing_service.core.social.join import JoinParams
 
 
 def square_missing_one() -> join.Case:

@@ -10,11 +10,11 @@ from dataclasses import replace
 from ..contract import keys
 from ..contract.robot import Distro, RosFormat
 from ..core.engagement import EngagementParams, Model
-from ..core.groups import GroupParams, ScaleParams
 from ..core.mutual_gaze import GazeParams
 from ..core.records import Profile
 from ..core.rule import RuleParams
-from ..core.scene import SceneParams
+from ..core.social.groups import GroupParams, ScaleParams
+from ..core.social.scene import SceneParams
 from ..core.tracker import Tracker
 from ..ros2.wire import Wire
 from .settings import Settings

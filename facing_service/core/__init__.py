@@ -6,15 +6,14 @@ its own (docs/architecture.md).
   containers, undone when a turn meets a bug), ``view`` (a turn's read-only view);
 - engagement: ``engagement`` (levels, the score), ``evidence`` (a head's soft evidence),
   ``mutual_gaze`` and ``rule`` (hri_engagement's rule, as its mode);
-- the social scene: ``groups`` (F-formations, who faces whom), ``join`` (where to stand),
-  ``scene`` (both per frame, over time);
-- TF: ``tf_buffer`` (tf2's BufferCore rules), ``tf_cache``, ``tf_math``, ``tf_errors``."""
+- ``social/``: the social scene (groups, where to stand, the scene over time);
+- ``tf/``: tf2's rules (the buffer, a link's cache, rigid transforms, tf2's errors)."""
 
 from ..contract.levels import Level
 from .detector import classify
 from .records import Changes, PoseSample
-from .tf_buffer import TfBuffer
-from .tf_errors import TfError
+from .tf.buffer import TfBuffer
+from .tf.errors import TfError
 from .tracker import Tracker
 
 __all__ = ["Changes", "Level", "PoseSample", "TfBuffer", "TfError", "Tracker", "classify"]

@@ -14,7 +14,7 @@ from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing
 from ..contract.stamps import ZERO, Time
 from .records import BodyState, EngagementUpdate
-from .scene import Person, Scenes, SceneUpdate
+from .social.scene import Person, Scenes, SceneUpdate
 from .tracker import Tracker
 
 #: The levels at which the robot may go and greet a person (in no group).

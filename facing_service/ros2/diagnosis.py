@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..contract.keys import cut
-from ..core.tf_errors import TfError
+from ..core.tf.errors import TfError
 from .input import TOPICS
 from .people import People
 from .wire import HASH_NOT_SUPPORTED, RosFormat, Wire, where

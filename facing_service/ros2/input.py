@@ -31,7 +31,7 @@ from typing import Any
 from ..contract.poses import Rejected, Rejection
 from ..contract.robot import DEFAULT_MAX_MESSAGE_BYTES
 from ..contract.stamps import Time
-from ..core.tf_math import RigidTransform
+from ..core.tf.geometry import RigidTransform
 from . import types as ros2_types
 from .people import KINDS, PERSON_LINKS, People, TfInput, Update
 from .wire import RosFormat, Wire

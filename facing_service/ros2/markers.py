@@ -25,9 +25,9 @@ import numpy as np
 from ..contract.levels import Level
 from ..contract.poses import Pose
 from ..contract.stamps import ZERO, Time
-from ..core.groups import Group
-from ..core.join import JoinPose
-from ..core.scene import ROBOT, Greeting
+from ..core.social.groups import Group
+from ..core.social.join import JoinPose
+from ..core.social.scene import ROBOT, Greeting
 from ..core.view import TurnView
 from . import types as ros2_types
 

@@ -44,9 +44,9 @@ from ..contract.keys import natural_order
 from ..contract.levels import Level
 from ..contract.schemas import FrameFacing
 from ..contract.stamps import ZERO, Time
-from ..core.join import JoinPose
 from ..core.records import Changes, EngagementUpdate
-from ..core.scene import SceneUpdate
+from ..core.social.join import JoinPose
+from ..core.social.scene import SceneUpdate
 from ..core.view import TurnView
 from . import types as ros2_types
 from .markers import (

@@ -49,9 +49,9 @@ from ..contract.poses import MAX_TRANSLATION_M, Pose
 from ..contract.robot import DEFAULT_MAX_FRAMES
 from ..contract.stamps import NS_PER_S, Time
 from ..core.records import PoseSample
-from ..core.tf_buffer import TfBuffer
-from ..core.tf_errors import TfError
-from ..core.tf_math import RigidTransform
+from ..core.tf.buffer import TfBuffer
+from ..core.tf.errors import TfError
+from ..core.tf.geometry import RigidTransform
 
 #: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
 KINDS = {

@@ -10,7 +10,7 @@ from collections.abc import Callable
 
 from ..config.profiles import head_profile, robot_wire, scene_params, tracker_for
 from ..config.settings import Settings
-from ..core.scene import Scenes
+from ..core.social.scene import Scenes
 from ..ros2.wire import FormLearner
 from .decisions import Parts
 from .inputs import Input, JsonInput

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from ..contract.poses import Rejection
 from ..core.records import Changes, PoseSample
-from ..core.scene import Scenes
+from ..core.social.scene import Scenes
 from ..core.tracker import RESTART_EVIDENCE, Tracker
 from .inputs import Input, Loss
 from .ledger import Ledger

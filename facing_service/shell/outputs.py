@@ -16,7 +16,7 @@ from typing import Protocol
 import zenoh
 
 from ..core.records import Changes
-from ..core.scene import SceneUpdate
+from ..core.social.scene import SceneUpdate
 from ..core.view import TurnView
 from ..ros2.output import RosOutput
 from .json_sender import Heard, JsonSender

@@ -24,10 +24,10 @@ from ..contract.schemas import (
     GroupState,
     Place,
 )
-from ..core.groups import Group
-from ..core.join import JoinPose
 from ..core.records import BodyState, Changes, EngagementUpdate
-from ..core.scene import ROBOT, SceneUpdate
+from ..core.social.groups import Group
+from ..core.social.join import JoinPose
+from ..core.social.scene import ROBOT, SceneUpdate
 from ..ros2.output import RosMessage
 from .outbox import Kind, Publication
 

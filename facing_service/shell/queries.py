@@ -13,7 +13,7 @@ from ..contract.errors import unknown_frame_detail
 from ..contract.schemas import QueryError
 from ..contract.stamps import ZERO
 from ..core.records import frame_facing
-from ..core.scene import nobody
+from ..core.social.scene import nobody
 from ..core.view import TurnView
 from .json_sender import JSON
 from .ledger import Ledger

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from benchmarks.groups import gcff_params
-from facing_service.core.groups import (
+from facing_service.core.social.groups import (
     GroupParams,
     RoomScale,
     ScaleParams,
@@ -111,7 +111,7 @@ def test_twenty_people_get_one_label_each_in_order_of_first_member():
 
 
 def test_group_ids_stay_while_most_members_stay_and_a_flicker_is_not_said():
-    from facing_service.core.groups import GroupTracker
+    from facing_service.core.social.groups import GroupTracker
 
     tracker = GroupTracker(hold_s=0.3)
     abc = [(frozenset("abc"), (1.0, 0.0)), (frozenset("d"), (5.0, 5.0))]
@@ -140,7 +140,7 @@ def test_group_ids_stay_while_most_members_stay_and_a_flicker_is_not_said():
 
 
 def test_a_group_with_the_robot_says_so():
-    from facing_service.core.groups import GroupTracker
+    from facing_service.core.social.groups import GroupTracker
 
     tracker = GroupTracker(hold_s=0.0)
     changed, _ = tracker.update([(frozenset({"", "alice"}), (0.5, 0.0))], 0.0)
@@ -221,7 +221,7 @@ def test_the_rings_stride_lands_every_vote_on_the_centre_whatever_its_size_and_c
     as from themselves: on a ring facing its centre, that point is the centre (a pair
     face to face: the middle). The stride from the nearest person ahead alone (k * d)
     undershoots a circle of six by half."""
-    from facing_service.core.groups import votes
+    from facing_service.core.social.groups import votes
 
     positions, headings = ring_of(count, spacing)
     ring = GroupParams(0.5, 0.25, 1.5, 70.0, 1.5, ring=True)

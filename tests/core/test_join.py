@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from facing_service.core.join import JoinParams, join_pose, o_space
+from facing_service.core.social.join import JoinParams, join_pose, o_space
 
 P = JoinParams()
 

@@ -9,8 +9,8 @@ from dataclasses import replace
 import pytest
 
 from facing_service.contract.stamps import ZERO, Time
-from facing_service.core.groups import GroupParams, ScaleParams
-from facing_service.core.scene import ROBOT, FrameScene, Person, SceneParams, Scenes
+from facing_service.core.social.groups import GroupParams, ScaleParams
+from facing_service.core.social.scene import ROBOT, FrameScene, Person, SceneParams, Scenes
 
 PARAMS = SceneParams(
     GroupParams(),

@@ -9,15 +9,15 @@ import random
 import pytest
 
 from benchmarks.bags import read_bag
-from facing_service.core.tf_buffer import TfBuffer
-from facing_service.core.tf_errors import (
+from facing_service.core.tf.buffer import TfBuffer
+from facing_service.core.tf.errors import (
     ConnectivityError,
     ExtrapolationError,
     InvalidArgumentError,
     LookupError_,
     TfError,
 )
-from facing_service.core.tf_math import RigidTransform
+from facing_service.core.tf.geometry import RigidTransform
 
 from oracles import BAGS, oracle, recording_names
 
@@ -256,9 +256,9 @@ def test_a_frames_history_is_capped_whatever_its_stamps():
     """tf2 bounds a frame's history by time only: transforms 1 ns apart (or arriving each
     older than the last) would grow it, and each insert, without bound. The oldest go
     past MAX_CACHE_ENTRIES; the newest and every lookup stay tf2's."""
-    from facing_service.core.tf_buffer import TfBuffer
-    from facing_service.core.tf_cache import MAX_CACHE_ENTRIES
-    from facing_service.core.tf_math import RigidTransform
+    from facing_service.core.tf.buffer import TfBuffer
+    from facing_service.core.tf.cache import MAX_CACHE_ENTRIES
+    from facing_service.core.tf.geometry import RigidTransform
 
     buffer = TfBuffer()
     one = RigidTransform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))

@@ -8,9 +8,9 @@ import math
 
 import pytest
 
-from facing_service.core.tf_cache import MAX_CACHE_ENTRIES, StaticCache, Stored, TimeCache
-from facing_service.core.tf_errors import ExtrapolationError
-from facing_service.core.tf_math import RigidTransform
+from facing_service.core.tf.cache import MAX_CACHE_ENTRIES, StaticCache, Stored, TimeCache
+from facing_service.core.tf.errors import ExtrapolationError
+from facing_service.core.tf.geometry import RigidTransform
 
 S = 1_000_000_000
 

@@ -3,7 +3,7 @@ oracle comparisons read)."""
 
 from __future__ import annotations
 
-from facing_service.core import tf_errors
+from facing_service.core.tf import errors as tf_errors
 
 
 def test_each_refusal_is_a_tf_error_named_as_tf2_names_it():

@@ -8,7 +8,7 @@ import math
 from hypothesis import given
 from hypothesis import strategies as st
 
-from facing_service.core.tf_math import lerp, qinv, qmul, rotate, slerp
+from facing_service.core.tf.geometry import lerp, qinv, qmul, rotate, slerp
 
 unit = st.floats(-1.0, 1.0)
 angles = st.floats(-math.pi, math.pi)

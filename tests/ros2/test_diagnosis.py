@@ -10,7 +10,7 @@ import time
 import pytest
 
 from facing_service.contract.stamps import Time
-from facing_service.core.tf_math import RigidTransform
+from facing_service.core.tf.geometry import RigidTransform
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.diagnosis import RobotWatch, where_else
 from facing_service.ros2.people import People, TfInput

@@ -12,7 +12,7 @@ import pytest
 
 from facing_service.contract.levels import Level
 from facing_service.contract.stamps import Time
-from facing_service.core.groups import Group
+from facing_service.core.social.groups import Group
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.markers import COLOURS, MARKER_ARRAY, MarkerDrawer, PersonMarker
 

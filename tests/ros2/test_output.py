@@ -313,7 +313,7 @@ def test_where_to_stand_goes_out_as_pose_stamped_and_its_topic_goes_with_it():
     from facing_service.contract.keys import BodyRef
     from facing_service.contract.poses import decode_pose
     from facing_service.core.records import PoseSample
-    from facing_service.core.scene import Scenes
+    from facing_service.core.social.scene import Scenes
     from facing_service.core.view import TurnView
     from facing_service.ros2.output import POSE_STAMPED, RosOutput
 

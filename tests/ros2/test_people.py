@@ -4,7 +4,7 @@ latest common time; what is refused, and what is bounded (ros2/people)."""
 from __future__ import annotations
 
 from facing_service.contract.stamps import Time
-from facing_service.core.tf_math import RigidTransform
+from facing_service.core.tf.geometry import RigidTransform
 from facing_service.ros2.people import MAX_FRAME_NAME, People, TfInput
 
 from ros_messages import S, yaw_q

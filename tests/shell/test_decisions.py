@@ -13,7 +13,7 @@ from facing_service.config.profiles import scene_params
 from facing_service.config.settings import Settings
 from facing_service.contract.poses import Rejection
 from facing_service.core.records import Changes
-from facing_service.core.scene import Scenes
+from facing_service.core.social.scene import Scenes
 from facing_service.shell.decisions import Decisions, Faults, Parts
 from facing_service.shell.inputs import JsonInput
 from facing_service.shell.ledger import Ledger

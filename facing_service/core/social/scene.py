@@ -8,7 +8,7 @@ most once a ``period_s`` (pairwise work is O(N²)), on its ``max_people`` neares
 stops facing (with the facing rule's hysteresis), a grouping that has held ``hold_s``.
 
 Where the robot should stand (issue 53): for each group it is not in, the place on the
-group's ring to join it (``core.join``); for each person ENGAGING or ENGAGED and in no
+group's ring to join it (``core.social.join``); for each person ENGAGING or ENGAGED and in no
 group as said (never one of a group said beside it), a place in front of them at
 ``greet_m``, facing them. Both follow the people
 without being changes of their own (a query, or the next update, says where they are
@@ -25,8 +25,8 @@ from typing import Protocol
 
 import numpy as np
 
-from ..contract.stamps import ZERO, Time
-from . import detector
+from ...contract.stamps import ZERO, Time
+from .. import detector
 from .groups import (
     Group,
     GroupParams,

@@ -25,15 +25,15 @@ from __future__ import annotations
 
 import math
 
-from ..contract.robot import DEFAULT_MAX_FRAMES
-from .tf_cache import DEFAULT_CACHE_TIME_NS, S_NS, StaticCache, Stored, TimeCache
-from .tf_errors import (
+from ...contract.robot import DEFAULT_MAX_FRAMES
+from .cache import DEFAULT_CACHE_TIME_NS, S_NS, StaticCache, Stored, TimeCache
+from .errors import (
     ConnectivityError,
     ExtrapolationError,
     InvalidArgumentError,
     LookupError_,
 )
-from .tf_math import IDENTITY, Quat, RigidTransform, Vec, add, neg, qinv, qmul, rotate
+from .geometry import IDENTITY, Quat, RigidTransform, Vec, add, neg, qinv, qmul, rotate
 
 QUATERNION_NORMALIZATION_TOLERANCE = 10e-3
 MAX_GRAPH_DEPTH = 1000

@@ -8,8 +8,8 @@ from __future__ import annotations
 from bisect import bisect_left
 from dataclasses import dataclass
 
-from .tf_errors import ExtrapolationError
-from .tf_math import RigidTransform, lerp, slerp
+from .errors import ExtrapolationError
+from .geometry import RigidTransform, lerp, slerp
 
 S_NS = 1_000_000_000
 DEFAULT_CACHE_TIME_NS = 10 * S_NS
