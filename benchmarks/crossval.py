@@ -53,6 +53,7 @@ from facing_service.ros2.wire import Wire
 
 from . import scoring
 from .bags import read_bag_raw
+from .rule_path import rule_timelines
 from .scoring import BASE_FRAME, FOLDERS, Labelled, Row, advantage, summaries, summary, timeline_of
 
 S = 1_000_000_000
@@ -522,10 +523,8 @@ def load(folders: Sequence[Path] = FOLDERS) -> list[Recording]:
 
 
 def rule_rows(folders: Sequence[Path] = FOLDERS) -> list[Row]:
-    """hri_engagement's rule on every person-recording (``recordings.rule_timelines``):
+    """hri_engagement's rule on every person-recording (``rule_path.rule_timelines``):
     the anchor each row is held to."""
-    from .recordings import rule_timelines  # (it builds on this module's neighbours)
-
     out = []
     for recording in scoring.labelled(folders):
         timelines = rule_timelines(recording.path, list(recording.persons))

@@ -31,7 +31,8 @@ from facing_service.core.social.groups import (
 )
 
 from .group_scenes import scenes
-from .groups import FRAME_S, SEQUENCES, Frame, f1, load
+from .groups import FRAME_S, SEQUENCES, f1, load
+from .sequence_frame import Frame
 
 Filter = Callable[[list[int], np.ndarray, np.ndarray, np.ndarray], list[int]]
 

@@ -6,7 +6,7 @@ to 45 or 90 degrees, pairs side by side who are not a group. Not data: a rule th
 the shared sequences and falls to "no groups" on one of them is not chosen
 (``groups.preferred``).
 
-Deterministic for a seed. Positions in metres, headings in radians, in ``groups.Frame``'s
+Deterministic for a seed. Positions in metres, headings in radians, in ``sequence_frame.Frame``'s
 layout (the robot is added by ``groups.run`` at the origin, as everywhere).
 """
 
@@ -17,7 +17,7 @@ import random
 
 import numpy as np
 
-from .groups import Frame
+from .sequence_frame import Frame
 
 QUARTER = math.pi / 2
 

@@ -34,7 +34,7 @@ import json
 import random
 import statistics
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
@@ -42,7 +42,9 @@ import numpy as np
 
 from facing_service.core.social.groups import GroupParams, RoomScale, ScaleParams, detect, groups
 
+from .group_scenes import scenes
 from .sections import generate
+from .sequence_frame import Frame
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "fformations"
@@ -79,17 +81,6 @@ GCFF_ONE_SET = {
 #: The median of GCFF's own tuned sets over its datasets (issue 41): 45 cm, 3 m².
 GCFF_MEDIAN = (0.45, 3.0)
 METRES = ScaleParams(min_m=1.0, max_m=1.0)  # lengths in metres: the room not learnt
-
-
-@dataclass(frozen=True)
-class Frame:
-    ids: tuple[int, ...]
-    positions: np.ndarray  # (N, 2) metres
-    headings: np.ndarray  # (N,) radians
-    truth: tuple[frozenset[int], ...]  # groups of two or more
-
-    def wider(self, factor: float) -> Frame:
-        return replace(self, positions=self.positions * factor)
 
 
 @dataclass(frozen=True)
@@ -387,8 +378,6 @@ def preferred(results: dict[str, Any]) -> str:
 
 def scenes_figures(chosen: dict[str, Candidate]) -> dict[str, Any]:
     """Each rule's set chosen on all six on the made scenes, beside "no groups"."""
-    from .group_scenes import scenes
-
     out: dict[str, Any] = {}
     for name, frames in scenes().items():
         out[name] = {"frames": len(frames), "floor": f1(frames, [[] for _ in frames], 2 / 3)}

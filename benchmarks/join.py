@@ -38,8 +38,9 @@ import numpy as np
 
 from facing_service.core.social.join import JoinParams, join_pose
 
-from .groups import SEQUENCES, SHARED, Frame, load
+from .groups import SEQUENCES, SHARED, load
 from .sections import generate
+from .sequence_frame import Frame
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results" / "join.json"
