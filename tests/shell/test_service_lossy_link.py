@@ -44,7 +44,7 @@ def test_a_lossy_jittery_link_delivers_every_result_in_order(net):
             tracker_ep = f"tcp/{link.host}:{proxy.port}"
         tracker = link.run_inside(
             sys.executable, "-c", TRACKER, tracker_ep, str(BODIES), str(HZ), str(SECONDS),
-            cwd=str(Path(__file__).resolve().parents[1]), stdout=-1, stderr=-1,
+            cwd=str(Path(__file__).resolve().parents[1] / "support"), stdout=-1, stderr=-1,
         )  # fmt: skip
         out, err = tracker.communicate(timeout=60)
         assert tracker.returncode == 0, err

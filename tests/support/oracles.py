@@ -16,7 +16,7 @@ SYSTEM_PYTHON = "/usr/bin/python3"
 #: The team's shared data (../shared/data beside the project: recordings, F-formation
 #: sequences). A user's clone has none: tests marked ``shared_data`` skip there, saying so,
 #: and fail in CI (``CI=true``), which must run every test (see conftest.py).
-SHARED_DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+SHARED_DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 #: The shared real recordings.
 BAGS = SHARED_DATA / "hri_engagement_bags"
 
