@@ -20,6 +20,7 @@ from facing_service.ros2.wire import Wire, attachment
 
 import rmw_zenoh
 from loopback import endpoint
+from network import Network
 from oracles import BAGS
 from rmw_zenoh import Robot, Subscription
 from ros_messages import ids_list, string, tf_message, transform
@@ -115,8 +116,6 @@ def run(net, attack: Attack | None = None, forms=(rmw_zenoh.JAZZY_0_2_10,)) -> t
 
 @pytest.fixture(scope="module")
 def baseline():
-    from conftest import Network
-
     net = Network()
     try:
         heard, _ = run(net)
