@@ -14,7 +14,7 @@ import signal
 import sys
 import threading
 from collections.abc import Callable, Sequence
-from contextlib import nullcontext
+from contextlib import AbstractContextManager, nullcontext
 from types import FrameType
 from typing import NoReturn
 
@@ -22,7 +22,6 @@ import zenoh
 from rich.console import Console
 
 from .arguments import build_parser
-from .camera.native_log import without_native_chatter
 from .client import health
 from .client.client import FacingClient
 from .client.sim import Scene, TrackerPublisher, nobody_heard, simulate
@@ -279,7 +278,7 @@ def _demo(args: argparse.Namespace) -> int:
         simulate(publish, scene, args.base_frame, settings.namespace, args.rate_hz,
                  should_stop=should_stop)  # fmt: skip
 
-    with nullcontext() if args.camera is None else without_native_chatter():
+    with nullcontext() if args.camera is None else _without_native_chatter():
         feed = simulated if args.camera is None else _camera_feed(args, settings) or simulated
         seen_facing = run_demo(
             settings.model_copy(update={"base_frame": args.base_frame}),
@@ -292,6 +291,13 @@ def _demo(args: argparse.Namespace) -> int:
     people = ", ".join(sorted(seen_facing, key=keys.natural_order)) or "nobody"
     print(f"faced the robot during the demo: {people}")
     return 0
+
+
+def _without_native_chatter() -> AbstractContextManager[None]:
+    """The camera's filter of MediaPipe's native lines, loaded only for ``--camera``."""
+    from .camera.native_log import without_native_chatter
+
+    return without_native_chatter()
 
 
 def _camera_feed(args: argparse.Namespace, settings: Settings) -> Feed | None:

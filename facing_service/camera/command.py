@@ -105,11 +105,11 @@ def summary(stats: CameraStats) -> str:
     if not stats.frames:
         return "camera: no frame read"
     per_frame = stats.busy_s / stats.frames
-    first = max(stats.first_result_ms, default=None)
+    first = stats.slowest_first_ms
     return (
         f"camera: {stats.frames} frames, {1 / per_frame if per_frame else 0:.0f} a second of "
         f"work ({stats.cpu_s / stats.frames * 1e3:.1f} ms CPU a frame), up to "
-        f"{stats.most_faces} faces at once, {len(stats.ids)} seen"
+        f"{stats.most_faces} faces at once, {stats.faces_seen} seen"
         + (f" (slowest first result {first:.0f} ms)" if first is not None else "")
     )
 

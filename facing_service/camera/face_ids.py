@@ -72,6 +72,11 @@ class FaceIds:
             del self._tracks[face_id]
         return named, lost
 
+    @property
+    def given(self) -> int:
+        """How many ids were given so far (each face seen, once)."""
+        return self._next - 1
+
     def forget_all(self) -> list[str]:
         """Every id still held (the stream ended): the service is told they left."""
         held = list(self._tracks)

@@ -40,3 +40,10 @@ def test_a_prefix_keeps_two_cameras_ids_apart():
     left, right = FaceIds(prefix="left-"), FaceIds(prefix="right-")
     assert left.update([FaceSeen(100, 100, 80)], 0.0)[0] == ["left-1"]
     assert right.update([FaceSeen(100, 100, 80)], 0.0)[0] == ["right-1"]
+
+
+def test_the_ids_given_are_counted_once_each():
+    ids = FaceIds()
+    ids.update([FaceSeen(100, 100, 80), FaceSeen(400, 100, 80)], 0.0)
+    ids.update([FaceSeen(105, 100, 80)], 0.1)  # one of the two again: nothing new
+    assert ids.given == 2
