@@ -3,18 +3,22 @@ where the service is, which base frame, for how long; and how an example ends on
 
 from __future__ import annotations
 
-import argparse
-import json
+import os
 import signal
-import sys
-from collections.abc import Callable
-from typing import NoReturn
 
-import zenoh
+# Ctrl-C while an example's imports still load (zenoh's, numpy's, pydantic's) ends it
+# at once and quietly: nothing is open yet, and an exception raised inside a native
+# module's import crashed the interpreter as it exited (seen: SIGSEGV). ``run`` then makes
+# Ctrl-C a KeyboardInterrupt again, which closes sessions.
+signal.signal(signal.SIGINT, lambda *_: os._exit(0))
 
-# Ctrl-C while an example's imports still load (the client's: zenoh, numpy, pydantic) ends
-# it quietly; ``run`` then makes Ctrl-C a KeyboardInterrupt again, which closes sessions.
-signal.signal(signal.SIGINT, lambda *_: sys.exit(0))
+import argparse  # noqa: E402
+import json  # noqa: E402
+import sys  # noqa: E402
+from collections.abc import Callable  # noqa: E402
+from typing import NoReturn  # noqa: E402
+
+import zenoh  # noqa: E402
 
 
 def arguments(

@@ -15,8 +15,11 @@ import math
 import sys
 import time
 
-import zenoh
 from common import arguments, run, session_config
+
+# isort: split
+# (after common, whose Ctrl-C handler covers this import)
+import zenoh
 
 
 def pose(body: str, frame: str, x: float, y: float, yaw: float, now: float) -> bytes:

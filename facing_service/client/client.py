@@ -111,6 +111,16 @@ class FacingClient:
         error (it may start later): ``absence`` then says why, in one line, logged unless
         the caller says it itself (``log_absence=False``)."""
         session = self._session = session if session is not None else zenoh.open(self._config)
+        try:
+            self._start(session, log_absence)
+        except BaseException:
+            # Ctrl-C while waiting for a service: the callback subscribers' threads would
+            # keep the user's program from exiting after its KeyboardInterrupt.
+            self.close()
+            raise
+        return self
+
+    def _start(self, session: zenoh.Session, log_absence: bool) -> None:
         self._dispatcher = threading.Thread(
             target=self._dispatch, name="facing-client", daemon=True
         )
@@ -118,15 +128,15 @@ class FacingClient:
         # Liveliness first (with the tokens already there), so results are judged by
         # who is alive; then subscribe, then seed: a result arriving meanwhile is newer
         # than the query's answer and is kept (states only move forward in stamp order).
-        self._subscribers = [
+        self._subscribers.append(
             session.liveliness().declare_subscriber(
                 keys.service_token(self.namespace, "*"), self._on_token, history=True
-            ),
-            session.declare_subscriber(
-                keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame), self._on_sample
-            ),
-            session.declare_subscriber(keys.event_key(self.namespace, self.frame), self._on_event),
-        ]
+            )
+        )
+        facing = keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame)
+        self._subscribers.append(session.declare_subscriber(facing, self._on_sample))
+        events = keys.event_key(self.namespace, self.frame)
+        self._subscribers.append(session.declare_subscriber(events, self._on_event))
         self._scene.open(session)
         if self._wait_for_service():
             self.absence = None
@@ -140,7 +150,6 @@ class FacingClient:
                     self.absence,
                     self.timeout_s,
                 )
-        return self
 
     def _wait_for_service(self) -> bool:
         """Wait (up to ``timeout_s``) until a service's liveliness token is visible. A

@@ -117,7 +117,8 @@ class SceneListener:
         self.dropped_from_dead = 0
 
     def open(self, session: zenoh.Session) -> None:
-        self._subscribers = [session.declare_subscriber(k, self._on_sample) for k in self._keys]
+        for key in self._keys:  # one by one: a Ctrl-C meanwhile closes those declared
+            self._subscribers.append(session.declare_subscriber(key, self._on_sample))
 
     def close(self) -> None:
         for subscriber in self._subscribers:

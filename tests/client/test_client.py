@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import logging
+import signal
+import subprocess
+import sys
 import threading
 import time
 
@@ -255,3 +258,33 @@ def test_a_client_used_before_open_says_so(net):
         client.on_facing(lambda state: None)
     with pytest.raises(ClientNotOpen):
         client.on_group_formed(lambda frame, group: None)
+
+
+def test_ctrl_c_while_a_client_opens_ends_the_program(tmp_path):
+    """Ctrl-C while ``open`` waits for a service (up to ``timeout_s``) left the session
+    and its callback subscribers open: their threads kept the interpreter from exiting,
+    and the user's program hung after the KeyboardInterrupt (found by CI, whose examples
+    were interrupted so)."""
+    program = tmp_path / "opening.py"
+    nowhere = endpoint(free_port())
+    program.write_text(
+        "from facing_service import FacingClient\n"
+        "from facing_service.testing import loopback_config\n"
+        f"config = loopback_config(connect=['{nowhere}'])\n"
+        "client = FacingClient(session_config=config, timeout_s=30)\n"
+        "print('opening', flush=True)\n"
+        "client.open()\n"
+    )
+    proc = subprocess.Popen(
+        [sys.executable, str(program)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    try:
+        assert proc.stdout is not None and proc.stdout.readline() == "opening\n"
+        time.sleep(1.0)  # inside open: subscribed, waiting for a service's token
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=20)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert "KeyboardInterrupt" in err, err

@@ -3,6 +3,7 @@ the person's results go on, and the status tells the truth."""
 
 from __future__ import annotations
 
+import contextlib
 import time
 
 import pytest
@@ -123,18 +124,20 @@ def test_an_oversized_message_is_refused_undecoded(net, robot_and_service):
     huge = tf_message(*many)
     assert len(huge) > 1 << 20
     person_then(robot, huge)
-    deadline = time.monotonic() + 5
-    while sum(i.kind == "put" for i in results.items) < 30:
-        assert time.monotonic() < deadline, "the person's results stopped"
-        time.sleep(0.02)
-    # (the big message travels in fragments: the person's later ones may overtake it)
-    # its fragments take longer than the person's samples on a busy machine (CI builds
-    # the image beside the tests): a generous wait, no timing asserted
-    _wait(
-        lambda: service.status().rejected["payload_too_large"] == 1,
-        30.0,
-        "the oversized message was never refused",
-    )
+    # The big message travels in fragments (the person's later ones may overtake it),
+    # and /tf is DROP as rmw_zenoh declares it: on a busy machine (CI builds the image
+    # beside the tests) the robot's or the router's queue may drop it whole (seen in CI),
+    # as it would on a robot. So the robot sends it again until one arrives; every one
+    # that arrives is refused.
+    for _ in range(5):
+        with contextlib.suppress(AssertionError):
+            _wait(lambda: service.status().rejected["payload_too_large"] >= 1, 10.0)
+            break
+        robot.publish("/tf", TF, huge)
+    assert service.status().rejected["payload_too_large"] >= 1, "never refused"
+    # the person goes on (a pose after the stream, the queues drained: none dropped)
+    robot.publish("/tf", TF, tf_message(transform("base_link", "body_a", 20 * S, (2.0, 0, 0))))
+    results.wait_for(lambda i: i.kind == "put" and i.value["stamp"]["sec"] == 20, timeout=10)
     assert service.status().status == "ok"
     assert not service._input.people.tf.has_frame("f0")
 

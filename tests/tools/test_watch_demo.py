@@ -73,8 +73,11 @@ def test_watch_once_shows_a_known_scene(net):
     wait_until_answered(tracker, "hri/facing/base_link")
     flags = ("--once", "--wait-s", "2", "-e", endpoint(port), *LOOPBACK_FLAGS)
     with running_cli("watch", *flags) as watcher:
-        # a tracker streams: the view, whenever it has subscribed, sees the scene
-        for sec in range(1, 16):
+        # a tracker streams until the view is done: whenever it has subscribed (its start
+        # takes seconds on a loaded machine), it sees the scene
+        sec = 0
+        while watcher.poll() is None and sec < 300:
+            sec += 1
             ann = pose_json("ann", "base_link", x=2.0, y=1.0, off_deg=5.0, sec=sec)
             ben = pose_json("ben", "base_link", x=-1.5, y=0.5, yaw_deg=90.0, sec=sec)
             send(tracker, "hri/bodies/ann/pose/base_link", ann)
