@@ -58,9 +58,7 @@ class JsonSender:
     """Sends the JSON output's publications. ``capacity``: the most bodies tracked (each
     has a result and an engagement key declared)."""
 
-    kinds = frozenset(
-        {Kind.RESULT, Kind.FRAME, Kind.ENGAGEMENT, Kind.EVENT, Kind.DELETE, Kind.SCENE}
-    )
+    kinds = frozenset({Kind.RESULT, Kind.FRAME, Kind.ENGAGEMENT, Kind.EVENT, Kind.SCENE})
 
     def __init__(self, session: zenoh.Session, namespace: str, capacity: int, heard: Heard):
         self._session = session
@@ -79,7 +77,7 @@ class JsonSender:
     def send(self, p: Publication) -> None:
         """One publication, on its declared key when it has one."""
         key: zenoh.KeyExpr | str | None = self._keys.exprs.get(p.key)
-        if p.payload is None:  # Kind.DELETE: the body is lost (or a group dissolved)
+        if p.payload is None:  # a DELETE: the body is lost (or a group dissolved)
             self._session.delete(p.key if key is None else key, congestion_control=BLOCK)
             self._keys.forget(p.key)
             return

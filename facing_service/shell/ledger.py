@@ -22,7 +22,7 @@ from typing import Any
 from ..contract.keys import cut
 from ..contract.poses import Rejection
 from ..contract.schemas import ServiceStatus
-from .outbox import Kind, Outbox
+from .outbox import Kind, Outbox, Publication
 
 log = logging.getLogger("facing_service")
 
@@ -47,10 +47,12 @@ SENT = {
     Kind.FRAME: "frames_published",
     Kind.ENGAGEMENT: "engagement_published",
     Kind.EVENT: "events_published",
-    Kind.DELETE: "deletes_published",
     Kind.ROS: "ros_published",
     Kind.SCENE: "scene_published",
 }
+#: A body lost: the DELETEs of its result and engagement keys, counted apart.
+LOST = "deletes_published"
+_BODY_KEYS = frozenset({Kind.RESULT, Kind.ENGAGEMENT})
 PUBLISH_ERRORS = "publish_errors"
 #: Every counter the service reports, present from the start (at 0), in this order.
 COUNTERS = (
@@ -117,7 +119,7 @@ class Ledger:
 
     def __init__(self, clock: Callable[[], float]) -> None:
         self.decided = dict.fromkeys(DECIDED, 0)  # written by the worker only
-        self.sent = dict.fromkeys((*SENT.values(), PUBLISH_ERRORS), 0)  # the publisher only
+        self.sent = dict.fromkeys((*SENT.values(), LOST, PUBLISH_ERRORS), 0)  # the publisher only
         self.rejected = dict.fromkeys(Rejection, 0)  # the worker only
         self.tracked: dict[str, int] = {}  # replaced whole by the worker, never mutated
         self.rejection_log = RejectionLog(clock)
@@ -133,9 +135,15 @@ class Ledger:
 
     # -- the publisher's side ------------------------------------------------------------
 
-    def count_sent(self, kind: Kind | None) -> None:
-        """One publication sent (``kind``), or failed to send (None)."""
-        self.sent[PUBLISH_ERRORS if kind is None else SENT[kind]] += 1
+    def count_sent(self, publication: Publication | None) -> None:
+        """One publication sent, or failed to send (None)."""
+        if publication is None:
+            counter = PUBLISH_ERRORS
+        elif publication.payload is None and publication.kind in _BODY_KEYS:
+            counter = LOST
+        else:
+            counter = SENT[publication.kind]
+        self.sent[counter] += 1
 
     # -- readers (any thread) ------------------------------------------------------------
 

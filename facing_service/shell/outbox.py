@@ -34,13 +34,17 @@ DEFAULT_STALL_S = 0.5
 
 
 class Kind(str, Enum):
-    RESULT = "result"  # per-body result: may be superseded past the limit
-    FRAME = "frame"  # per-frame aggregate: a state change, never superseded
-    ENGAGEMENT = "engagement"  # per-body engagement level: never superseded
-    EVENT = "event"  # a change of engagement level: never superseded
-    DELETE = "delete"  # a body lost: a state change, never superseded
-    ROS = "ros"  # a message on the robot's own topics (--output ros2): never superseded
-    SCENE = "scene"  # a frame's groups, a group (PUT or DELETE), who faces whom: never superseded
+    """What a publication says: the sender that sends it (the robot's for ROS, the JSON
+    output's for the others) and the counter that counts it. Whether it is a PUT or a
+    DELETE is the payload's (None: DELETE), and whether it may be superseded is
+    ``Publication.supersedable``'s: neither is a kind."""
+
+    RESULT = "result"  # a body's facing result
+    FRAME = "frame"  # a frame's aggregate
+    ENGAGEMENT = "engagement"  # a body's engagement level
+    EVENT = "event"  # a change of engagement level
+    ROS = "ros"  # a message on the robot's own topics (--output ros2)
+    SCENE = "scene"  # a frame's groups, a group, who faces whom
 
 
 class Publication(NamedTuple):
@@ -48,9 +52,17 @@ class Publication(NamedTuple):
     cheapest immutable record Python builds (a frozen dataclass cost 8 % of the worker)."""
 
     key: str  # a zenoh key; for Kind.ROS, the ROS topic
-    payload: bytes | None  # None for a DELETE (for Kind.ROS: undeclare the topic)
+    #: None: a DELETE (a body lost: its result and engagement keys; a group dissolved;
+    #: for Kind.ROS: undeclare the topic)
+    payload: bytes | None
     kind: Kind
     typename: str | None = None  # Kind.ROS: the message type
+
+    @property
+    def supersedable(self) -> bool:
+        """Only a body's result may be replaced by its newer one, past the limit: every
+        other publication, and every DELETE, is a state change sent as it is."""
+        return self.kind is Kind.RESULT and self.payload is not None
 
 
 class Outbox:
@@ -82,7 +94,7 @@ class Outbox:
             conflate = self._stalled()
             for publication in publications:
                 slot = next(self._slots)
-                if publication.kind is Kind.RESULT:
+                if publication.supersedable:
                     if conflate and len(pending) >= self.limit:
                         old = latest.get(publication.key)
                         if old is not None and pending.pop(old, None) is not None:

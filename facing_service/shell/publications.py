@@ -77,6 +77,7 @@ def publications(changes: Changes, us: Speaker, results: bool = True) -> list[Pu
     then its event when the level changed); then the lost bodies' DELETEs; then the
     frames' aggregates."""
     namespace, instance = us
+    result = Kind.RESULT
     out = result_publications(changes.results, us) if results else []
     for update in changes.engagement:
         if update.level is not Level.UNKNOWN:
@@ -97,11 +98,11 @@ def publications(changes: Changes, us: Speaker, results: bool = True) -> list[Pu
             )
     for body in changes.lost:
         out.append(
-            Publication(keys.facing_key(namespace, body.body_id, body.frame_id), None, Kind.DELETE)
+            Publication(keys.facing_key(namespace, body.body_id, body.frame_id), None, result)
         )
         out.append(
             Publication(
-                keys.engagement_key(namespace, body.body_id, body.frame_id), None, Kind.DELETE
+                keys.engagement_key(namespace, body.body_id, body.frame_id), None, Kind.ENGAGEMENT
             )
         )
     out.extend(

@@ -52,7 +52,7 @@ class Publisher:
                 for p in publications:
                     try:
                         send[p.kind](p)
-                        self._ledger.count_sent(p.kind)
+                        self._ledger.count_sent(p)
                     except zenoh.ZError:
                         if self._closing.is_set():
                             return  # the session closed under a blocked put: shutting down

@@ -7,7 +7,7 @@ import logging
 
 from facing_service.contract.poses import Rejection
 from facing_service.shell.ledger import COUNTERS, REJECTION_LOG_PERIOD_S, Ledger
-from facing_service.shell.outbox import Kind, Outbox
+from facing_service.shell.outbox import Kind, Outbox, Publication
 
 IDENTITY = {
     "status": "ok",
@@ -41,8 +41,15 @@ def test_what_each_side_counts_lands_under_its_name():
     ledger.count("samples_accepted", 3)
     ledger.count("queries_answered")
     ledger.reject(Rejection.SCHEMA, "hri/bodies/a/pose/cam", "x: missing")
-    for kind in (Kind.RESULT, Kind.RESULT, Kind.DELETE, Kind.ROS, None):
-        ledger.count_sent(kind)
+    sent = [
+        Publication("hri/bodies/a/facing/cam", b"{}", Kind.RESULT),
+        Publication("hri/bodies/b/facing/cam", b"{}", Kind.RESULT),
+        Publication("hri/bodies/a/facing/cam", None, Kind.RESULT),  # a lost: a DELETE
+        Publication("/humans/bodies/tracked", b"\0", Kind.ROS),
+        None,  # failed
+    ]
+    for publication in sent:
+        ledger.count_sent(publication)
     ledger.tracked = {"cam": 2, "map": 1}
     status = ledger.status(Outbox(), **IDENTITY)
     counted = {k: v for k, v in status.counters.items() if v}
@@ -65,7 +72,7 @@ def test_the_outbox_depth_is_read_before_the_counters():
 
     class SendsWhileMeasured(Outbox):
         def __len__(self) -> int:
-            ledger.count_sent(Kind.RESULT)  # the last one goes out right after the read
+            ledger.count_sent(Publication("r", b"{}", Kind.RESULT))  # right after the read
             return 0
 
     status = ledger.status(SendsWhileMeasured(), **IDENTITY)

@@ -29,7 +29,8 @@ def test_json_keys_say_results_while_heard_and_state_changes_always():
     unheard = output.on_changes(first)
     assert Kind.RESULT not in {p.kind for p in unheard}
     assert [p.kind for p in unheard] == [p.kind for p in said if p.kind is not Kind.RESULT]
-    assert {p.kind for p in output.on_changes(lost)} >= {Kind.DELETE, Kind.FRAME}
+    said_lost = {(p.kind, p.payload is None) for p in output.on_changes(lost)}
+    assert said_lost >= {(Kind.RESULT, True), (Kind.ENGAGEMENT, True), (Kind.FRAME, False)}
 
 
 def test_a_subscriber_appearing_wakes_the_worker_to_say_every_current_result():
