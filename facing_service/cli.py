@@ -24,7 +24,7 @@ from rich.console import Console
 from .arguments import build_parser
 from .client import health
 from .client.client import FacingClient
-from .client.sim import Scene, TrackerPublisher, nobody_heard, simulate
+from .client.sim import Crowd, TrackerPublisher, nobody_heard, simulate
 from .client.watch import Watcher
 from .config.disclosure import zenoh_failure
 from .config.patience import open_patiently
@@ -157,7 +157,7 @@ def _simulate(args: argparse.Namespace) -> int:
         try:
             ticks = simulate(
                 publish,
-                Scene(people=args.people, seed=args.seed),
+                Crowd(people=args.people, seed=args.seed),
                 args.base_frame,
                 settings.namespace,
                 args.rate_hz,
@@ -270,12 +270,12 @@ def _demo(args: argparse.Namespace) -> int:
     if settings is None:
         return 2
     logging.basicConfig(level=logging.WARNING)
-    scene = Scene(people=args.people, seed=args.seed)
+    crowd = Crowd(people=args.people, seed=args.seed)
 
     def simulated(
         publish: Callable[[str, bytes | None], None], should_stop: Callable[[], bool]
     ) -> None:
-        simulate(publish, scene, args.base_frame, settings.namespace, args.rate_hz,
+        simulate(publish, crowd, args.base_frame, settings.namespace, args.rate_hz,
                  should_stop=should_stop)  # fmt: skip
 
     with nullcontext() if args.camera is None else _without_native_chatter():

@@ -128,11 +128,9 @@ class FacingClient:
         # Liveliness first (with the tokens already there), so results are judged by
         # who is alive; then subscribe, then seed: a result arriving meanwhile is newer
         # than the query's answer and is kept (states only move forward in stamp order).
-        self._subscribers.append(
-            session.liveliness().declare_subscriber(
-                keys.service_token(self.namespace, "*"), self._on_token, history=True
-            )
-        )
+        tokens = keys.service_token(self.namespace, "*")
+        live = session.liveliness().declare_subscriber(tokens, self._on_token, history=True)
+        self._subscribers.append(live)
         facing = keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame)
         self._subscribers.append(session.declare_subscriber(facing, self._on_sample))
         events = keys.event_key(self.namespace, self.frame)
@@ -145,11 +143,8 @@ class FacingClient:
             where = mode_and_endpoints(self._config, "connect")[1]
             self.absence = no_service_seen(session, self.namespace, where)
             if log_absence:
-                log.warning(
-                    "%s within %.1f s; the cache fills as results arrive",
-                    self.absence,
-                    self.timeout_s,
-                )
+                said = "%s within %.1f s; the cache fills as results arrive"
+                log.warning(said, self.absence, self.timeout_s)
 
     def _wait_for_service(self) -> bool:
         """Wait (up to ``timeout_s``) until a service's liveliness token is visible. A

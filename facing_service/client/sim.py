@@ -1,10 +1,10 @@
-"""Synthetic scenes: people walking around a robot, stopping, turning toward it and away,
+"""A synthetic crowd: people walking around a robot, stopping, turning toward it and away,
 appearing and leaving, seen through a noisy body tracker.
 
-Pure and deterministic: ``Scene.step(dt)`` advances the world and returns what a tracker
+Pure and deterministic: ``Crowd.step(dt)`` advances the world and returns what a tracker
 would publish for that tick (poses, and ids that were lost), all from one seeded random
 generator, so the same seed always gives the same poses. ``simulate`` is the thin shell
-that publishes a scene over zenoh at a rate.
+that publishes a crowd over zenoh at a rate.
 """
 
 from __future__ import annotations
@@ -71,14 +71,14 @@ class Tick:
 
 
 @dataclass
-class Scene:
+class Crowd:
     people: int = 5
     seed: int = 0
-    #: Time at which the scene starts (the stamps' origin), in seconds.
+    #: Time at which the crowd starts (the stamps' origin), in seconds.
     start_s: float = 1_700_000_000.0
     _rng: random.Random = field(init=False)
     _now: float = field(init=False, default=0.0)
-    _crowd: dict[str, Walker] = field(init=False, default_factory=dict)
+    _walkers: dict[str, Walker] = field(init=False, default_factory=dict)
     _next_id: int = field(init=False, default=1)
 
     def __post_init__(self) -> None:
@@ -94,12 +94,12 @@ class Scene:
         """Advance by ``dt`` seconds; the tracker's view of the new instant."""
         self._now += dt
         lost = []
-        for person in list(self._crowd.values()):
+        for person in list(self._walkers.values()):
             self._move(person, dt)
             if person.activity is Activity.LEAVING and math.hypot(person.x, person.y) > AREA_M:
-                del self._crowd[person.body_id]
+                del self._walkers[person.body_id]
                 lost.append(person.body_id)
-        while len(self._crowd) < self.people:
+        while len(self._walkers) < self.people:
             self._arrive()
         # integer nanoseconds: stamps never step back through a rounding carry
         sec, nanosec = divmod(round((self.start_s + self._now) * 1e9), 1_000_000_000)
@@ -113,7 +113,7 @@ class Scene:
                 sec,
                 nanosec,
             )
-            for p in self._crowd.values()
+            for p in self._walkers.values()
         ]
         return Tick(poses, lost)
 
@@ -130,7 +130,7 @@ class Scene:
             until_s=self._now,
         )
         self._next_id += 1
-        self._crowd[person.body_id] = person
+        self._walkers[person.body_id] = person
         self._choose(person)
 
     def _choose(self, person: Walker) -> None:
@@ -189,7 +189,7 @@ def pose_message(pose: TrackedPose, frame_id: str) -> bytes:
 
 def simulate(
     publish: Callable[[str, bytes | None], None],
-    scene: Scene,
+    crowd: Crowd,
     frame_id: str,
     namespace: str = "hri",
     rate_hz: float = 30.0,
@@ -198,14 +198,14 @@ def simulate(
     clock: Callable[[], float] = time.monotonic,
     sleep: Callable[[float], None] = time.sleep,
 ) -> int:
-    """Publish ``scene`` in real time: ``publish(key, payload)`` for each pose and
+    """Publish ``crowd`` in real time: ``publish(key, payload)`` for each pose and
     ``publish(key, None)`` (a DELETE) for each person lost. Returns the ticks published.
     ``clock`` and ``sleep`` pace it (tests give their own, so they need not wait)."""
     period = 1.0 / rate_hz
     started = clock()
     ticks = 0
     while not should_stop() and (duration_s is None or ticks * period < duration_s):
-        tick = scene.step(period)
+        tick = crowd.step(period)
         for pose in tick.poses:
             publish(keys.pose_key(namespace, pose.body_id, frame_id), pose_message(pose, frame_id))
         for body_id in tick.lost:

@@ -25,10 +25,10 @@ import numpy as np
 from ..contract.levels import Level
 from ..contract.poses import Pose
 from ..contract.stamps import ZERO, Time
+from ..core.snapshot import TurnSnapshot
 from ..core.social.groups import Group
 from ..core.social.join import JoinPose
-from ..core.social.scene import ROBOT, Greeting
-from ..core.view import TurnView
+from ..core.social.scene import ROBOT, PlaceToGreet
 from . import types as ros2_types
 
 MARKER_ARRAY = "visualization_msgs/msg/MarkerArray"
@@ -62,14 +62,14 @@ class PersonMarker:
     distance_m: float | None
 
 
-def drawn(view: TurnView) -> dict[str, list[PersonMarker]]:
+def drawn(snapshot: TurnSnapshot) -> dict[str, list[PersonMarker]]:
     """Every tracked person as the markers draw them, by frame."""
-    levels = view.levels
+    levels = snapshot.levels
     poses: dict[str, dict[str, Pose]] = {}
     out: dict[str, list[PersonMarker]] = {}
-    for s in view.states:
+    for s in snapshot.states:
         if s.frame_id not in poses:
-            poses[s.frame_id] = dict(view.poses(s.frame_id))
+            poses[s.frame_id] = dict(snapshot.poses(s.frame_id))
         pose = poses[s.frame_id][s.body_id]
         out.setdefault(s.frame_id, []).append(
             PersonMarker(s.body_id, pose.translation, pose.rotation,
@@ -219,7 +219,7 @@ class MarkerDrawer:
         stamp: Time,
         people: Sequence[PersonMarker],
         groups: Sequence[Group],
-        greetings: Sequence[Greeting] = (),
+        greetings: Sequence[PlaceToGreet] = (),
     ) -> bytes:
         where = {p.id: (p.translation[0], p.translation[1]) for p in people}
         markers = [mk for p in people for mk in person_markers(frame, stamp, p)]

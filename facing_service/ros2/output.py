@@ -45,9 +45,9 @@ from ..contract.levels import Level
 from ..contract.schemas import FrameFacing
 from ..contract.stamps import ZERO, Time
 from ..core.records import Changes, EngagementUpdate
+from ..core.snapshot import TurnSnapshot
 from ..core.social.join import JoinPose
 from ..core.social.scene import SceneUpdate
-from ..core.view import TurnView
 from . import types as ros2_types
 from .markers import (
     MARKER_ARRAY,
@@ -248,16 +248,16 @@ class RosOutput:
             self._said_gazing.pop(update.frame_id, None)  # bounded: frames come and go
         return scene_messages(update, said)
 
-    def tick(self, now: float, view: TurnView) -> list[RosMessage]:
+    def tick(self, now: float, snapshot: TurnSnapshot) -> list[RosMessage]:
         """Every period: each tracked person's current level, as hri_engagement does,
-        each current group, and the markers (every tracked person, by frame). ``view``
+        each current group, and the markers (every tracked person, by frame). ``snapshot``
         is read only when the period is due (the worker calls ``tick`` once ``next_tick``
         has come)."""
         if now < self.next_tick:
             return []
         self.next_tick = now + self.period_s
-        out = [engagement_status(e) for e in view.engagements if e.body_id.startswith(PERSON)]
-        by_frame = {scene.frame_id: scene for scene in view.scenes}
+        out = [engagement_status(e) for e in snapshot.engagements if e.body_id.startswith(PERSON)]
+        by_frame = {scene.frame_id: scene for scene in snapshot.scenes}
         placed: list[RosMessage] = []
         for scene in by_frame.values():
             out += [
@@ -270,7 +270,7 @@ class RosOutput:
         if now < self._next_markers:
             return out
         self._next_markers = now + MARKER_PERIOD_S
-        return out + self._markers(drawn(view), by_frame)
+        return out + self._markers(drawn(snapshot), by_frame)
 
     def _markers(
         self, people: dict[str, list[PersonMarker]], scenes: dict[str, SceneUpdate]

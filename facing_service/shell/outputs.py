@@ -1,7 +1,7 @@
 """The service's output forms, as types: one ``Output`` protocol, one class per form.
 
 Each form turns what the worker decided (the tracker's changes, a scene's update, and
-every period the turn's view) into publications, in the order they must go out, and
+every period the turn's snapshot) into publications, in the order they must go out, and
 brings the sender that puts them on the wire from the publisher thread, with every zenoh
 declaration of its own (our JSON keys: ``json_sender``; the robot's topics: declared
 publishers and liveliness tokens). The JSON form is always on (it is the contract);
@@ -16,8 +16,8 @@ from typing import Protocol
 import zenoh
 
 from ..core.records import Changes
+from ..core.snapshot import TurnSnapshot
 from ..core.social.scene import SceneUpdate
-from ..core.view import TurnView
 from ..ros2.output import RosOutput
 from .json_sender import Heard, JsonSender
 from .outbox import Kind, Publication
@@ -52,8 +52,8 @@ class Output(Protocol):
         """What a frame's scene update calls for."""
         ...
 
-    def tick(self, now: float, view: TurnView) -> list[Publication]:
-        """What time alone calls for (periodic messages), read from the turn's view."""
+    def tick(self, now: float, snapshot: TurnSnapshot) -> list[Publication]:
+        """What time alone calls for (periodic messages), read from the turn's snapshot."""
         ...
 
     def next_due(self) -> float | None:
@@ -90,12 +90,12 @@ class JsonOutput:
     def on_scene(self, update: SceneUpdate) -> list[Publication]:
         return scene_publications(update, self._us)
 
-    def tick(self, now: float, view: TurnView) -> list[Publication]:
+    def tick(self, now: float, snapshot: TurnSnapshot) -> list[Publication]:
         """A subscriber appeared: every tracked body's current result, at once."""
         if not self._heard.joined:
             return []
         self._heard.joined = False
-        return result_publications(view.states, self._us)
+        return result_publications(snapshot.states, self._us)
 
     def next_due(self) -> float | None:
         return 0.0 if self._heard.joined else None
@@ -128,8 +128,8 @@ class RosTopicsOutput:
     def on_scene(self, update: SceneUpdate) -> list[Publication]:
         return ros_publications(self._ros.on_scene(update))
 
-    def tick(self, now: float, view: TurnView) -> list[Publication]:
-        return ros_publications(self._ros.tick(now, view))
+    def tick(self, now: float, snapshot: TurnSnapshot) -> list[Publication]:
+        return ros_publications(self._ros.tick(now, snapshot))
 
     def next_due(self) -> float | None:
         return self._ros.next_tick

@@ -1,5 +1,5 @@
 """Queries on the service's output key spaces, answered by the worker in order with the
-samples (a query sent after a pose sees its result) from the turn's view of the tracker
+samples (a query sent after a pose sees its result) from the turn's snapshot of the tracker
 and the scenes (as everything else the service says is read), never the network."""
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from ..contract.errors import unknown_frame_detail
 from ..contract.schemas import QueryError
 from ..contract.stamps import ZERO
 from ..core.records import frame_facing
+from ..core.snapshot import TurnSnapshot
 from ..core.social.scene import nobody
-from ..core.view import TurnView
 from .json_sender import JSON
 from .ledger import Ledger
 from .publications import (
@@ -41,11 +41,11 @@ class Answers:
         self.us = Speaker(namespace, instance)
         self._ledger = ledger
 
-    def __call__(self, item: QueryItem, view: TurnView) -> None:
-        answer(item, view, self._ledger, self.us)
+    def __call__(self, item: QueryItem, snapshot: TurnSnapshot) -> None:
+        answer(item, snapshot, self._ledger, self.us)
 
 
-def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Speaker) -> None:
+def answer(item: QueryItem, snapshot: TurnSnapshot, ledger: Ledger, us: Speaker) -> None:
     """Reply with the current state of every matching key, one reply per key."""
     query = item.query
     try:
@@ -61,15 +61,19 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Speaker) -> None
         )
         query.drop()
         return
-    states, frames = (view.states, view.frames) if threshold is None else view.evaluate(threshold)
-    engagements = view.engagements if item.space is QuerySpace.ENGAGEMENT else []
+    states, frames = (
+        (snapshot.states, snapshot.frames) if threshold is None else snapshot.evaluate(threshold)
+    )
+    engagements = snapshot.engagements if item.space is QuerySpace.ENGAGEMENT else []
     replies = [
         (key, payload)
-        for key, payload in query_replies(item.space, us, states, frames, engagements, view.scenes)
+        for key, payload in query_replies(
+            item.space, us, states, frames, engagements, snapshot.scenes
+        )
         if query.key_expr.intersects(zenoh.KeyExpr(key))
     ]
     if not replies:
-        replies, refusal = _nothing_matched(item.space, str(query.key_expr), view, us)
+        replies, refusal = _nothing_matched(item.space, str(query.key_expr), snapshot, us)
     else:
         refusal = None
     ledger.count("queries_answered")  # before the replies: a status read after them agrees
@@ -81,7 +85,7 @@ def answer(item: QueryItem, view: TurnView, ledger: Ledger, us: Speaker) -> None
 
 
 def _nothing_matched(
-    space: QuerySpace, selector: str, view: TurnView, us: Speaker
+    space: QuerySpace, selector: str, snapshot: TurnSnapshot, us: Speaker
 ) -> tuple[list[tuple[str, bytes]], QueryError | None]:
     """A query that names one frame (its last chunk) and matched nothing still gets an
     answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
@@ -94,9 +98,9 @@ def _nothing_matched(
     if "*" in frame or "$" in frame:
         return [], None
     ns, instance = us
-    empty = view.empty_scene(frame)
-    if empty is None and frame not in view.tracked:
-        detail = unknown_frame_detail(frame, view.tracked)
+    empty = snapshot.empty_scene(frame)
+    if empty is None and frame not in snapshot.tracked:
+        detail = unknown_frame_detail(frame, snapshot.tracked)
         return [], QueryError(error="unknown_frame", detail=detail)
     scene = empty or nobody(frame, ZERO)
     if space in SCENE_SPACES:
@@ -106,7 +110,7 @@ def _nothing_matched(
             frame_facing(frame, empty.stamp if empty is not None else None, [], []), instance
         )
         return [(keys.frame_key(ns, frame), said)], None
-    if view.tracked.get(frame, 0):  # others are there: the body asked for is not
+    if snapshot.tracked.get(frame, 0):  # others are there: the body asked for is not
         detail = f"no body matching {selector!r} is tracked in frame {frame!r} now"
         return [], QueryError(error="not_tracked", detail=detail)
     detail = f"nobody is tracked in frame {frame!r} now"

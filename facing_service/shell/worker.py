@@ -6,7 +6,7 @@ publications to the outbox, and answers queries in order with the samples.
 Each turn: handle what arrived (the input form reads each sample into poses and losses;
 poses go through the core in batches), then what time alone makes due (expiry,
 engagement dwell, the scenes and each output's periodic messages, read from one
-``TurnView`` of the tracker, and the input's diagnosis), then hand the publications over.
+``TurnSnapshot`` of the tracker, and the input's diagnosis), then hand the publications over.
 Each tracker call and its publications are one transaction (``decisions``). A bug met on
 an item is counted and logged and that item alone is lost (``internal_error``); the
 status says "degraded" until a batch succeeds.
@@ -22,7 +22,7 @@ from collections.abc import Callable
 import zenoh
 
 from ..core.records import Changes, PoseSample
-from ..core.view import TurnView
+from ..core.snapshot import TurnSnapshot
 from .decisions import Decisions
 from .intake import Intake
 from .queries import QueryItem
@@ -47,7 +47,7 @@ class Worker:
         self,
         decisions: Decisions,
         intake: Intake,
-        answers: Callable[[QueryItem, TurnView], None],
+        answers: Callable[[QueryItem, TurnSnapshot], None],
         clock: Callable[[], float],
         closing: threading.Event,
     ) -> None:
@@ -85,7 +85,7 @@ class Worker:
         try:
             self._handle(batch)
             self._expire()
-            self._time_tick(TurnView(self._decisions.tracker, self._decisions.scenes))
+            self._time_tick(TurnSnapshot(self._decisions.tracker, self._decisions.scenes))
             self._decisions.source.diagnose()
             self._ledger.rejection_log.maybe_log()
             self._ledger.tracked = self._decisions.tracker.tracked_per_frame()
@@ -139,11 +139,11 @@ class Worker:
         for call in self._decisions.tracker.timed(self._horizon):
             self._decisions.apply(call)
 
-    def _time_tick(self, view: TurnView) -> None:
-        """What time alone makes due, read from the turn's view: each frame whose people
+    def _time_tick(self, snapshot: TurnSnapshot) -> None:
+        """What time alone makes due, read from the turn's snapshot: each frame whose people
         changed (at most ``--group-rate-hz``: who faces whom and its groups, said when
         they changed), then each output's periodic messages."""
-        for update in self._decisions.scenes.tick(self._clock(), view):
+        for update in self._decisions.scenes.tick(self._clock(), snapshot):
             for output in self._decisions.outputs:
                 self._decisions.add(output.on_scene(update))
             if update.left_out:
@@ -151,7 +151,7 @@ class Worker:
         now = self._clock()
         for output in self._decisions.outputs:  # (most turns: none due, and our JSON keys never)
             if (due := output.next_due()) is not None and due <= now:
-                self._decisions.add(output.tick(now, view))
+                self._decisions.add(output.tick(now, snapshot))
 
     def _handle(self, batch: list[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together. An item
@@ -177,9 +177,9 @@ class Worker:
             # What was decided before the query goes out (and is counted) first: a status
             # read after the answer agrees with it, as a result sent before it does.
             self._decisions.to_outbox()
-            view = TurnView(self._decisions.tracker, self._decisions.scenes)
-            self._ledger.tracked = view.tracked  # the status then agrees with the answer
-            self._answers(item, view)
+            snapshot = TurnSnapshot(self._decisions.tracker, self._decisions.scenes)
+            self._ledger.tracked = snapshot.tracked  # the status then agrees with the answer
+            self._answers(item, snapshot)
         elif (loss := self._decisions.source.read(item, poses)) is not None:
             self._decisions.flush(poses, self._horizon)  # the poses before it first
             self._decisions.lose(loss, self._horizon)

@@ -1,4 +1,4 @@
-"""The simulated scene: deterministic, realistic enough, and a tracker's DELETEs."""
+"""The simulated crowd: deterministic, realistic enough, and a tracker's DELETEs."""
 
 from __future__ import annotations
 
@@ -8,23 +8,23 @@ import math
 import numpy as np
 import pytest
 
-from facing_service.client.sim import AREA_M, Scene, simulate
+from facing_service.client.sim import AREA_M, Crowd, simulate
 from facing_service.contract.poses import Pose, decode_pose
 from facing_service.core.detector import classify
 
 
-def run(scene: Scene, steps: int, dt: float = 0.1):
-    return [scene.step(dt) for _ in range(steps)]
+def run(crowd: Crowd, steps: int, dt: float = 0.1):
+    return [crowd.step(dt) for _ in range(steps)]
 
 
-def test_the_same_seed_gives_the_same_scene_and_another_seed_another():
-    assert run(Scene(people=5, seed=3), 300) == run(Scene(people=5, seed=3), 300)
-    assert run(Scene(people=5, seed=3), 50) != run(Scene(people=5, seed=4), 50)
+def test_the_same_seed_gives_the_same_crowd_and_another_seed_another():
+    assert run(Crowd(people=5, seed=3), 300) == run(Crowd(people=5, seed=3), 300)
+    assert run(Crowd(people=5, seed=3), 50) != run(Crowd(people=5, seed=4), 50)
 
 
 def test_people_leave_with_a_delete_and_others_arrive():
-    scene = Scene(people=5, seed=1)
-    ticks = run(scene, 3000)  # five minutes at 10 Hz
+    crowd = Crowd(people=5, seed=1)
+    ticks = run(crowd, 3000)  # five minutes at 10 Hz
     lost = [body for f in ticks for body in f.lost]
     assert lost, "nobody ever left"
     assert len(set(lost)) == len(lost)  # each person leaves once
@@ -36,14 +36,14 @@ def test_people_leave_with_a_delete_and_others_arrive():
 
 
 def test_stamps_strictly_increase_and_poses_stay_near_the_robot():
-    ticks = run(Scene(people=5, seed=2), 600)
+    ticks = run(Crowd(people=5, seed=2), 600)
     stamps = [(f.poses[0].sec, f.poses[0].nanosec) for f in ticks]
     assert all(a < b for a, b in itertools.pairwise(stamps))
     assert all(math.hypot(p.x, p.y) < 2.5 * AREA_M for f in ticks for p in f.poses)
 
 
 def test_people_turn_toward_and_away_from_the_robot():
-    ticks = run(Scene(people=5, seed=0), 600)
+    ticks = run(Crowd(people=5, seed=0), 600)
     facing_share = []
     for f in ticks:
         half = np.radians([p.yaw_deg for p in f.poses]) / 2
@@ -56,14 +56,14 @@ def test_people_turn_toward_and_away_from_the_robot():
 
 def test_jitter_like_a_tracker():
     """Someone standing still, facing the robot, is not published at a constant pose."""
-    scene = Scene(people=1, seed=5)
-    yaws = [f.poses[0].yaw_deg for f in run(scene, 200)]
+    crowd = Crowd(people=1, seed=5)
+    yaws = [f.poses[0].yaw_deg for f in run(crowd, 200)]
     steps = np.abs(np.diff(yaws))
     assert np.median(steps) > 0.5  # degrees of noise from one frame to the next
 
 
 class FakeTime:
-    """The simulator's clock, advanced by its own sleeps: a 20 s scene takes no 20 s."""
+    """The simulator's clock, advanced by its own sleeps: a 20 s crowd takes no 20 s."""
 
     def __init__(self) -> None:
         self.now = 0.0
@@ -82,7 +82,7 @@ def test_simulate_publishes_valid_poses_and_deletes():
     time = FakeTime()
     ticks = simulate(
         lambda key, payload: published.append((key, payload)),
-        Scene(people=3, seed=1),
+        Crowd(people=3, seed=1),
         "base_link",
         rate_hz=1000.0,
         duration_s=20.0,

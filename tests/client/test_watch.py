@@ -12,7 +12,7 @@ from rich.console import Console, Group, RenderableType
 from rich.panel import Panel
 from rich.text import Text
 
-from facing_service.client.sim import Scene
+from facing_service.client.sim import Crowd
 from facing_service.client.watch import PersonView, render
 
 coordinate = st.floats(min_value=-6.0, max_value=6.0, allow_nan=False)
@@ -56,12 +56,12 @@ def test_a_person_at_the_right_edge_is_labelled_as_far_as_the_map_goes():
 
 
 def test_ten_minutes_of_simulated_crowds_draw_at_every_edge():
-    """The demo's scene, sped up: ten minutes of twelve people walking to and past the
+    """The demo's crowd, sped up: ten minutes of twelve people walking to and past the
     map's edges, drawn at every tick at the demo's size and at a small one."""
-    scene = Scene(people=12, seed=3)
+    crowd = Crowd(people=12, seed=3)
     seen_at_edge = 0
     for _ in range(6000):  # 600 s at 10 Hz
-        tick = scene.step(0.1)
+        tick = crowd.step(0.1)
         views = [
             PersonView(p.body_id, p.x, p.y, p.yaw_deg, False, None, None, 20.0, None)
             for p in tick.poses

@@ -79,7 +79,7 @@ def test_scenes_work_a_frame_out_at_most_once_a_period_and_forget_it_when_empty(
     people = {"map": [person("a", 3.0, 2.0, 0), person("b", 4.2, 2.0, 180)]}
     calls = []
 
-    class View:  # the worker's TurnView, as the scenes read it
+    class View:  # the worker's TurnSnapshot, as the scenes read it
         def people(self, frame: str):
             calls.append(frame)
             return people.get(frame, []), Time.of(1)
@@ -191,9 +191,9 @@ def test_a_person_in_a_group_held_with_the_robot_is_not_greeted_while_it_is_said
 def test_over_a_long_simulated_run_nobody_greeted_is_in_a_group_said_beside():
     """Issue 59, over five simulated minutes of eight people: every update and every
     read of the scene says each person engaging either in a group or to greet, never both."""
-    from facing_service.client.sim import Scene
+    from facing_service.client.sim import Crowd
 
-    crowd, scene = Scene(people=8, seed=3), FrameScene("base_link", replace(PARAMS, max_people=8))
+    crowd, scene = Crowd(people=8, seed=3), FrameScene("base_link", replace(PARAMS, max_people=8))
     checked = 0
     for tick in range(3000):
         poses = crowd.step(0.1).poses

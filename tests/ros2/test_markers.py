@@ -157,7 +157,7 @@ def test_markers_go_out_at_most_ten_times_a_second_whatever_the_rate():
     from facing_service.contract.keys import BodyRef
     from facing_service.contract.poses import decode_pose
     from facing_service.core.records import PoseSample
-    from facing_service.core.view import TurnView
+    from facing_service.core.snapshot import TurnSnapshot
     from facing_service.ros2.markers import MARKERS_TOPIC
     from facing_service.ros2.output import RosOutput
 
@@ -170,6 +170,6 @@ def test_markers_go_out_at_most_ten_times_a_second_whatever_the_rate():
     said = [
         m.topic
         for i in range(40)  # one second of ticks at 40 Hz
-        for m in out.tick(i / 40, TurnView(tracker))
+        for m in out.tick(i / 40, TurnSnapshot(tracker))
     ]
     assert said.count(MARKERS_TOPIC) == 10

@@ -75,11 +75,13 @@ def test_levels_go_out_on_change_and_on_every_tick_like_hri_engagement():
     assert intent.intent == "__intent_engage_with__"
     assert json.loads(intent.data) == {"recipient": "p1"}
     tracked = [update("person_p1", Level.ENGAGED, None), update("face_f1", Level.ENGAGED, None)]
-    view = SimpleNamespace(engagements=tracked, levels={}, states=[], scenes=[])  # nobody to draw
-    first = out.tick(0.0, view)
+    snapshot = SimpleNamespace(
+        engagements=tracked, levels={}, states=[], scenes=[]
+    )  # nobody to draw
+    first = out.tick(0.0, snapshot)
     assert [m.topic for m in first] == ["/humans/persons/p1/engagement_status"]
-    assert out.tick(0.05, view) == []  # not due before 1/10 s
-    assert len(out.tick(0.1, view)) == 1
+    assert out.tick(0.05, snapshot) == []  # not due before 1/10 s
+    assert len(out.tick(0.1, snapshot)) == 1
 
 
 def test_a_lost_person_is_said_unknown_once_and_its_topic_goes():
@@ -313,8 +315,8 @@ def test_where_to_stand_goes_out_as_pose_stamped_and_its_topic_goes_with_it():
     from facing_service.contract.keys import BodyRef
     from facing_service.contract.poses import decode_pose
     from facing_service.core.records import PoseSample
+    from facing_service.core.snapshot import TurnSnapshot
     from facing_service.core.social.scene import Scenes
-    from facing_service.core.view import TurnView
     from facing_service.ros2.output import POSE_STAMPED, RosOutput
 
     settings = Settings(base_frame="base_link", group_hold_s=0.0)
@@ -325,9 +327,11 @@ def test_where_to_stand_goes_out_as_pose_stamped_and_its_topic_goes_with_it():
         pose = decode_pose(raw, name, "base_link", 1 << 16)
         tracker.ingest([PoseSample(BodyRef(frame_id="base_link", body_id=name), pose)], 0.0)
     scenes.touch({"base_link"})
-    scenes.tick(0.0, TurnView(tracker, scenes))
+    scenes.tick(0.0, TurnSnapshot(tracker, scenes))
     out = RosOutput(rate_hz=10.0, intents=False)
-    (join,) = [m for m in out.tick(1.0, TurnView(tracker, scenes)) if m.typename == POSE_STAMPED]
+    (join,) = [
+        m for m in out.tick(1.0, TurnSnapshot(tracker, scenes)) if m.typename == POSE_STAMPED
+    ]
     assert join.topic.startswith("/humans/interactions/groups/") and join.topic.endswith("/join")
     message = ros2_types.deserialize(join.payload, POSE_STAMPED)
     assert message.header.frame_id == "base_link"
@@ -335,6 +339,6 @@ def test_where_to_stand_goes_out_as_pose_stamped_and_its_topic_goes_with_it():
     assert abs(message.pose.orientation.z) < 0.1  # facing +x, into the group
     tracker.lose([BodyRef(frame_id="base_link", body_id="bob")], 2.0)
     scenes.touch({"base_link"})
-    scenes.tick(2.0, TurnView(tracker, scenes))
-    gone = [m for m in out.tick(2.0, TurnView(tracker, scenes)) if m.typename == POSE_STAMPED]
+    scenes.tick(2.0, TurnSnapshot(tracker, scenes))
+    gone = [m for m in out.tick(2.0, TurnSnapshot(tracker, scenes)) if m.typename == POSE_STAMPED]
     assert gone == [RosMessage(join.topic, POSE_STAMPED, None)]

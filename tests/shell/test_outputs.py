@@ -7,7 +7,7 @@ from trackers import sample, tracker
 
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
-from facing_service.core.view import TurnView
+from facing_service.core.snapshot import TurnSnapshot
 from facing_service.shell.compose import robot_for
 from facing_service.shell.outbox import Kind
 from facing_service.shell.outputs import JsonOutput, RosTopicsOutput
@@ -44,9 +44,9 @@ def test_a_subscriber_appearing_wakes_the_worker_to_say_every_current_result():
     assert output.next_due() is None and woken == []
     heard.matching(True)  # a subscriber appeared
     assert woken == [True] and output.next_due() == 0.0
-    said = output.tick(0.0, TurnView(t))
+    said = output.tick(0.0, TurnSnapshot(t))
     assert [p.key for p in said] == ["hri/bodies/a/facing/cam", "hri/bodies/b/facing/cam"]
-    assert output.next_due() is None and output.tick(0.0, TurnView(t)) == []
+    assert output.next_due() is None and output.tick(0.0, TurnSnapshot(t)) == []
     heard.matching(True)  # still there: nothing new to say
     assert woken == [True]
 

@@ -65,7 +65,7 @@ class Person:
 
 
 class PeopleOf(Protocol):
-    """Where a frame's people are read from (the worker's turn view)."""
+    """Where a frame's people are read from (the worker's turn snapshot)."""
 
     def people(self, frame_id: str) -> tuple[list[Person], Time]: ...
 
@@ -74,7 +74,7 @@ Pair = tuple[str, str]  # (sender, receiver): the sender faces the receiver
 
 
 @dataclass(frozen=True, slots=True)
-class Greeting:
+class PlaceToGreet:
     """Where the robot should stand to greet a person engaging with it, in no group."""
 
     body_id: str
@@ -94,7 +94,7 @@ class SceneUpdate:
     groups_changed: bool  # the frame's groups are to be said (changed, or said first)
     gazing_changed: bool  # who faces whom is to be said
     left_out: int  # people beyond max_people, not considered
-    greetings: tuple[Greeting, ...] = ()  # people engaging, in no group: where to greet them
+    greetings: tuple[PlaceToGreet, ...] = ()  # people engaging, in no group: where to greet them
 
 
 #: Nobody moved when no position changed by more than this (m) and no rotation by more
@@ -112,7 +112,7 @@ class LastComputation:
     engaging: list[bool]
     heading: np.ndarray
     found: list[tuple[frozenset[str], tuple[float, float]]]
-    greetings: tuple[Greeting, ...]
+    greetings: tuple[PlaceToGreet, ...]
 
     def still(self, ids: list[str], t: np.ndarray, q: np.ndarray, engaging: list[bool]) -> bool:
         return (
@@ -133,7 +133,7 @@ class FrameScene:
     room: RoomScale = field(init=False)
     gazing: frozenset[Pair] = frozenset()
     left_out: int = 0
-    greetings: tuple[Greeting, ...] = ()
+    greetings: tuple[PlaceToGreet, ...] = ()
     stamp: Time = ZERO
     said_once: bool = False
     _worked: LastComputation | None = None
@@ -269,7 +269,7 @@ def _greetings(
     engaging: list[bool],
     labels: np.ndarray,
     p: SceneParams,
-) -> tuple[Greeting, ...]:
+) -> tuple[PlaceToGreet, ...]:
     """For each person engaging (the robot last in ``ids``) and in no group: the place
     ``greet_m`` in front of them, facing them, when nobody else stands nearer to it than
     the join's least clearance."""
@@ -284,7 +284,7 @@ def _greetings(
         if len(others) and np.hypot(*(others - place).T).min() < p.join.min_clearance_m:
             continue
         yaw = math.atan2(-ahead[1], -ahead[0])
-        out.append(Greeting(person, JoinPose(float(place[0]), float(place[1]), yaw)))
+        out.append(PlaceToGreet(person, JoinPose(float(place[0]), float(place[1]), yaw)))
     return tuple(out)
 
 
@@ -322,10 +322,10 @@ class Scenes:
             return None
         return min(self._due.get(f, float("-inf")) for f in self._dirty | self._pending)
 
-    def tick(self, now: float, view: PeopleOf) -> list[SceneUpdate]:
+    def tick(self, now: float, snapshot: PeopleOf) -> list[SceneUpdate]:
         """Work out every frame that is due; the updates of those that changed.
-        ``view.people(frame)`` gives a frame's people and their newest stamp (the
-        worker's ``view.TurnView``)."""
+        ``snapshot.people(frame)`` gives a frame's people and their newest stamp (the
+        worker's ``snapshot.TurnSnapshot``)."""
         if not (self._dirty or self._pending):
             return []
         out = []
@@ -334,7 +334,7 @@ class Scenes:
                 continue
             self._dirty.discard(frame_id)
             self._due[frame_id] = now + self.params.period_s
-            people, stamp = view.people(frame_id)
+            people, stamp = snapshot.people(frame_id)
             scene = self._frames.get(frame_id) or FrameScene(frame_id, self.params)
             self._frames[frame_id] = scene
             update = scene.update(people, stamp, now)

@@ -21,7 +21,7 @@ from .tracker import Tracker
 _ENGAGING = (Level.ENGAGING, Level.ENGAGED)
 
 
-class TurnView:
+class TurnSnapshot:
     """Made by the worker after a turn's input and expiry, before anything reads it; the
     tracker does not change while it is read (one thread owns both)."""
 
