@@ -1,4 +1,4 @@
-"""ROS 2 bags read as the benchmarks and tests need them (the service itself replays a bag
+"""ROS 2 bags read as the benchmarks need them (the service itself replays a bag
 through ``tools.replay``, which sends each message as it is)."""
 
 from __future__ import annotations

@@ -359,3 +359,26 @@ def test_benchmarks_have_no_import_circle():
                     seen.add(there)
                     stack.append((there, [*path, there]))
     assert not circles, circles
+
+
+TESTS = PACKAGE.parent / "tests"
+#: The tests of benchmarks/ itself, and of the pages it generates: they import it.
+OF_BENCHMARKS = re.compile(r"test_benchmarks(_\w+)?\.py|test_docs\.py")
+
+
+def test_the_package_tests_import_nothing_from_benchmarks():
+    """Issue 63: six of the package's tests imported benchmarks (a bag reader, the hot
+    path's harness, a memory reading, GCFF's parameters): a change to a measurement
+    script could break or bend a unit test. They use tests/support or build their own."""
+    importing = []
+    for path in sorted(TESTS.rglob("*.py")):
+        if OF_BENCHMARKS.fullmatch(path.name):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = (
+                [a.name for a in node.names] if isinstance(node, ast.Import)
+                else [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+            )  # fmt: skip
+            if any(n == "benchmarks" or n.startswith("benchmarks.") for n in names):
+                importing.append(str(path.relative_to(TESTS)))
+    assert not importing, importing

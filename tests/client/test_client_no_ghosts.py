@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import contextlib
 import json
-import os
 import random
 import statistics
 import threading
@@ -14,11 +13,11 @@ import time
 import pytest
 import zenoh
 
-from benchmarks.common import rss_mb
 from facing_service import FacingClient
 from facing_service.testing import LOOPBACK_FLAGS, loopback_config, running_cli
 
 from loopback import endpoint, get, send, send_delete, wait_until_answered
+from memory import rss_mb
 from poses import pose_json, replay
 from proxy import Proxy
 
@@ -193,7 +192,7 @@ def test_chaos_kills_and_restarts_leave_no_ghost(net):
     ghosts, checks = 0, 0
     kill_to_lost, restart_to_fresh, service_rss = [], [], []
     config = loopback_config(connect=[ep], mode="client")
-    client_rss_start = rss_mb(os.getpid())
+    client_rss_start = rss_mb()
     try:
         with FacingClient("hri", "cam", session_config=config, timeout_s=0.2) as client:
             stop_watch = threading.Event()
@@ -233,7 +232,7 @@ def test_chaos_kills_and_restarts_leave_no_ghost(net):
         crowd.close()
         raw.undeclare()
         tokens.undeclare()
-    client_rss_end = rss_mb(os.getpid())
+    client_rss_end = rss_mb()
     print(
         f"\nchaos: kill -> client lost: max {max(kill_to_lost):.3f} s, "
         f"median {statistics.median(kill_to_lost):.3f} s; restart -> 20 fresh bodies: "

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import re
 
-from upstream import definition
-
 from facing_service.contract.levels import Level
 from facing_service.ros2.output import ENGAGEMENT_LEVEL
+
+from upstream import definition
 
 
 def test_each_level_is_numbered_as_hri_msgs_numbers_it():

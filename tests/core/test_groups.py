@@ -8,7 +8,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from benchmarks.groups import gcff_params
 from facing_service.core.social.groups import (
     GroupParams,
     RoomScale,
@@ -20,6 +19,11 @@ from facing_service.core.social.groups import (
 )
 
 P = GroupParams()
+
+
+def gcff_params(stride: float, mdl: float) -> GroupParams:
+    """GCFF's own rule in our parameters: one fixed stride for everyone, no cone."""
+    return GroupParams(stride_k=0.0, stride_min=stride, stride_max=stride, cone_deg=0.0, mdl=mdl)
 
 
 def scene(*people: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:

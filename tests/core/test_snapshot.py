@@ -3,12 +3,12 @@ once and only when asked for."""
 
 from __future__ import annotations
 
-from trackers import sample, tracker
-
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.levels import Level
 from facing_service.contract.stamps import Time
 from facing_service.core.snapshot import TurnSnapshot
+
+from trackers import sample, tracker
 
 
 def test_each_part_is_worked_out_once_and_reads_the_tracker_as_the_turn_left_it():

@@ -8,7 +8,6 @@ import random
 
 import pytest
 
-from benchmarks.bags import read_bag
 from facing_service.core.tf.buffer import TfBuffer
 from facing_service.core.tf.errors import (
     ConnectivityError,
@@ -19,6 +18,7 @@ from facing_service.core.tf.errors import (
 )
 from facing_service.core.tf.geometry import RigidTransform
 
+import bags
 from oracles import BAGS, oracle, recording_names
 
 S = 1_000_000_000
@@ -208,7 +208,9 @@ def recording_ops(name: str) -> list[list]:
     which at 1.6e9 s resolve only ~240 ns (it would look up another time than asked);
     tf2's rules only ever compare and subtract stamps, so the shift changes nothing else.
     """
-    messages = [(topic, msg) for topic, _, msg in read_bag(BAGS / name) if topic in TF_TOPICS]
+    messages = [
+        (topic, msg) for topic, _, _, msg in bags.messages(BAGS / name) if topic in TF_TOPICS
+    ]
     base = min(tr.header.stamp.sec for _, msg in messages for tr in msg.transforms) - 100
     ops: list[list] = []
     for topic, msg in messages:

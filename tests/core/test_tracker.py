@@ -8,7 +8,6 @@ import math
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
-from trackers import sample, tracker
 
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.levels import Level
@@ -16,6 +15,8 @@ from facing_service.contract.poses import Pose
 from facing_service.contract.stamps import Time
 from facing_service.core.records import Frame, PoseSample
 from facing_service.core.tracker import Tracker
+
+from trackers import sample, tracker
 
 A = BodyRef(frame_id="cam", body_id="a")
 

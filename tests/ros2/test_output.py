@@ -12,9 +12,7 @@ from types import SimpleNamespace
 
 import pytest
 import zenoh
-from upstream import STANDARD_MSGS, definition
 
-from benchmarks.bags import read_bag
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.poses import Stamp
@@ -34,10 +32,12 @@ from facing_service.ros2.wire import RosFormat, Wire
 from facing_service.tools.replay import Replay
 
 import rmw_zenoh
+from bags import messages
 from loopback import endpoint
 from oracles import BAGS
 from poses import pose_json
 from rmw_zenoh import JAZZY_0_2_10 as JAZZY
+from upstream import STANDARD_MSGS, definition
 
 pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
@@ -270,7 +270,7 @@ def test_replay_records_what_the_service_published(net, tmp_path):
     assert "recorded" in output
     levels = [
         message.level
-        for topic, _, message in read_bag(out)
+        for topic, _, _, message in messages(out)
         if topic == "/humans/persons/rorql/engagement_status"
     ]
     assert Level.ENGAGED in levels
@@ -298,7 +298,7 @@ def test_a_recording_written_as_mcap_replays(net, tmp_path):
     assert list(bag.glob("*.mcap"))
     levels = [
         message.level
-        for topic, _, message in read_bag(bag)
+        for topic, _, _, message in messages(bag)
         if topic == "/humans/persons/rorql/engagement_status"
     ]
     assert Level.ENGAGED in levels  # what the service said is in the bag

@@ -13,11 +13,11 @@ from dataclasses import dataclass
 
 import pytest
 
-from benchmarks.bags import read_bag_raw
 from facing_service.contract.levels import Level
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.wire import Wire, attachment
 
+import bags
 import rmw_zenoh
 from loopback import endpoint
 from network import Network
@@ -78,7 +78,9 @@ def run(net, attack: Attack | None = None, forms=(rmw_zenoh.JAZZY_0_2_10,)) -> t
         attacker = threading.Thread(target=attack, args=(scene,), daemon=True)
         attacker.start()
     try:
-        messages = [m for m in read_bag_raw(RECORDING) if m[1] in rmw_zenoh.TYPE_HASHES]
+        messages = [
+            m for m in bags.messages(RECORDING, decode=False) if m[1] in rmw_zenoh.TYPE_HASHES
+        ]
         start, t0 = messages[0][2], time.monotonic()
         for topic, typename, t, raw in messages:
             wait = (t - start) / 1e9 - (time.monotonic() - t0)

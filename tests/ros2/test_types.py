@@ -8,10 +8,11 @@ import hashlib
 import json
 
 import pytest
-from upstream import STANDARD_MSGS, UPSTREAM, definition
 
 from facing_service.ros2 import types as ros2_types
 from facing_service.ros2.output import INTENT, engage_intent
+
+from upstream import STANDARD_MSGS, UPSTREAM, definition
 
 
 def git_blob_id(data: bytes) -> str:

@@ -7,8 +7,6 @@ from __future__ import annotations
 import logging
 import time
 
-from trackers import sample, tracker
-
 from facing_service.config.profiles import scene_params
 from facing_service.config.settings import Settings
 from facing_service.contract.poses import Rejection
@@ -19,6 +17,8 @@ from facing_service.shell.inputs import JsonInput
 from facing_service.shell.ledger import Ledger
 from facing_service.shell.outbox import Kind, Outbox, Publication
 from facing_service.shell.outputs import JsonOutput
+
+from trackers import sample, tracker
 
 
 class FailsOnBob(JsonOutput):

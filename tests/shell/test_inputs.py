@@ -7,7 +7,6 @@ import logging
 import time
 
 import zenoh
-from service_rig import body_key, pose_key
 
 from facing_service.contract.keys import BodyRef
 from facing_service.core.records import PoseSample
@@ -16,6 +15,7 @@ from facing_service.shell.ledger import Ledger
 
 from loopback import send, send_delete, wait_until
 from poses import pose_json
+from service_rig import body_key, pose_key
 
 
 def is_put(key):

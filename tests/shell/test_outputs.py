@@ -3,14 +3,14 @@ without anyone listening to results, and the robot's topics' start line."""
 
 from __future__ import annotations
 
-from trackers import sample, tracker
-
 from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.core.snapshot import TurnSnapshot
 from facing_service.shell.compose import robot_for
 from facing_service.shell.outbox import Kind
 from facing_service.shell.outputs import JsonOutput, RosTopicsOutput
+
+from trackers import sample, tracker
 
 
 def changes():

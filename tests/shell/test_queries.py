@@ -4,10 +4,10 @@ poses: current state, what-if cones, refusals, and what an unmatched query still
 from __future__ import annotations
 
 import pytest
-from service_rig import FRAME_KEY, NAMESPACE, body_key, pose_key
 
 from loopback import get, send
 from poses import pose_json
+from service_rig import FRAME_KEY, NAMESPACE, body_key, pose_key
 
 
 def test_queries_answer_current_state_and_what_if_thresholds(rig):

@@ -19,6 +19,7 @@ from facing_service.shell.compose import robot_for, robot_reading
 from facing_service.shell.ledger import Ledger
 from facing_service.shell.ros_input import RosInput
 
+from memory import rss_mb
 from ros_messages import string
 
 
@@ -48,16 +49,12 @@ def test_300_000_invented_person_ids_cost_under_15_mb():
     """Every /humans/persons/<id>/body_id topic used to be counted by name, forever:
     300 000 invented ids held 60 MB. Topics are counted by pattern, links are bounded."""
 
-    def rss_mb() -> float:
-        with open("/proc/self/statm") as statm:
-            return int(statm.read().split()[1]) * 4096 / 1e6
-
     robot = ros_input()
     wire, payload = Wire(), string("f1")
     keys = [wire.key(f"/humans/persons/p{i}/body_id", ros2_types.STRING) for i in range(300_000)]
     before = rss_mb()
     for key in keys:
         robot.route(RosSample(key, payload))
-    grown = rss_mb() - before
+    grown = (rss_mb() - before) * 2**20 / 1e6  # MiB -> MB
     print(f"\n300 000 invented person ids: +{grown:.1f} MB")
     assert grown <= 15, grown

@@ -7,12 +7,12 @@ import time
 
 import numpy as np
 import pytest
-from service_rig import FRAME_KEY, NAMESPACE, body_key, pose_key
 
 from facing_service.core.detector import classify
 
 from loopback import get, send, send_delete, wait_until, wait_until_answered
 from poses import pose_dict, pose_json
+from service_rig import FRAME_KEY, NAMESPACE, body_key, pose_key
 
 
 def nonzero(counts: dict[str, int]) -> dict[str, int]:

@@ -10,12 +10,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from lossy_link import TRACKER, JitterProxy, LossyLink, pose_of, unavailable
 
 from facing_service.contract.poses import yaw_rotation
 from facing_service.core.detector import classify
 
 from loopback import endpoint, free_port, wait_until_answered
+from lossy_link import TRACKER, JitterProxy, LossyLink, pose_of, unavailable
 
 pytestmark = pytest.mark.slow
 
