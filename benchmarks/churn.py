@@ -127,7 +127,7 @@ class Consumer:
         except zenoh.ZError:  # the router just back, not listening yet: the next tick
             return
         self.subscriber = self.session.declare_subscriber(
-            keys.facing_key("hri", "*", "map"), self.on_result
+            keys.facing_key("hri", body_id="*", frame_id="map"), self.on_result
         )
         self.joins += 1
 
@@ -235,7 +235,7 @@ def main() -> None:
             wall = time.time_ns()
             in_outage = down_until is not None or any(a <= now - start <= b for a, b in outages)
             for person in list(people):
-                key = keys.pose_key("hri", person.body, "map")
+                key = keys.pose_key("hri", body_id=person.body, frame_id="map")
                 if now >= person.leaves_at:
                     people.remove(person)
                     if person.delete:

@@ -160,7 +160,7 @@ class Driver:
         self.consumes = consumer != "none"
         wanted = {
             "none": None,
-            "results": keys.facing_key(namespace, "*", "*"),
+            "results": keys.facing_key(namespace, body_id="*", frame_id="*"),
             "everything": f"{namespace}/**",
         }[consumer]
         self._subscriber = None
@@ -187,7 +187,7 @@ class Driver:
             key = self._wire.key("/tf", ros2_types.TF_MESSAGE)
             self._send(key, tf_payload(f"b{body}", "base_link", x, y, yaw, sec))
         else:
-            key = keys.pose_key(self.ns, f"b{body}", "base_link")
+            key = keys.pose_key(self.ns, body_id=f"b{body}", frame_id="base_link")
             self._send(key, pose_payload(f"b{body}", "base_link", x, y, yaw, sec))
 
     def _send(self, key: str, payload: bytes) -> None:

@@ -60,7 +60,10 @@ def live_said(frames: Sequence, hold_s: float = 1.0) -> list[list[dict]]:
         tick = 0
         for frame in frames:
             for gone in present - set(frame.ids):
-                tracker.delete(keys.pose_key("hri", f"p{gone}", FRAME), congestion_control=BLOCK)
+                tracker.delete(
+                    keys.pose_key("hri", body_id=f"p{gone}", frame_id=FRAME),
+                    congestion_control=BLOCK,
+                )
             present = set(frame.ids)
             start = time.monotonic()
             for k in range(round(hold_s * RATE_HZ)):
@@ -72,7 +75,7 @@ def live_said(frames: Sequence, hold_s: float = 1.0) -> list[list[dict]]:
                     pose = pose_dict(
                         f"p{i}", FRAME, stamp, (x, y, 0.0), yaw_rotation(math.degrees(heading))
                     )
-                    key = keys.pose_key("hri", f"p{i}", FRAME)
+                    key = keys.pose_key("hri", body_id=f"p{i}", frame_id=FRAME)
                     tracker.put(key, json.dumps(pose), congestion_control=BLOCK)
                 time.sleep(max(0.0, start + (k + 1) / RATE_HZ - time.monotonic()))
             found.append(_groups(tracker))

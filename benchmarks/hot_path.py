@@ -49,7 +49,7 @@ def samples(session: zenoh.Session, bodies: int, rounds: int) -> list[zenoh.Samp
             for b in range(bodies):
                 yaw = 180.0 + (b % 7) * 5.0 + (r % 5)  # some face the robot, some turn
                 payload = pose_payload(f"b{b}", "map", 1.0 + b % 4, 0.1 * (b % 9), yaw, 1 + r)
-                session.put(keys.pose_key("hri", f"b{b}", "map"), payload)
+                session.put(keys.pose_key("hri", body_id=f"b{b}", frame_id="map"), payload)
         taken: list[zenoh.Sample] = []
         deadline = time.monotonic() + 10
         while len(taken) < expected and time.monotonic() < deadline:

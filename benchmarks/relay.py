@@ -38,7 +38,7 @@ def main() -> None:
 
         def output(key: str) -> zenoh.Publisher | zenoh.KeyExpr | str:
             body = keys.body_of(key)
-            out = keys.facing_key(args.namespace, body.body_id, body.frame_id)
+            out = keys.facing_key(args.namespace, body_id=body.body_id, frame_id=body.frame_id)
             if args.style == "publishers":
                 return session.declare_publisher(out, encoding=JSON, congestion_control=BLOCK)
             if args.style == "keys":
@@ -55,7 +55,9 @@ def main() -> None:
             else:
                 session.put(out, sample.payload, encoding=JSON, congestion_control=BLOCK)
 
-        subscriber = session.declare_subscriber(keys.pose_key(args.namespace, "*", "*"), relay)
+        subscriber = session.declare_subscriber(
+            keys.pose_key(args.namespace, body_id="*", frame_id="*"), relay
+        )
         # a queryable so the driver can tell when the relay is up, like the service's status
         ready = session.declare_queryable(
             keys.status_key(args.namespace, "relay"),

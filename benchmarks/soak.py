@@ -60,7 +60,7 @@ def main() -> None:
         for i in range(args.ids):
             send(
                 tracker,
-                keys.pose_key("hri", f"id{i}", "map"),
+                keys.pose_key("hri", body_id=f"id{i}", frame_id="map"),
                 pose_payload(f"id{i}", "map", 2.0, 0.0, 180.0, 1),
             )
             sent += 1
@@ -76,7 +76,7 @@ def main() -> None:
         for i in range(args.garbage):
             send(
                 tracker,
-                keys.pose_key("hri", f"g{i % 50}", "map"),
+                keys.pose_key("hri", body_id=f"g{i % 50}", frame_id="map"),
                 rng.randbytes(rng.randrange(1, 300)),
             )
         sent += args.garbage

@@ -144,7 +144,7 @@ def _simulate(args: argparse.Namespace) -> int:
     if settings is None:
         return 2
     stop = _stop_on_signals()
-    key = keys.pose_key(settings.namespace, "<id>", args.base_frame)
+    key = keys.pose_key(settings.namespace, body_id="<id>", frame_id=args.base_frame)
     until = f" for {args.duration_s:g} s" if args.duration_s else " until Ctrl-C"
     print(f"simulating {args.people} people: poses on {key} at {args.rate_hz:g} Hz{until}")
     try:

@@ -75,7 +75,7 @@ def _publish_faces(args: argparse.Namespace, settings: Settings, stop: threading
     feed = open_feed(options_of(args, settings, source_from_flags(args)), "camera")
     if isinstance(feed, int):
         return feed
-    key = keys.pose_key(settings.namespace, "<id>", args.base_frame)
+    key = keys.pose_key(settings.namespace, body_id="<id>", frame_id=args.base_frame)
     print(f"camera: faces of {feed.options.source.describe()} as poses on {key} (Ctrl-C ends)",
           flush=True)  # fmt: skip
     try:

@@ -138,7 +138,7 @@ def _heads(
 
 
 def _key(options: CameraOptions, face_id: str) -> str:
-    return keys.pose_key(options.namespace, face_id, options.base_frame)
+    return keys.pose_key(options.namespace, body_id=face_id, frame_id=options.base_frame)
 
 
 def _payload(face_id: str, frame: str, stamp: Time, head: HeadPose) -> bytes:

@@ -131,7 +131,7 @@ class FacingClient:
         tokens = keys.service_token(self.namespace, "*")
         live = session.liveliness().declare_subscriber(tokens, self._on_token, history=True)
         self._subscribers.append(live)
-        facing = keys.facing_key(self.namespace, keys.ALL_FRAMES, self.frame)
+        facing = keys.facing_key(self.namespace, body_id=keys.ALL_FRAMES, frame_id=self.frame)
         self._subscribers.append(session.declare_subscriber(facing, self._on_sample))
         events = keys.event_key(self.namespace, self.frame)
         self._subscribers.append(session.declare_subscriber(events, self._on_event))
@@ -350,7 +350,7 @@ class FacingClient:
         return sorted(answers, key=lambda status: status.instance)
 
     def _ask(self, frame: str, threshold_deg: float | None) -> list[FacingState]:
-        selector = keys.facing_key(self.namespace, keys.ALL_FRAMES, frame)
+        selector = keys.facing_key(self.namespace, body_id=keys.ALL_FRAMES, frame_id=frame)
         if threshold_deg is not None:
             selector += f"?threshold_deg={threshold_deg}"
         replies = self._open_session().get(selector, timeout=self.timeout_s)
@@ -399,7 +399,9 @@ class FacingClient:
                     )
                 states = []
             self._scene.seed(self.session, self.timeout_s)
-            selector = keys.engagement_key(self.namespace, keys.ALL_FRAMES, self.frame)
+            selector = keys.engagement_key(
+                self.namespace, body_id=keys.ALL_FRAMES, frame_id=self.frame
+            )
             levels = engagement_states(self.session.get(selector, timeout=self.timeout_s))
         except FacingError as error:  # said in one line: the cache fills as results arrive
             log.warning("facing client: could not query the service: %s", error)

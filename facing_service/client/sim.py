@@ -207,9 +207,12 @@ def simulate(
     while not should_stop() and (duration_s is None or ticks * period < duration_s):
         tick = crowd.step(period)
         for pose in tick.poses:
-            publish(keys.pose_key(namespace, pose.body_id, frame_id), pose_message(pose, frame_id))
+            publish(
+                keys.pose_key(namespace, body_id=pose.body_id, frame_id=frame_id),
+                pose_message(pose, frame_id),
+            )
         for body_id in tick.lost:
-            publish(keys.pose_key(namespace, body_id, frame_id), None)
+            publish(keys.pose_key(namespace, body_id=body_id, frame_id=frame_id), None)
         ticks += 1
         delay = started + ticks * period - clock()
         if delay > 0:

@@ -221,7 +221,7 @@ class Watcher:
                 keys.frame_key(client.namespace, keys.ALL_FRAMES), self._on_frame
             ),
             client.session.declare_subscriber(
-                keys.engagement_key(client.namespace, keys.ALL_FRAMES, frame),
+                keys.engagement_key(client.namespace, body_id=keys.ALL_FRAMES, frame_id=frame),
                 self._on_engagement,
             ),
         ]

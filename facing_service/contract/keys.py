@@ -29,7 +29,9 @@ class BodyRef(NamedTuple):
     """Which body, in which base frame: the identity a pose, a result, a key, the
     tracker's state and the client's callbacks all carry. Both are strings, so a
     transposition would type-check: build it by keyword, ``BodyRef(frame_id=...,
-    body_id=...)``. A tuple underneath, so hashing it costs what a pair costs."""
+    body_id=...)``, as the per-body key builders take them (keyword-only: a key reads
+    ``NS/bodies/<body>/.../<frame>``, the other order). A tuple underneath, so hashing it
+    costs what a pair costs."""
 
     frame_id: str
     body_id: str
@@ -76,15 +78,15 @@ def validate_frame_filter(frame: str) -> str:
     return frame if frame == ALL_FRAMES else validate_name(frame, "base frame")
 
 
-def pose_key(namespace: str, body_id: str, frame_id: str) -> str:
+def pose_key(namespace: str, *, body_id: str, frame_id: str) -> str:
     return f"{namespace}/bodies/{body_id}/pose/{frame_id}"
 
 
-def facing_key(namespace: str, body_id: str, frame_id: str) -> str:
+def facing_key(namespace: str, *, body_id: str, frame_id: str) -> str:
     return f"{namespace}/bodies/{body_id}/facing/{frame_id}"
 
 
-def engagement_key(namespace: str, body_id: str, frame_id: str) -> str:
+def engagement_key(namespace: str, *, body_id: str, frame_id: str) -> str:
     return f"{namespace}/bodies/{body_id}/engagement/{frame_id}"
 
 
@@ -131,7 +133,7 @@ def wake_key(subscription: str) -> str:
 
 def pose_subscription(namespace: str, frame: str) -> str:
     """What the service subscribes to; ``frame`` may be ``*``."""
-    return pose_key(namespace, ALL_FRAMES, frame)
+    return pose_key(namespace, body_id=ALL_FRAMES, frame_id=frame)
 
 
 def mistyped_pose_keys(namespace: str) -> tuple[str, ...]:
@@ -151,15 +153,17 @@ def mistyped_pose_keys(namespace: str) -> tuple[str, ...]:
 def result_queryables(namespace: str) -> tuple[str, str]:
     """The two result key spaces the service answers queries on, in every frame (one it
     does not know is answered ``unknown_frame``, even with a fixed base frame)."""
-    return facing_key(namespace, ALL_FRAMES, ALL_FRAMES), frame_key(namespace, ALL_FRAMES)
+    return facing_key(namespace, body_id=ALL_FRAMES, frame_id=ALL_FRAMES), frame_key(
+        namespace, ALL_FRAMES
+    )
 
 
 def published_spaces(namespace: str) -> tuple[str, ...]:
     """Every key space the service puts or deletes on, for any body and frame."""
     return (
-        facing_key(namespace, ALL_FRAMES, ALL_FRAMES),
+        facing_key(namespace, body_id=ALL_FRAMES, frame_id=ALL_FRAMES),
         frame_key(namespace, ALL_FRAMES),
-        engagement_key(namespace, ALL_FRAMES, ALL_FRAMES),
+        engagement_key(namespace, body_id=ALL_FRAMES, frame_id=ALL_FRAMES),
         event_key(namespace, ALL_FRAMES),
         groups_key(namespace, ALL_FRAMES),
         group_key(namespace, ALL_FRAMES, ALL_FRAMES),
@@ -171,7 +175,7 @@ def served_spaces(namespace: str) -> tuple[str, ...]:
     """Every key space the service answers queries on (its queryables, any frame)."""
     return (
         *result_queryables(namespace),
-        engagement_key(namespace, ALL_FRAMES, ALL_FRAMES),
+        engagement_key(namespace, body_id=ALL_FRAMES, frame_id=ALL_FRAMES),
         groups_key(namespace, ALL_FRAMES),
         gazing_key(namespace, ALL_FRAMES),
         status_key(namespace, ALL_FRAMES),

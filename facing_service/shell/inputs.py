@@ -151,17 +151,17 @@ class JsonInput:
         log.warning(
             "poses on %s are refused: the key is not %s (counted as invalid_key)",
             keys.cut(key),
-            keys.pose_key(self._namespace, "<id>", "<frame>"),
+            keys.pose_key(self._namespace, body_id="<id>", frame_id="<frame>"),
         )
 
     def origin(self, sample: PoseSample) -> str:
-        return keys.pose_key(self._namespace, sample.body_id, sample.frame_id)
+        return keys.pose_key(self._namespace, body_id=sample.body_id, frame_id=sample.frame_id)
 
     def forget(self, bodies: list[BodyRef]) -> None:
         if self.declared_keys is not None:
             for body in bodies:
                 self.declared_keys.forget(
-                    keys.pose_key(self._namespace, body.body_id, body.frame_id)
+                    keys.pose_key(self._namespace, body_id=body.body_id, frame_id=body.frame_id)
                 )
 
     def next_due(self) -> float | None:

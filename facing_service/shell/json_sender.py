@@ -64,7 +64,7 @@ class JsonSender:
         self._session = session
         self._keys = DeclaredKeys(session, 2 * capacity)
         self._heard = heard  # before the listener: it may call back at once, on its thread
-        space = keys.facing_key(namespace, keys.ALL_FRAMES, keys.ALL_FRAMES)
+        space = keys.facing_key(namespace, body_id=keys.ALL_FRAMES, frame_id=keys.ALL_FRAMES)
         self._watch = session.declare_publisher(space)
         self._listener = self._watch.declare_matching_listener(self._on_matching)
         # zenoh 1.10's stub says bool; the property is a MatchingStatus, as the listener's

@@ -66,7 +66,11 @@ def result_publications(states: Iterable[BodyState], us: Speaker) -> list[Public
     namespace, instance = us
     result = Kind.RESULT
     return [
-        Publication(keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance), result)
+        Publication(
+            keys.facing_key(namespace, body_id=s.body_id, frame_id=s.frame_id),
+            s.to_json(instance),
+            result,
+        )
         for s in states
     ]
 
@@ -83,7 +87,9 @@ def publications(changes: Changes, us: Speaker, results: bool = True) -> list[Pu
         if update.level is not Level.UNKNOWN:
             out.append(
                 Publication(
-                    keys.engagement_key(namespace, update.body_id, update.frame_id),
+                    keys.engagement_key(
+                        namespace, body_id=update.body_id, frame_id=update.frame_id
+                    ),
                     engagement_state(update, instance).model_dump_json().encode(),
                     Kind.ENGAGEMENT,
                 )
@@ -98,11 +104,17 @@ def publications(changes: Changes, us: Speaker, results: bool = True) -> list[Pu
             )
     for body in changes.lost:
         out.append(
-            Publication(keys.facing_key(namespace, body.body_id, body.frame_id), None, result)
+            Publication(
+                keys.facing_key(namespace, body_id=body.body_id, frame_id=body.frame_id),
+                None,
+                result,
+            )
         )
         out.append(
             Publication(
-                keys.engagement_key(namespace, body.body_id, body.frame_id), None, Kind.ENGAGEMENT
+                keys.engagement_key(namespace, body_id=body.body_id, frame_id=body.frame_id),
+                None,
+                Kind.ENGAGEMENT,
             )
         )
     out.extend(
@@ -210,14 +222,18 @@ def query_replies(
     space, (namespace, instance) = _space(space), us
     if space is QuerySpace.FACING:
         return [
-            (keys.facing_key(namespace, s.body_id, s.frame_id), s.to_json(instance)) for s in states
+            (
+                keys.facing_key(namespace, body_id=s.body_id, frame_id=s.frame_id),
+                s.to_json(instance),
+            )
+            for s in states
         ]
     if space is QuerySpace.FRAME:
         return [(keys.frame_key(namespace, f.frame_id), frame_json(f, instance)) for f in frames]
     if space is QuerySpace.ENGAGEMENT:
         return [
             (
-                keys.engagement_key(namespace, e.body_id, e.frame_id),
+                keys.engagement_key(namespace, body_id=e.body_id, frame_id=e.frame_id),
                 engagement_state(e, instance).model_dump_json().encode(),
             )
             for e in engagements

@@ -84,7 +84,9 @@ def query_spaces(namespace: str) -> dict[QuerySpace, str]:
     return {
         QuerySpace.FACING: body_space,
         QuerySpace.FRAME: frame_space,
-        QuerySpace.ENGAGEMENT: keys.engagement_key(namespace, keys.ALL_FRAMES, keys.ALL_FRAMES),
+        QuerySpace.ENGAGEMENT: keys.engagement_key(
+            namespace, body_id=keys.ALL_FRAMES, frame_id=keys.ALL_FRAMES
+        ),
         QuerySpace.GROUPS: keys.groups_key(namespace, keys.ALL_FRAMES),
         QuerySpace.GAZING: keys.gazing_key(namespace, keys.ALL_FRAMES),
     }

@@ -4,7 +4,7 @@ from facing_service.contract import keys
 
 
 def test_build_and_parse_round_trip():
-    key = keys.pose_key("robot1/hri", "b-1.x_2", "camera_link")
+    key = keys.pose_key("robot1/hri", body_id="b-1.x_2", frame_id="camera_link")
     assert key == "robot1/hri/bodies/b-1.x_2/pose/camera_link"
     assert keys.parse_pose_key("robot1/hri", key) == keys.BodyRef(
         frame_id="camera_link", body_id="b-1.x_2"
@@ -56,7 +56,7 @@ def test_output_key_spaces():
 def test_the_body_of_any_per_body_key():
     body = keys.body_of("robot1/hri/bodies/p3/engagement/base_link")
     assert (body.body_id, body.frame_id) == ("p3", "base_link")
-    body = keys.body_of(keys.facing_key("hri", "a.b", "cam"))
+    body = keys.body_of(keys.facing_key("hri", body_id="a.b", frame_id="cam"))
     assert (body.body_id, body.frame_id) == ("a.b", "cam")
 
 

@@ -31,7 +31,7 @@ def zenoh_samples(session: zenoh.Session, bodies: int, rounds: int) -> list[zeno
         for sec in range(1, rounds + 1):
             for b in range(bodies):
                 pose = pose_json(f"b{b}", "map", x=2.0, y=0.0, sec=sec)
-                session.put(keys.pose_key("hri", f"b{b}", "map"), pose)
+                session.put(keys.pose_key("hri", body_id=f"b{b}", frame_id="map"), pose)
         return [channel.handler.recv() for _ in range(bodies * rounds)]  # (per-test timeout)
     finally:
         channel.undeclare()

@@ -543,7 +543,7 @@ def test_the_shipped_policy_covers_every_key_space_the_service_has():
     )
     # Trackers may publish poses and nothing of the service's.
     trackers = policy["trackers"]
-    assert _allowed(trackers, "ingress", "put", keys.pose_key("hri", "*", "*"))
+    assert _allowed(trackers, "ingress", "put", keys.pose_key("hri", body_id="*", frame_id="*"))
     assert not any(
         _allowed(trackers, "ingress", m, s)
         for s in keys.published_spaces("hri")
