@@ -5,7 +5,8 @@
 
 Each section is written from a committed results file (benchmarks/results/), never typed
 in: docs/performance.md (latest.json), docs/engagement.md and docs/ros2.md
-(recordings.json, engagement.json), docs/groups.md (groups.json, join.json). The table in
+(recordings.json, engagement.json), docs/groups.md (groups.json, join.json),
+docs/operations.md (churn.json). The table in
 benchmarks/README.md says which command makes each results file.
 """
 
@@ -15,7 +16,7 @@ import argparse
 import sys
 from collections.abc import Callable
 
-from . import engagement_report, groups, join, report
+from . import churn_page, engagement_report, groups, join, report
 
 #: (what, how it is regenerated or checked)
 PAGES: list[tuple[str, Callable[[bool], int]]] = [
@@ -23,6 +24,7 @@ PAGES: list[tuple[str, Callable[[bool], int]]] = [
     ("docs/engagement.md, docs/ros2.md", engagement_report.page),
     ("docs/groups.md: groups", groups.page),
     ("docs/groups.md: where to stand", join.page),
+    ("docs/operations.md: an hour of churn", churn_page.page),
 ]
 
 
