@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -207,9 +208,79 @@ def rule_mode_section(results: dict[str, Any]) -> list[str]:
     return _table(head, rows)
 
 
+#: The shipped head rule and the one it replaced (issue 52): (family, criterion) in
+#: the cross-validation's judged choices.
+NOW = ("cone, soft vote", "at worst")
+BEFORE = ("cone, sustained attention 2 s", "false ENGAGED capped")
+#: A row is "far below" the rule when its ENGAGED-or-not is more points below the rule's.
+FAR_BELOW = 10
+MINUS = "\N{MINUS SIGN}"
+
+
+def _judged(cv: dict[str, Any], which: tuple[str, str]) -> dict[str, Any]:
+    (found,) = [j for j in cv["judged"] if (j["family"], j["criterion"]) == which]
+    return found
+
+
+def _digest_row(name: str, s: dict[str, Any], rows: list[dict[str, Any]], below: str) -> list[str]:
+    """One line of the digest: ``s`` (a summary without the ceiling) and its rows."""
+    rows = [r for r in rows if (r["recording"], r["person"]) != CEILING]
+    missed_worst = max(r["missed"] for r in rows if r["missed"] is not None)
+    return [
+        name, _pct(s["level"]), _pct(s["engaged_or_not"]),
+        f"{_pct(s['false_engaged'])} / {_pct(s['false_engaged_worst'])}",
+        f"{_pct(s['missed'])} / {_pct(missed_worst)}", str(s["final"]),
+        _s(s["first_engaging_s"]), _s(s["first_engaged_s"]), below,
+    ]  # fmt: skip
+
+
+def vote_section(results: dict[str, Any]) -> list[str]:
+    """The soft vote against the sustained attention it replaced and the rule, by person
+    (issue 52): the figures the prose after it quotes, and the paired advantage."""
+    cv = results["crossval"]
+    rule = {(r["recording"], r["person"]): r for r in results["rule"]["rows"]}
+    lines = []
+    for which, when in ((BEFORE, "before"), (NOW, "now")):
+        j = _judged(cv, which)
+        c = {k.removeprefix("head_"): v for k, v in j["in_sample_choice"].items()}
+        points = sorted(
+            (round(100 * (r["engaged_or_not"] - rule[key]["engaged_or_not"])),
+             f"{r['person']} {r['label'].lower()}")
+            for r in j["rows"] if (key := (r["recording"], r["person"])) != CEILING
+        )  # fmt: skip
+        far = [f"{who} {MINUS}{-p}" for p, who in points if p < -FAR_BELOW]
+        below = f"{len(far)}: " + ", ".join(far)
+        name = (
+            f"sustained attention ({c['threshold_deg']:g}°, {c['engaged_after_s']:g} s), before"
+            if when == "before"
+            else f"**soft vote ({c['threshold_deg']:g}°, vote {c['vote_deg']:g}° over "
+            f"{c['vote_tau_s']:g} s), now**"
+        )
+        lines.append(_digest_row(name, j["by_person"]["without_ceiling"], j["rows"], below))
+    s = results["rule"]["summary"]["without_ceiling"]
+    lines.insert(0, _digest_row("hri_engagement's rule", s, results["rule"]["rows"], "—"))
+    head = [
+        f"by person, {s['of']} person-recordings", "level", "ENGAGED or not",
+        "false ENGAGED (mean / worst)", "missed (mean / worst)", "final right",
+        "first ENGAGING", "first ENGAGED", f"rows more than {FAR_BELOW} points below the rule",
+    ]  # fmt: skip
+    (step,) = [
+        x for x in cv["steps"]
+        if x["challenger"] == ", ".join(NOW) and x["incumbent"] == ", ".join(BEFORE)
+    ]  # fmt: skip
+    verdict = "above its interval: it replaces it" if step["replaces"] else "it does not replace it"
+    ci = step["ci"]
+    advantage = (
+        f"The advantage over the incumbent, paired per person-recording: "
+        f"{step['advantage']:+.3f} [{ci[0]:+.3f}, {ci[1]:+.3f}] ({verdict})."
+    )
+    return [*_table(head, lines), "", *textwrap.wrap(advantage, width=88)]
+
+
 PAGES: dict[str, tuple[str, Callable[[dict[str, Any]], list[str]]]] = {
     "engagement.md": ("cross-validation", lambda r: crossval_section(r["crossval"])),
     "engagement.md#rule": ("the rule's mode", rule_mode_section),
+    "engagement.md#vote": ("the soft vote against what it replaced", vote_section),
     "ros2.md": ("the real path against the rule", recordings_section),
 }
 
