@@ -14,20 +14,16 @@ the three-quarter one's, a mirror's sign, a half-size face's distance.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
-import platform
 import statistics
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 import cv2
 import numpy as np
 import skimage.data
 
-from facing_service import __version__
 from facing_service.camera.face_ids import FaceIds
 from facing_service.camera.face_model import face_model
 from facing_service.camera.frames import on_frame as placed
@@ -36,6 +32,8 @@ from facing_service.camera.intrinsics import from_field_of_view
 from facing_service.camera.landmarks import FaceMesh, seen
 from facing_service.camera.native_log import without_native_chatter
 from facing_service.core.detector import classify_one, robot_in_body
+
+from . import results_file
 
 FRAME = (480, 640)
 SPOTS = [(10, 10), (10, 225), (10, 440), (250, 115), (250, 330)]
@@ -128,17 +126,9 @@ def main() -> None:
     for name, value in answers.items():
         print(f"{name}: {value}")
     if args.out:
-        provenance = {
-            "version": __version__,
-            "machine": f"{platform.machine()}, {os.cpu_count()} cores, {platform.python_version()}",
-            "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"),
-            "parameters": {"frames": args.frames, "frame": "640x480", "fov_deg": 65.0},
-            "command": "python -m benchmarks.camera",
-        }
-        args.out.write_text(
-            json.dumps({"provenance": provenance, "speed": rows, "photographs": answers}, indent=2)
-            + "\n"
-        )
+        parameters = {**vars(args), "frame": "640x480", "fov_deg": 65.0}
+        results = {"speed": rows, "photographs": answers}
+        results_file.write(args.out, results, "python -m benchmarks.camera", parameters)
 
 
 if __name__ == "__main__":

@@ -323,23 +323,37 @@ def test_no_function_is_over_60_lines():
 BENCHMARKS = PACKAGE.parent / "benchmarks"
 
 
+def _benchmark_module(path: Path) -> str:
+    """``benchmarks/groups/join.py`` -> ``groups.join``; a package's ``__init__`` -> its
+    folder's name."""
+    parts = path.relative_to(BENCHMARKS).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
 def benchmark_graph() -> dict[str, set[str]]:
-    """benchmarks' module -> the benchmarks modules it imports, wherever the import stands
-    (an import inside a function dodges a circle at import time, not in the design)."""
-    known = {p.stem for p in BENCHMARKS.glob("*.py")}
+    """benchmarks' module (``perf.churn``) -> the benchmarks modules it imports, wherever
+    the import stands (an import inside a function dodges a circle at import time, not in
+    the design), relative imports resolved from the module's own folder."""
+    paths = {_benchmark_module(p): p for p in BENCHMARKS.rglob("*.py")}
     graph: dict[str, set[str]] = {}
-    for path in BENCHMARKS.glob("*.py"):
+    for here, path in paths.items():
+        folder = here.split(".")[:-1] if path.stem != "__init__" else here.split(".")
         found = set()
         for node in ast.walk(ast.parse(path.read_text())):
-            ours = isinstance(node, ast.ImportFrom) and (
-                node.level == 1 or (node.module or "").startswith("benchmarks")
-            )
-            if ours:
-                assert isinstance(node, ast.ImportFrom)
-                module = (node.module or "").removeprefix("benchmarks").strip(".")
-                names = [module] if module else [a.name for a in node.names]
-                found |= {n.split(".")[0] for n in names if n.split(".")[0] in known}
-        graph[path.stem] = found - {path.stem}
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            if node.level:
+                base = ".".join(
+                    [*folder[: len(folder) - node.level + 1], *filter(None, [node.module])]
+                )
+            elif (node.module or "").startswith("benchmarks"):
+                base = (node.module or "").removeprefix("benchmarks").strip(".")
+            else:
+                continue
+            for alias in node.names:  # ``from .perf import churn`` names a module
+                joined = f"{base}.{alias.name}".strip(".")
+                found.add(joined if joined in paths else base)
+        graph[here] = {m for m in found if m in paths} - {here}
     return graph
 
 
@@ -382,3 +396,37 @@ def test_the_package_tests_import_nothing_from_benchmarks():
             if any(n == "benchmarks" or n.startswith("benchmarks.") for n in names):
                 importing.append(str(path.relative_to(TESTS)))
     assert not importing, importing
+
+
+AREAS = ("perf", "engagement", "groups")
+SHARED_BY_AREAS = {"paths", "sections", "results_file"}
+
+
+def test_each_benchmark_area_imports_only_itself_and_what_all_share():
+    """Issue 63: benchmarks/ measures three unrelated things; each lives in its folder
+    (perf/, engagement/, groups/) and reaches no other (only ``paths``, ``sections`` and
+    ``results_file``, shared, and the top ``pages``, which gathers every page, reach across)."""
+    across = {
+        here: sorted(m for m in imported if m.split(".")[0] != area and m not in SHARED_BY_AREAS)
+        for here, imported in benchmark_graph().items()
+        if (area := here.split(".")[0]) in AREAS
+    }
+    assert not {k: v for k, v in across.items() if v}
+
+
+def test_every_results_file_is_written_with_its_provenance():
+    """Issue 63: provenance (version, machine, date, command, parameters) was in two
+    results files of seven. Every benchmark writes its results through
+    ``benchmarks.results_file``, which puts it first: no other module writes JSON."""
+    writers = []
+    for path in sorted(BENCHMARKS.rglob("*.py")):
+        if path.name == "results_file.py":
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            writes = isinstance(node, ast.Call) and getattr(node.func, "attr", "") == "write_text"
+            if writes and any(
+                isinstance(n, ast.Call) and getattr(n.func, "attr", "") == "dumps"
+                for n in ast.walk(node)
+            ):
+                writers.append(f"{path.relative_to(BENCHMARKS)}:{node.lineno}")
+    assert not writers, writers

@@ -73,19 +73,19 @@ def test_quick_benchmark_run_writes_every_figure(tmp_path):
 
 def test_the_performance_page_shows_latest_json():
     """docs/performance.md's tables are generated from the committed results, never
-    copied by hand (python -m benchmarks.report rewrites them)."""
-    from benchmarks import report
+    copied by hand (python -m benchmarks.perf.report rewrites them)."""
+    from benchmarks.perf import report
 
     page = report.PAGE.read_text()
     assert report.section(page, json.loads(report.RESULTS.read_text())) == page
 
 
 def test_the_churn_benchmark_runs_and_says_every_outage(tmp_path):
-    """benchmarks.churn, shortened: two router restarts in 24 s; both said, lost and back;
+    """benchmarks.perf.churn, shortened: two router restarts in 24 s; both said, lost and back;
     nothing lost outside them; the figure drawn (so the hour-long run never rots)."""
     out, figure = tmp_path / "churn.json", tmp_path / "churn.svg"
     proc = subprocess.run(
-        [sys.executable, "-m", "benchmarks.churn", "--minutes", "0.4", "--people", "5",
+        [sys.executable, "-m", "benchmarks.perf.churn", "--minutes", "0.4", "--people", "5",
          "--restart-every-s", "8", "--out", str(out), "--figure", str(figure)],
         cwd=ROOT, capture_output=True, text=True, timeout=120,
     )  # fmt: skip
@@ -101,7 +101,7 @@ def test_the_churn_benchmark_runs_and_says_every_outage(tmp_path):
 def test_nothing_measured_is_no_target_met():
     """Issue 63, defect 6: the verdicts were ``all()`` over lists that may be empty, so a
     report that measured nothing met every target."""
-    from benchmarks.report import TARGETS, verdicts
+    from benchmarks.perf.report import TARGETS, verdicts
 
     run = {"burst": {"lost": 0}, "soak": {"sent": 1, "received": 1},
            "soak_after": {"sent": 1, "received": 1}}  # fmt: skip

@@ -1,6 +1,7 @@
 """Engagement chosen by cross-validation by person (issue 31): the offline evaluation is
 the real path's, the shipped defaults are what the procedure picks, and the by-person
-cross-validated figures hold the issue's targets. The table: `python -m benchmarks.crossval`."""
+cross-validated figures hold the issue's targets. The table:
+`python -m benchmarks.engagement.crossval`."""
 
 from __future__ import annotations
 
@@ -8,8 +9,8 @@ import json
 
 import pytest
 
-from benchmarks import crossval, scoring
-from benchmarks.recordings import RESULTS
+from benchmarks.engagement import crossval, scoring
+from benchmarks.engagement.recordings import RESULTS
 from facing_service.config.settings import Settings
 
 # every candidate on every recording: about 90 s; they read ../shared/data

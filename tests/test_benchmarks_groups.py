@@ -1,4 +1,4 @@
-"""F-formations scored as GCFF scores them (benchmarks/groups.py, issue 33): the port of
+"""F-formations scored as GCFF scores them (benchmarks/groups/held_out.py, issue 33): the port of
 GCFF's ff_evalgroups on its own edge cases, and the method on the shared sequences with
 GCFF's own per-scene parameters, where it must give GCFF's figures."""
 
@@ -10,7 +10,7 @@ from dataclasses import asdict
 import numpy as np
 import pytest
 
-from benchmarks.groups import RESULTS, SHARED, evalgroups, f1, gcff_params, load, run
+from benchmarks.groups.held_out import RESULTS, SHARED, evalgroups, f1, gcff_params, load, run
 
 G = frozenset
 
@@ -53,7 +53,7 @@ def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
 
 
 def test_the_shipped_defaults_are_the_set_chosen_on_all_six_sequences():
-    """What `python -m benchmarks.groups` chose on every shared sequence (its committed
+    """What `python -m benchmarks.groups.held_out` chose on every shared sequence (its committed
     results: the preferred rule's set) is what the service runs: a default changed by
     hand fails here."""
     from facing_service.config.profiles import scene_params
@@ -69,7 +69,7 @@ def test_the_shipped_defaults_are_the_set_chosen_on_all_six_sequences():
 def test_the_shipped_rule_is_the_best_at_its_worst_held_out_sequence():
     """Issue 60: the rule that ships is chosen by its worst sequence held out by dataset
     (not the mean), among those that fail no made scene another rule passes."""
-    from benchmarks.groups import INCUMBENT, RULES, preferred, worst_held_out
+    from benchmarks.groups.held_out import INCUMBENT, RULES, preferred, worst_held_out
 
     results = json.loads(RESULTS.read_text())
     best = results["preferred"]
@@ -79,9 +79,9 @@ def test_the_shipped_rule_is_the_best_at_its_worst_held_out_sequence():
 
 
 def test_the_scenes_made_for_the_failures_are_what_they_say():
-    """The stress scenes (benchmarks/group_scenes.py): loners hold no group, the wide
+    """The stress scenes (benchmarks/groups/scenes.py): loners hold no group, the wide
     circle one of five, the posters a crowd denser than its groups."""
-    from benchmarks.group_scenes import scenes
+    from benchmarks.groups.scenes import scenes
     from facing_service.core.social.groups import nearest_distances
 
     made = scenes()

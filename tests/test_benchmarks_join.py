@@ -1,4 +1,4 @@
-"""Where to stand, judged on where people stood (benchmarks/join.py, issue 53): the
+"""Where to stand, judged on where people stood (benchmarks/groups/join.py, issue 53): the
 baselines do what they say, the shipped parameters are the ones chosen, the page's table
 is the committed results', and a fresh run on the shared sequences still holds them."""
 
@@ -11,7 +11,7 @@ from dataclasses import asdict
 import numpy as np
 import pytest
 
-from benchmarks import join
+from benchmarks.groups import join
 from facing_service.core.social.join import JoinParams
 
 
@@ -36,7 +36,9 @@ def test_the_baselines_are_what_the_issue_says():
 def test_the_shipped_parameters_are_the_ones_chosen_and_the_page_is_the_results():
     chosen = json.loads(join.RESULTS.read_text())["chosen_on_all"]
     assert chosen == json.loads(json.dumps(asdict(JoinParams())))
-    assert join.main(["--page", "--check"]) == 0, "regenerate: python -m benchmarks.join --page"
+    assert join.main(["--page", "--check"]) == 0, (
+        "regenerate: python -m benchmarks.groups.join --page"
+    )
 
 
 @pytest.mark.slow

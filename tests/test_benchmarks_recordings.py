@@ -1,6 +1,6 @@
 """Engagement on the shared real recordings, through the real path (bag -> replay ->
 router -> service), against hri_engagement's rule. The full table is
-`python -m benchmarks.recordings` (README, On a ROS 2 robot)."""
+`python -m benchmarks.engagement.recordings` (README, On a ROS 2 robot)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,12 @@ import json
 
 import pytest
 
-from benchmarks.recordings import REFERENCE_FIGURES, evaluate, first_folder_summary, print_table
+from benchmarks.engagement.recordings import (
+    REFERENCE_FIGURES,
+    evaluate,
+    first_folder_summary,
+    print_table,
+)
 
 # processes, recordings or seconds-long scenarios; they read ../shared/data
 pytestmark = [pytest.mark.slow, pytest.mark.shared_data]
@@ -54,9 +59,9 @@ def test_the_service_beats_the_rule(results):
 
 
 def test_a_quick_run_leaves_the_committed_results_alone(results, monkeypatch, tmp_path):
-    """`python -m benchmarks.recordings --quick` (the docs' reproduction) must not rewrite
-    the tracked results/recordings.json, which holds the full run's figures."""
-    from benchmarks import crossval, recordings
+    """`python -m benchmarks.engagement.recordings --quick` (the docs' reproduction) must
+    not rewrite the tracked results/recordings.json, which holds the full run's figures."""
+    from benchmarks.engagement import crossval, recordings
 
     monkeypatch.setattr(recordings, "evaluate", lambda *_args: results)
     monkeypatch.setattr(crossval, "evaluate", lambda *_args: {})
@@ -70,7 +75,7 @@ def test_a_quick_run_leaves_the_committed_results_alone(results, monkeypatch, tm
 
 
 def test_a_folder_without_labels_is_refused_in_one_line(tmp_path, capsys):
-    from benchmarks import recordings
+    from benchmarks.engagement import recordings
 
     with pytest.raises(SystemExit):
         recordings.main(["--bags", str(tmp_path)])

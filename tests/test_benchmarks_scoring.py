@@ -7,8 +7,8 @@ import json
 
 import pytest
 
-from benchmarks import scoring
-from benchmarks.scoring import Row, advantage, score, summary
+from benchmarks.engagement import scoring
+from benchmarks.engagement.scoring import Row, advantage, score, summary
 from facing_service.contract.levels import Level
 
 

@@ -110,19 +110,22 @@ def test_the_engagement_tables_are_the_committed_results():
     """docs/engagement.md's cross-validation and docs/ros2.md's real-path tables are
     generated from benchmarks/results/recordings.json: a figure copied by hand, or a
     results file rewritten without its pages, fails here."""
-    from benchmarks import engagement_report
+    from benchmarks.engagement import report as engagement_report
 
     assert engagement_report.main(["--check"]) == 0, (
-        "regenerate: python -m benchmarks.engagement_report"
+        "regenerate: python -m benchmarks.engagement.report"
     )
 
 
 def test_the_groups_tables_are_the_committed_results():
     """docs/groups.md's held-out tables are generated from benchmarks/results/groups.json
-    (`python -m benchmarks.groups --live --out ...`): a figure copied by hand fails here."""
-    from benchmarks import groups
+    (`python -m benchmarks.groups.held_out --live --out ...`): a figure copied by hand
+    fails here."""
+    from benchmarks.groups import held_out as groups
 
-    assert groups.main(["--page", "--check"]) == 0, "regenerate: python -m benchmarks.groups --page"
+    assert groups.main(["--page", "--check"]) == 0, (
+        "regenerate: python -m benchmarks.groups.held_out --page"
+    )
 
 
 @pytest.mark.slow

@@ -88,7 +88,7 @@ def scene_params(settings: Settings) -> SceneParams:
 
 def tracker_for(settings: Settings, head: Profile | None = None) -> Tracker:
     """The tracker a service with these settings runs (also the offline evaluation's, in
-    benchmarks.crossval: the same decisions without the network, and no zenoh; ``head``:
+    benchmarks.engagement.crossval: the same decisions without the network, and no zenoh; ``head``:
     a head profile of its own, for the research knobs the evaluation searches)."""
     fixed = [] if settings.base_frame == keys.ALL_FRAMES else [settings.base_frame]
     return Tracker(

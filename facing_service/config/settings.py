@@ -195,7 +195,7 @@ class Settings(SessionChecks):
         metavar="INTIMATE,PERSONAL,SOCIAL",
     )
     # Heads (face frames, from ROS 2 input): chosen by cross-validation by person on the
-    # shared recordings (benchmarks/crossval.py, docs/engagement.md).
+    # shared recordings (benchmarks/engagement/crossval.py, docs/engagement.md).
     head_model: Literal["cone", "evidence"] = flag(
         "cone",
         "a face's engagement machine (with --engagement service): `evidence` (its facing "

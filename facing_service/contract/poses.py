@@ -255,7 +255,7 @@ def _plainly_valid(payload: bytes, body_id: str, frame_id: str) -> Pose | None:
     the models (strict: ints or floats where the model takes floats, never bools;
     bounded, so finite), 0.35 us against the 0.9 us of pydantic's own parser alone and
     2.3 us with the checks in Python (each timed alone; the whole turn's gain is in
-    benchmarks.hot_path's figures, docs/performance.md); a test checks that whatever
+    benchmarks.perf.hot_path's figures, docs/performance.md); a test checks that whatever
     this accepts, the model accepts and decodes identically."""
     try:
         msg = _FAST.decode(payload)

@@ -24,7 +24,7 @@ latest sample above it too, to become ENGAGED; ENGAGED turns DISENGAGING below
 ``disengage_below`` and DISENGAGED after ``disengage_dwell_s`` unless it recovers. Two
 thresholds plus dwell times keep tracker noise (several degrees of yaw jitter) from
 flickering the level, while the short time constant keeps reactions under a second (see
-benchmarks/engagement.py).
+benchmarks/engagement/simulated.py).
 
 **Two speeds** (heads, chosen on real recordings: docs/engagement.md): ENGAGING is the
 quick signal (the smoothed score crossing ``engage_above``: someone turning toward the

@@ -65,7 +65,7 @@ from .worker import Worker
 log = logging.getLogger("facing_service")
 
 #: Intake bound before zenoh pushes back. Queued zenoh samples hold native memory: under a
-#: sustained flood (python -m benchmarks.soak) an 8192-deep intake let the service's RSS
+#: sustained flood (python -m benchmarks.perf.soak) an 8192-deep intake let the service's RSS
 #: climb to a ~350 MB plateau; 1024 keeps it flat (~134 MB with 10 000 bodies tracked) at
 #: the same throughput, since batches are at most MAX_BATCH anyway.
 INBOX_SIZE = 1024

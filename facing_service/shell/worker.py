@@ -81,7 +81,7 @@ class Worker:
 
     def turn(self, batch: list[object]) -> None:
         """One turn of the loop over what was taken (also driven alone by
-        benchmarks.hot_path, to measure it without the network)."""
+        benchmarks.perf.hot_path, to measure it without the network)."""
         try:
             self._handle(batch)
             self._expire()

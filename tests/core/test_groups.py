@@ -103,7 +103,7 @@ def test_people_in_one_spot_are_bounded_and_finite(params):
 
 
 def test_twenty_people_get_one_label_each_in_order_of_first_member():
-    """The scene's crowd (what it costs is measured by benchmarks.core, not asserted):
+    """The scene's crowd (what it costs is measured by benchmarks.perf.core, not asserted):
     labels 0..G-1, each person one, numbered in order of first member, the same each time."""
     rng = np.random.default_rng(0)
     positions, headings = rng.uniform(0, 6, (20, 2)), rng.uniform(0, 2 * math.pi, 20)
@@ -161,7 +161,7 @@ def test_one_parameter_set_groups_pairs_at_any_spacing_where_gcffs_stride_cannot
 
 
 def test_the_room_unit_makes_the_same_groups_wider_or_tighter_where_metres_do_not():
-    """Issue 41's learnt unit (measured by benchmarks.groups, not shipped since issue 60):
+    """Issue 41's learnt unit (measured by benchmarks.groups.held_out, not shipped since issue 60):
     the same people standing wider or tighter make the same groups in the room's unit,
     the centres scaled. In metres (shipped), lengths are people's: a pair 3 m face to face
     (Hall's far social distance) still votes within a group's cost of one centre; 6 m

@@ -77,7 +77,7 @@ def test_engagement_flags_reach_the_service(net):
 def test_evaluation_runs_at_small_size(tmp_path):
     out = tmp_path / "engagement.json"
     proc = subprocess.run(
-        [sys.executable, "-m", "benchmarks.engagement", "--quick", "--out", str(out)],
+        [sys.executable, "-m", "benchmarks.engagement.simulated", "--quick", "--out", str(out)],
         cwd=ROOT,
         capture_output=True,
         text=True,

@@ -1,5 +1,5 @@
 """The worker's turn, driven by hand with zenoh's own samples and a clock moved on by
-hand (as benchmarks.hot_path drives it, built here as the service builds it): what a
+hand (as benchmarks.perf.hot_path drives it, built here as the service builds it): what a
 batch of poses calls for, in order, and the counts the status reads after it."""
 
 from __future__ import annotations

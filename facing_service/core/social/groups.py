@@ -19,7 +19,7 @@ of issues 41 to 51, measured and not shipped (docs/groups.md).
 The assignment is GCFF's energy (unary costs plus a cost per label) minimised by greedy
 label removal and reassignment rather than alpha-expansion: with no pairwise terms that
 is the facility-location problem, and for the tens of people in one frame the greedy
-pass with a final reassignment reaches GCFF's solutions (``benchmarks/groups.py``).
+pass with a final reassignment reaches GCFF's solutions (``benchmarks/groups/held_out.py``).
 
 GCFF's visibility penalty is kept, in its units: ``100 ** (cos * d_k / d_j)`` cm² when
 member k stands behind member j (cosine of the angle between them, from the centre,
@@ -51,7 +51,7 @@ MAX_EXPONENT = 6.0  # the penalty's exponent is capped (100**6 cm² = 1e8 m²: o
 class GroupParams:
     """The method's parameters, lengths in the room's unit (``RoomScale``; metres where
     the scale is fixed at 1 m). Defaults: chosen by leave-one-dataset-out on the shared
-    sequences (docs/groups.md, ``python -m benchmarks.groups``)."""
+    sequences (docs/groups.md, ``python -m benchmarks.groups.held_out``)."""
 
     stride_k: float = 0.5  # a vote's stride: this times the distance to the nearest ahead
     stride_min: float = 0.25  # ... no less (and this when nobody is ahead)

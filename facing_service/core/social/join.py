@@ -38,7 +38,7 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True, slots=True)
 class JoinParams:
-    """Chosen held out by dataset on the shared sequences (``python -m benchmarks.join``)."""
+    """Chosen held out by dataset on the shared sequences (``python -m benchmarks.groups.join``)."""
 
     stride_k: float = 0.5  # a member's vote: this times the members' mean spacing ahead
     clearance_k: float = 0.6  # nobody closer to the place than this times their spacing

@@ -3,9 +3,9 @@ vote-window rule of ROS4HRI's hri_engagement (facing_service.core.rule: the serv
 ``--engagement rule``; here each simulated body votes whether it faces the robot, within
 the tutorial's 20 deg), on the same noisy tracks.
 
-    python -m benchmarks.engagement [--people 20] [--seed 0] [--quick]
+    python -m benchmarks.engagement.simulated [--people 20] [--seed 0] [--quick]
 
-Each simulated person follows a script (benchmarks.labelled.labelled_track): walks up from the side,
+Each simulated person follows a script (``labelled.labelled_track``): walks up from the side,
 faces the robot 10 s, turns away, glances back for 0.6 s, walks past, stands with their
 back turned, faces the robot again, leaves; 5 deg yaw noise, 10 % of frames dropped plus
 0.5 s dropout bursts, 30 Hz. Both methods see the same samples through the same geometry
@@ -20,7 +20,6 @@ back turned, faces the robot again, leaves; 5 deg yaw noise, 10 % of frames drop
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import random
 import statistics
@@ -39,9 +38,10 @@ from facing_service.core.engagement import (
     step,
 )
 
+from .. import paths, results_file
 from .labelled import LabelledSample, Segment, labelled_track
 
-RESULTS = Path(__file__).resolve().parent / "results" / "engagement.json"
+RESULTS = paths.RESULTS / "engagement.json"
 TARGETS = {"to_engaged_s": 1.0, "to_disengaged_s": 1.5, "spurious_per_person_minute": 0.1}
 TICK_S = 0.1  # the reference votes at 10 Hz; ours is also advanced at that rate
 RULE = rule.RuleParams()  # hri_engagement's window: 10 Hz, 10 s
@@ -212,8 +212,7 @@ def main() -> None:
         "targets: "
         + ", ".join(f"{k} {'met' if v else 'MISSED'}" for k, v in report["targets_met"].items())
     )
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(report, indent=2) + "\n")
+    results_file.write(args.out, report, "python -m benchmarks.engagement.simulated", vars(args))
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@ publisher declared once per output key; ``keys``, ``Session.put`` on key express
 declared once for both the output key and the input key (zenoh then routes both from its
 cache: the cheapest in nearly every cell of the grid, docs/performance.md).
 
-    python -m benchmarks.relay -l tcp/127.0.0.1:7447 [--namespace hri] [--style put]
+    python -m benchmarks.perf.relay -l tcp/127.0.0.1:7447 [--namespace hri] [--style put]
 """
 
 from __future__ import annotations

@@ -32,7 +32,9 @@ from typing import Any
 
 from facing_service.contract.levels import Level
 
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "data"
+from .. import paths
+
+SHARED = paths.SHARED_DATA
 #: The shared real recordings, evaluated as one set.
 FOLDERS = (SHARED / "hri_engagement_bags", SHARED / "hri_engagement_bags_2")
 BASE_FRAME = "camera_link"  # hri_engagement's tests' reference frame

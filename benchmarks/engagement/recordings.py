@@ -1,6 +1,6 @@
 """Engagement on real recordings: the service through its real path vs hri_engagement's rule.
 
-    python -m benchmarks.recordings [--quick] [--rate R] [--format rmw_zenoh|bridge]
+    python -m benchmarks.engagement.recordings [--quick] [--rate R] [--format rmw_zenoh|bridge]
 
 For each recording of the shared set (../shared/data/hri_engagement_bags and
 hri_engagement_bags_2: hri_engagement's own test recordings, labelled ENGAGED or
@@ -21,7 +21,7 @@ Both are scored alike (``scoring``: level, ENGAGED-or-not, the two errors apart,
 level, first ENGAGED, changes a minute; means over person-recordings with 95 % bootstrap
 intervals, with and without the ceiling row).
 ``--quick`` replays at 4x (CI); the full run replays at recorded speed. Then the same
-recordings offline (``benchmarks.crossval``): the figures in-sample and cross-validated,
+recordings offline (``benchmarks.engagement.crossval``): the figures in-sample and cross-validated,
 leaving one person out (and one recording out), per idea.
 """
 
@@ -47,6 +47,7 @@ from facing_service.shell.service import FacingService
 from facing_service.testing import endpoint, free_port, loopback_config, wait_until
 from facing_service.tools.replay import Replay
 
+from .. import paths, results_file
 from . import crossval, scoring
 from .bags import read_bag
 from .rule_path import rule_timelines
@@ -65,7 +66,7 @@ from .scoring import (
     timeline_of,
 )
 
-RESULTS = Path(__file__).resolve().parent / "results" / "recordings.json"
+RESULTS = paths.RESULTS / "recordings.json"
 #: The rule's figures on the first shared folder as measured outside the project (issue
 #: 22), which its re-implementation must reproduce there.
 REFERENCE_FIGURES = {"level": 0.32, "engaged_or_not": 0.71, "final": 4, "first_engaged_s": 5.2}
@@ -205,14 +206,14 @@ def main(argv: list[str] | None = None) -> None:
     results = evaluate(args.bags, rate, RosFormat(args.format))
     print_table(results)
     judged = crossval.evaluate(args.bags)
-    print("\nOffline, in-sample and cross-validated (python -m benchmarks.crossval):")
+    print("\nOffline, in-sample and cross-validated (python -m benchmarks.engagement.crossval):")
     crossval.print_results(judged)
     results["crossval"] = judged
     if out is None:
         print(f"(not written: {RESULTS} keeps the full run's figures; --out to write these)")
         return
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps({"rate": rate, "format": args.format, **results}, indent=2) + "\n")
+    command = "python -m benchmarks.engagement.recordings"
+    results_file.write(out, {"rate": rate, "format": args.format, **results}, command, vars(args))
     print(f"written to {out}")
 
 

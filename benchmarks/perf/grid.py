@@ -33,7 +33,7 @@ from facing_service.testing import (
 from .driver import CONSUMERS, STYLES, Driver
 
 MODES = ("peer", "client")
-#: The bare relays (``benchmarks.relay --style``): Session.put on string keys, a
+#: The bare relays (``benchmarks.perf.relay --style``): Session.put on string keys, a
 #: publisher declared per output key, and both keys declared (the cheapest nearly always).
 RELAYS = ("relay_put", "relay_publishers", "relay_keys")
 TARGETS = (*RELAYS, "service")
@@ -87,7 +87,7 @@ def start(
         )
     style = kind.removeprefix("relay_")
     return running_cli(
-        "-l", endpoint(port), "--style", style, module="benchmarks.relay", capture=False
+        "-l", endpoint(port), "--style", style, module="benchmarks.perf.relay", capture=False
     )
 
 

@@ -2,7 +2,7 @@
 each a filter on the groups the core finds, with one parameter, scored on every shared
 sequence and on the scenes made for the failures (``group_scenes``).
 
-    python -m benchmarks.group_ideas
+    python -m benchmarks.groups.ideas
 
 - **Members face their o-space**: a member whose heading is more than ``limit`` degrees
   from the direction to the group's centre (the mean of its members' positions; for a
@@ -30,8 +30,8 @@ from facing_service.core.social.groups import (
     votes,
 )
 
-from .group_scenes import scenes
-from .groups import FRAME_S, SEQUENCES, f1, load
+from .held_out import FRAME_S, SEQUENCES, f1, load
+from .scenes import scenes
 from .sequence_frame import Frame
 
 Filter = Callable[[list[int], np.ndarray, np.ndarray, np.ndarray], list[int]]

@@ -1,7 +1,7 @@
 """The worker's hot path alone, without the network: what one turn costs a pose, by the
 size of the batch it took.
 
-    python -m benchmarks.hot_path [--bodies 100] [--rounds 60] [--batches 1,20,100]
+    python -m benchmarks.perf.hot_path [--bodies 100] [--rounds 60] [--batches 1,20,100]
 
 Real zenoh samples (put on a local session, taken from a ``FifoChannel`` as the intake
 takes them) go through ``Worker.turn``: the input's read, the tracker, the outputs'

@@ -1,6 +1,6 @@
 """Floods against the real service process, with its resident memory.
 
-    python -m benchmarks.soak [--ids 200000] [--max-bodies 10000] [--garbage 100000]
+    python -m benchmarks.perf.soak [--ids 200000] [--max-bodies 10000] [--garbage 100000]
 
 1. a flood of unique body ids, far beyond --max-bodies: memory must level off once the
    bound is reached (the service refuses new bodies with reason 'capacity');

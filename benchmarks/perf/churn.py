@@ -1,6 +1,6 @@
 """An hour of people: arrivals and departures, router restarts, a consumer coming and going.
 
-    python -m benchmarks.churn [--minutes 60] [--people 20] [--hz 10] [--restart-every-s 300]
+    python -m benchmarks.perf.churn [--minutes 60] [--people 20] [--hz 10] [--restart-every-s 300]
 
 The real service runs in client mode on a router (``facing-service router``, its own
 process); a tracker and a consumer reach it through that router, as on a robot. People
@@ -39,6 +39,7 @@ from facing_service.contract.poses import pose_dict, yaw_rotation
 from facing_service.contract.stamps import ZERO, Time
 from facing_service.testing import LOOPBACK_FLAGS, endpoint, running_cli, wait_for_port
 
+from .. import results_file
 from .common import free_port, proc_status, rss_mb, status, wait_for_status
 from .figures import line_panels
 
@@ -349,8 +350,7 @@ def report(
         "drift": {name: drift(samples, name) for name in ("rss_mb", "threads", "fds")},
         "samples": samples,
     }
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(result, indent=1) + "\n")
+    results_file.write(args.out, result, "python -m benchmarks.perf.churn", vars(args), indent=1)
     args.figure.parent.mkdir(parents=True, exist_ok=True)
     args.figure.write_text(
         line_panels(

@@ -1,6 +1,6 @@
 """Engagement parameters chosen by cross-validation, by person first (issues 22, 31).
 
-    python -m benchmarks.crossval            # every idea: in-sample and cross-validated
+    python -m benchmarks.engagement.crossval            # every idea: in-sample and cross-validated
 
 A robot meets new people: a rule chosen on the people it is judged on says little. Each
 idea (``FAMILIES``: the head parameters it searches, the rest at their defaults, sustained
@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import json
 import multiprocessing
 import os
 from collections.abc import Callable, Mapping, Sequence
@@ -51,6 +50,7 @@ from facing_service.ros2.input import RosSample, route
 from facing_service.ros2.people import People
 from facing_service.ros2.wire import Wire
 
+from .. import results_file
 from . import scoring
 from .bags import read_bag_raw
 from .rule_path import rule_timelines
@@ -596,7 +596,9 @@ def main(argv: list[str] | None = None) -> None:
     results = evaluate(args.bags)
     print_results(results)
     if args.out is not None:
-        args.out.write_text(json.dumps(results, indent=2) + "\n")
+        results_file.write(
+            args.out, results, "python -m benchmarks.engagement.crossval", vars(args)
+        )
         print(f"written to {args.out}")
 
 
