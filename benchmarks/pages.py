@@ -6,7 +6,7 @@
 Each section is written from a committed results file (benchmarks/results/), never typed
 in: docs/performance.md (latest.json), docs/engagement.md and docs/ros2.md
 (recordings.json, engagement.json), docs/groups.md (groups.json, join.json),
-docs/operations.md (churn.json). The table in
+docs/operations.md (churn.json), docs/camera.md (camera.json). The table in
 benchmarks/README.md says which command makes each results file.
 """
 
@@ -16,6 +16,7 @@ import argparse
 import sys
 from collections.abc import Callable
 
+from . import camera_page
 from .engagement import report as engagement_report
 from .groups import held_out, join
 from .perf import churn_page, report
@@ -27,6 +28,7 @@ PAGES: list[tuple[str, Callable[[bool], int]]] = [
     ("docs/groups.md: groups", held_out.page),
     ("docs/groups.md: where to stand", join.page),
     ("docs/operations.md: an hour of churn", churn_page.page),
+    ("docs/camera.md", camera_page.page),
 ]
 
 

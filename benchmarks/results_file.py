@@ -15,10 +15,13 @@ from typing import Any
 
 from facing_service import __version__
 
+#: Flags that say where a run writes, not what it measured: left out of the parameters.
+NOT_PARAMETERS = {"out", "figure"}
+
 
 def provenance(command: str, parameters: Mapping[str, Any]) -> dict[str, Any]:
-    """Where a run's figures come from; ``parameters`` as the command took them (paths
-    and other values JSON cannot hold are written as text)."""
+    """Where a run's figures come from; ``parameters`` as the command took them (values
+    JSON cannot hold are written as text)."""
     return {
         "version": __version__,
         "machine": {
@@ -32,6 +35,7 @@ def provenance(command: str, parameters: Mapping[str, Any]) -> dict[str, Any]:
         "parameters": {
             k: v if isinstance(v, (str, int, float, bool, type(None))) else str(v)
             for k, v in parameters.items()
+            if k not in NOT_PARAMETERS
         },
     }
 

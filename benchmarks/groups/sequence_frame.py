@@ -1,6 +1,6 @@
 """One annotated frame of an F-formation sequence (or a scene made like one): who, where,
-facing which way, and the true groups. Its own module: the sequences' reader (``groups``)
-and the made scenes (``group_scenes``) both build them, and neither imports the other's
+facing which way, and the true groups. Its own module: the sequences' reader (``held_out``)
+and the made scenes (``scenes``) both build them, and neither imports the other's
 code for it."""
 
 from __future__ import annotations
