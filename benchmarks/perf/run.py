@@ -17,13 +17,8 @@ benchmarks/results/latest.json.
 from __future__ import annotations
 
 import argparse
-import os
-import platform
 import sys
-from importlib import metadata
 from pathlib import Path
-
-from facing_service import __version__
 
 from .. import paths, results_file
 from . import core, grid
@@ -68,15 +63,13 @@ def main() -> None:
         args.soak_bodies, args.core_sizes = 20, "1,100,10000"
         args.cells = args.cells or "peer/put/none,client/publishers/results"
     chosen, sizes = grid.cells(args.cells), grid.Sizes.of(args)
+    # the page quotes the machine and the parameters: kept at the top, as before, from the
+    # same provenance results_file writes first
+    said = results_file.provenance("python -m benchmarks", vars(args))
     report: dict = {
-        "version": __version__,
-        "machine": {
-            "cpus": os.cpu_count(),
-            "platform": platform.platform(),
-            "python": platform.python_version(),
-            "zenoh": metadata.version("eclipse-zenoh"),
-        },
-        "parameters": {k: str(v) if isinstance(v, Path) else v for k, v in vars(args).items()},
+        "version": said["version"],
+        "machine": said["machine"],
+        "parameters": said["parameters"],
         "grid": grid.run(chosen, sizes, args.before),
     }
     measured = {grid.cell_of(c): c["targets"]["service"] for c in report["grid"]}
