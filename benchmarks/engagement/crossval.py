@@ -1,6 +1,6 @@
 """Engagement parameters chosen by cross-validation, by person first (issues 22, 31).
 
-    python -m benchmarks.engagement.crossval            # every idea: in-sample and cross-validated
+    python -m benchmarks.engagement.crossval  # every idea: in-sample and cross-validated
 
 A robot meets new people: a rule chosen on the people it is judged on says little. Each
 idea (``FAMILIES``: the head parameters it searches, the rest at their defaults, sustained

@@ -1,9 +1,9 @@
 """Where the robot should stand to join a group, judged on where people really stood
 (issue 53).
 
-    python -m benchmarks.groups.join                  # choose held out by dataset, print tables
-    python -m benchmarks.groups.join --out F          # ... written as JSON (the page's source)
-    python -m benchmarks.groups.join --page           # docs/groups.md's join tables from it
+    python -m benchmarks.groups.join          # choose held out by dataset, print tables
+    python -m benchmarks.groups.join --out F  # ... written as JSON (the page's source)
+    python -m benchmarks.groups.join --page   # docs/groups.md's join tables from it
 
 Leave one member out of a real group (three or more, as annotated in the shared F-formation
 sequences; every member in turn, every annotated frame) and ask where a newcomer should

@@ -81,7 +81,6 @@ def publications(changes: Changes, us: Speaker, results: bool = True) -> list[Pu
     then its event when the level changed); then the lost bodies' DELETEs; then the
     frames' aggregates."""
     namespace, instance = us
-    result = Kind.RESULT
     out = result_publications(changes.results, us) if results else []
     for update in changes.engagement:
         if update.level is not Level.UNKNOWN:
@@ -107,7 +106,7 @@ def publications(changes: Changes, us: Speaker, results: bool = True) -> list[Pu
             Publication(
                 keys.facing_key(namespace, body_id=body.body_id, frame_id=body.frame_id),
                 None,
-                result,
+                Kind.RESULT,
             )
         )
         out.append(
