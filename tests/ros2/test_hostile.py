@@ -151,13 +151,6 @@ def _puts(recorder) -> list:
     return [i for i in recorder.items if i.kind == "put"]
 
 
-def _wait(predicate, seconds: float = 5.0, what: str = "") -> None:
-    deadline = time.monotonic() + seconds
-    while not predicate():
-        assert time.monotonic() < deadline, what
-        time.sleep(0.02)
-
-
 def test_an_error_while_saying_a_loss_leaves_no_ghost(net, monkeypatch):
     """Building the publications of a change used to raise after the tracker had changed:
     the person was gone from the tracker, their DELETE never said (a ghost for every
@@ -180,7 +173,7 @@ def test_an_error_while_saying_a_loss_leaves_no_ghost(net, monkeypatch):
     try:
         person_then(robot, tf_message(), seconds=0.5)
         robot.publish("/humans/bodies/tracked", IDS, ids_list([]))  # the person leaves
-        _wait(lambda: broken, what="the loss was never said")
+        wait_until(lambda: broken, 5.0, "the loss said")
         results.wait_for(lambda i: i.kind == "delete", timeout=5)
         frames.wait_for(lambda i: i.value["bodies_tracked"] == [], timeout=5)
         assert service.status().counters["worker_errors"] == 1
@@ -203,7 +196,7 @@ def test_a_slow_batch_makes_nobody_stale(net, robot_and_service, monkeypatch):
 
     monkeypatch.setattr(service._input.people, "on_tf", slow_on_a_frame_named_slow)
     person_then(robot, tf_message(transform("base_link", "slow", 10 * S, (1.0, 0, 0))), 1.0)
-    _wait(lambda: len(_puts(results)) == 30, what="the person's results stopped")
+    wait_until(lambda: len(_puts(results)) == 30, 5.0, "the person's 30 results")
     assert not [i for i in results.items if i.kind == "delete"]
 
 
@@ -236,7 +229,7 @@ def test_a_dear_batch_hands_over_what_came_before_it(net, robot_and_service, mon
     waited, handled = time.monotonic() - sent, len(costly_done)
     print(f"\nthe person's result came {waited:.2f} s after its pose, {handled} costly messages in")
     assert handled < 51, "the person's result waited for the whole batch"
-    _wait(lambda: len(costly_done) == 51)
+    wait_until(lambda: len(costly_done) == 51, 5.0, "51 costly messages handled")
 
 
 @pytest.mark.parametrize("late", ["tracked list", "static link"])
@@ -272,7 +265,7 @@ def test_another_type_on_a_read_topic_is_counted(net, robot_and_service):
     try:
         other.publish("/tf", ros2_types.STRING, string("not a TFMessage"))
         person_then(robot, tf_message(), seconds=0.5)
-        _wait(lambda: len(_puts(results)) == 15)
+        wait_until(lambda: len(_puts(results)) == 15, 5.0, "the person's 15 results")
         assert service.status().rejected["type_mismatch"] == 1
     finally:
         other.close()
@@ -288,7 +281,7 @@ def test_a_flood_of_new_frames_stays_under_its_bound(net):
             *(transform("base_link", f"f{i}", 10 * S, (1.0, 0.0, 0.0)) for i in range(2_000))
         )
         person_then(robot, flood, seconds=1.0)
-        _wait(lambda: len(_puts(results)) == 30, what="the person's results stopped")
+        wait_until(lambda: len(_puts(results)) == 30, 5.0, "the person's 30 results")
 
         def refused() -> bool:
             """The flood counted; a 140 KB message the robot publishes DROP (as rmw_zenoh's
@@ -299,7 +292,7 @@ def test_a_flood_of_new_frames_stays_under_its_bound(net):
             robot.publish("/tf", TF, flood)
             return False
 
-        _wait(refused, what="the flood of frames counted")
+        wait_until(refused, 5.0, "the flood of frames counted")
         assert len(service._input.people.tf.frames()) <= 500
         status = service.status()
         assert status.rejected["tf_too_many_frames"] >= 1_500 and status.status == "ok"
@@ -322,7 +315,7 @@ def test_a_pose_refused_for_capacity_is_named_as_the_robot_sent_it(net):
                 transform("base_link", "face_f", 10 * S, (2.0, 0, 0)),
             ),
         )
-        _wait(lambda: service.status().rejected["capacity"] == 1)
+        wait_until(lambda: service.status().rejected["capacity"] == 1, 5.0, "the capacity refusal")
         first = service._ledger.rejection_log._first
         assert first[Rejection.CAPACITY].startswith("/tf base_link -> face_f (face_f): ")
     finally:
