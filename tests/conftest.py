@@ -7,7 +7,7 @@ from typing import Any
 import pytest
 
 from loopback import wait_until_answered
-from network import Network
+from network import Network, wait_until_heard
 from oracles import in_ci, shared_data_missing
 
 
@@ -57,6 +57,7 @@ def rig(net: Network):
         client = net.client(ep)
         recorder = net.recorder(client, "hri/**/facing/**")
         wait_until_answered(client, "hri/facing/cam")
+        wait_until_heard(service)  # the recorder's: every result is then sent
         return service, client, recorder
 
     return make

@@ -334,6 +334,13 @@ class ServiceStatus(BaseModel):
         "samples' own zenoh channel cannot report its depth)."
     )
     outbox_depth: int = Field(description="Publications decided, not yet sent.")
+    results_heard: bool = Field(
+        True,
+        description="Whether a subscriber matches a result key, as zenoh last told the "
+        "service: while false, results are neither formatted nor sent (results_published "
+        "stands still; every other output and every query goes on), and when one appears "
+        "every tracked body's current result is said.",
+    )
     ros2: Ros2Status | None = Field(
         None, description="With --input ros2: the robot's form and what stops results."
     )

@@ -47,11 +47,11 @@ class Heard:
         """What zenoh says now; a subscriber that appears wakes the worker to say the
         current results."""
         appeared = matching and not self.results
-        self.results = matching
-        if appeared:
+        if appeared:  # before ``results``: a worker that reads it true sees the re-say due
             self.joined = True
-            if self.wake is not None:
-                self.wake()
+        self.results = matching
+        if appeared and self.wake is not None:
+            self.wake()
 
 
 class JsonSender:

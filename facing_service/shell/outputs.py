@@ -15,6 +15,7 @@ from typing import Protocol
 
 import zenoh
 
+from ..contract.keys import BodyRef
 from ..core.records import Changes
 from ..core.snapshot import TurnSnapshot
 from ..core.social.scene import SceneUpdate
@@ -83,19 +84,35 @@ class JsonOutput:
         self._us = Speaker(namespace, instance)
         self._capacity = max_bodies
         self._heard = Heard()  # anyone subscribed to results? (the sender's listener says)
+        #: Bodies whose result went out since a subscriber appeared (while the re-say
+        #: for it is pending): it heard them, so the re-say leaves them out.
+        self._said_since_joined: set[BodyRef] = set()
+
+    @property
+    def results_heard(self) -> bool:
+        """Whether anyone subscribes to results (the status says it)."""
+        return self._heard.results
 
     def on_changes(self, changes: Changes) -> list[Publication]:
-        return publications(changes, self._us, self._heard.results)
+        heard = self._heard.results  # read once: the listener's thread writes it
+        if heard and self._heard.joined:
+            self._said_since_joined.update(state.body for state in changes.results)
+        return publications(changes, self._us, heard)
 
     def on_scene(self, update: SceneUpdate) -> list[Publication]:
         return scene_publications(update, self._us)
 
     def tick(self, now: float, snapshot: TurnSnapshot) -> list[Publication]:
-        """A subscriber appeared: every tracked body's current result, at once."""
+        """A subscriber appeared: every tracked body's current result, at once, but those
+        said since zenoh told us of it (they reached it: zenoh's routing knows a
+        subscriber before its listener tells us, so the results of poses handled between
+        went out and a re-say would repeat them)."""
         if not self._heard.joined:
             return []
         self._heard.joined = False
-        return result_publications(snapshot.states, self._us)
+        said, self._said_since_joined = self._said_since_joined, set()
+        unsaid = [state for state in snapshot.states if state.body not in said]
+        return result_publications(unsaid, self._us)
 
     def next_due(self) -> float | None:
         return 0.0 if self._heard.joined else None

@@ -56,6 +56,7 @@ from .json_sender import JSON
 from .ledger import Ledger
 from .links import NO_ROUTER_AFTER_S, LinkWatch
 from .outbox import Outbox
+from .outputs import JsonOutput
 from .publications import QuerySpace
 from .publisher import Publisher
 from .queries import QueryItem
@@ -112,6 +113,8 @@ class FacingService:
             self._parts.source,
             self._parts.outputs,
         )
+        #: our JSON keys (always among the outputs): the status says whether they are heard
+        self._json_output = next(o for o in self._outputs if isinstance(o, JsonOutput))
         self._intake: Intake | None = None
         self._worker: Worker | None = None  # made once the session is open
         self._session: zenoh.Session | None = None
@@ -259,6 +262,7 @@ class FacingService:
             connected=self.connected(),
             outage_s=None if outage is None else round(outage, 3),
             inbox_depth=len(self._intake) if self._intake is not None else 0,
+            results_heard=self._json_output.results_heard,
             ros2=self._input.status(),
         )
         alive = (

@@ -51,6 +51,26 @@ def test_a_subscriber_appearing_wakes_the_worker_to_say_every_current_result():
     assert woken == [True]
 
 
+def test_the_re_say_leaves_out_results_said_since_the_subscriber_appeared():
+    """zenoh's routing knows a new subscriber before its matching listener tells the
+    service: a pose handled in between has its result sent (it reached the subscriber),
+    and the re-say that follows must not send it again (CI saw the duplicate)."""
+    output = JsonOutput("hri", "test", 100)
+    t = tracker()
+    heard = output._heard
+    heard.matching(False)
+    unheard = t.ingest([sample("a", sec=1), sample("b", sec=1)], 0.0)
+    assert Kind.RESULT not in {p.kind for p in output.on_changes(unheard)}
+    heard.matching(True)  # a subscriber appeared
+    said = output.on_changes(t.ingest([sample("a", sec=2)], 0.0))
+    assert [p.key for p in said if p.kind is Kind.RESULT] == ["hri/bodies/a/facing/cam"]
+    re_said = output.tick(0.0, TurnSnapshot(t))
+    assert [p.key for p in re_said] == ["hri/bodies/b/facing/cam"]  # b's was never heard
+    heard.matching(False)
+    heard.matching(True)  # another appearance: a's result is due again this time
+    assert len(output.tick(0.0, TurnSnapshot(t))) == 2
+
+
 def test_json_keys_have_no_periodic_work_and_the_robots_topics_say_what_they_add():
     settings = Settings(output="ros2", ros_intents=True)
     json_output = JsonOutput("hri", "test", 100)

@@ -11,6 +11,7 @@ import pytest
 from facing_service.core.detector import classify
 
 from loopback import get, send, send_delete, wait_until, wait_until_answered
+from network import wait_until_heard
 from poses import pose_dict, pose_json
 from service_rig import FRAME_KEY, NAMESPACE, body_key, pose_key
 
@@ -168,11 +169,14 @@ def test_a_lost_body_that_comes_back_is_said_again_through_client_declared_publi
     """Results go out on key expressions declared per body, undeclared when the body is
     lost (shell/declared_keys.py): a tracker in client mode with declared publishers (the
     grid's costliest cell before) gets every result, the DELETE, and the results of the
-    same body when it comes back."""
-    _service, ep = net.service()
+    same body when it comes back, once the status says the service heard the recorder
+    (zenoh tells it a moment after the subscriber exists; CI once started sending before)."""
+    service, ep = net.service()
     tracker = net.client(ep, mode="client")
+    wait_until_heard(service, False)
     rec = net.recorder(tracker, f"{NAMESPACE}/bodies/*/facing/cam")
     wait_until_answered(tracker, FRAME_KEY)
+    wait_until_heard(service)
     publisher = tracker.declare_publisher(pose_key("a"))
     try:
         for sec in (1, 2):

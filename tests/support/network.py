@@ -10,8 +10,15 @@ import zenoh
 from facing_service.config.settings import Settings
 from facing_service.shell.service import FacingService
 
-from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, loopback_config
+from loopback import LOOPBACK_CFG, Recorder, endpoint, free_port, loopback_config, wait_until
 from routers import Router
+
+
+def wait_until_heard(service: FacingService, heard: bool = True, timeout: float = 10.0) -> None:
+    """Until the service's status says a subscriber matches its result keys (``heard``), or
+    that none does: zenoh tells it a moment after the subscriber exists, and results are
+    not sent before (docs/contract.md). A test that counts every result waits for it."""
+    wait_until(lambda: service.status().results_heard is heard, timeout, f"results_heard {heard}")
 
 
 class Network:
