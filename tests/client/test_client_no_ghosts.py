@@ -18,6 +18,7 @@ from facing_service.testing import LOOPBACK_FLAGS, loopback_config, running_cli
 
 from loopback import endpoint, get, send, send_delete, wait_until_answered
 from memory import rss_mb
+from network import wait_until_heard
 from poses import pose_json, replay
 from proxy import Proxy
 
@@ -49,6 +50,7 @@ def test_a_late_pose_never_resurrects_a_deleted_body(net):
     tracker = net.client(ep)
     results = net.recorder(tracker, "hri/bodies/*/facing/cam")
     wait_until_answered(tracker, "hri/facing/cam")
+    wait_until_heard(service)
     send(tracker, "hri/bodies/bob/pose/cam", pose_json("bob", "cam", sec=5))
     results.wait_for(lambda i: i.kind == "put")
     send_delete(tracker, "hri/bodies/bob/pose/cam")

@@ -11,6 +11,7 @@ import pytest
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint, free_port, get, send, wait_until, wait_until_answered
+from network import wait_until_heard
 from poses import pose_json
 
 pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
@@ -123,6 +124,7 @@ def test_a_pose_that_meets_a_bug_is_refused_alone(net, monkeypatch):
     tracker = net.client(ep)
     results = net.recorder(tracker, "hri/bodies/*/facing/cam")
     wait_until_answered(tracker, FRAME_KEY)
+    wait_until_heard(service)
     for sec in range(1, 21):
         send(tracker, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=sec))
         send(tracker, "hri/bodies/bad/pose/cam", pose_json("bad", "cam", sec=sec))
@@ -271,6 +273,7 @@ def test_a_tracker_that_restarts_and_reuses_its_ids_is_followed(net):
     consumer = net.client(ep)
     results = net.recorder(consumer, "hri/bodies/a/facing/cam")
     wait_until_answered(consumer, FRAME_KEY)
+    wait_until_heard(service)
     first = net.client(ep)
     wait_until_answered(first, FRAME_KEY)
     for sec in (1000, 1001):

@@ -16,6 +16,7 @@ from facing_service.core.detector import classify
 
 from loopback import endpoint, free_port, wait_until_answered
 from lossy_link import TRACKER, JitterProxy, LossyLink, pose_of, unavailable
+from network import wait_until_heard
 
 pytestmark = pytest.mark.slow
 
@@ -33,10 +34,11 @@ def test_a_lossy_jittery_link_delivers_every_result_in_order(net):
     try:
         on_link = f"tcp/{link.host}:{free_port(link.host)}"  # what crosses the pair
         loopback = endpoint(free_port())
-        net.service(hysteresis_deg=0.0, listen=[loopback, on_link])
+        service, _ = net.service(hysteresis_deg=0.0, listen=[loopback, on_link])
         consumer = net.client(loopback)
         wait_until_answered(consumer, "hri/facing/cam")
         results = net.recorder(consumer, "hri/bodies/*/facing/cam")
+        wait_until_heard(service)
         if link.netem:
             tracker_ep = on_link
         else:  # the proxy holds each chunk on the host side of the pair, then forwards
