@@ -273,7 +273,44 @@ def vote_section(results: dict[str, Any]) -> list[str]:
         f"The advantage over the incumbent, paired per person-recording: "
         f"{step['advantage']:+.3f} [{ci[0]:+.3f}, {ci[1]:+.3f}] ({verdict})."
     )
-    return [*_table(head, lines), "", *textwrap.wrap(advantage, width=88)]
+    return [
+        *_table(head, lines), "", *textwrap.wrap(advantage, width=88), "",
+        *textwrap.wrap(_most_missed(results), width=88),
+    ]  # fmt: skip
+
+
+def _most_missed(results: dict[str, Any]) -> str:
+    """The person sustained attention missed most: their engaged time ENGAGED under the
+    soft vote, before it and under the rule; and whether anyone is greeted more wrongly."""
+    before, now = (_judged(results["crossval"], which) for which in (BEFORE, NOW))
+
+    def engaged(rows: list[dict[str, Any]], person: str) -> list[str]:
+        mine = sorted((r["recording"], r["engaged_or_not"]) for r in rows
+                      if r["person"] == person and r["label"] == "ENGAGED")  # fmt: skip
+        return [_pct(value) for _, value in mine]
+
+    missed: dict[str, list[float]] = {}
+    for r in before["rows"]:
+        if r["missed"] is not None and (r["recording"], r["person"]) != CEILING:
+            missed.setdefault(r["person"], []).append(r["missed"])
+    person = max(missed, key=lambda p: sum(missed[p]) / len(missed[p]))
+    worst = [j["by_person"]["without_ceiling"]["false_engaged_worst"] for j in (before, now)]
+    wrongly = (
+        f"nobody is greeted more wrongly than before (the worst false ENGAGED stays "
+        f"{_pct(worst[1])})"
+        if worst[1] <= worst[0]
+        else f"the worst false ENGAGED rises from {_pct(worst[0])} to {_pct(worst[1])}"
+    )
+    return (
+        f"The person sustained attention missed most, `{person}`, is ENGAGED "
+        f"{_and(engaged(now['rows'], person))} of their engaged time "
+        f"({_and(engaged(before['rows'], person))} before; the rule "
+        f"{_and(engaged(results['rule']['rows'], person))}); {wrongly}."
+    )
+
+
+def _and(items: list[str]) -> str:
+    return ", ".join(items[:-1]) + " and " + items[-1] if len(items) > 1 else "".join(items)
 
 
 PAGES: dict[str, tuple[str, Callable[[dict[str, Any]], list[str]]]] = {
