@@ -239,8 +239,8 @@ def vote_section(results: dict[str, Any]) -> list[str]:
     cv = results["crossval"]
     rule = {(r["recording"], r["person"]): r for r in results["rule"]["rows"]}
     lines = []
-    for which, when in ((BEFORE, "before"), (NOW, "now")):
-        j = _judged(cv, which)
+    judged = {when: _judged(cv, which) for which, when in ((BEFORE, "before"), (NOW, "now"))}
+    for when, j in judged.items():
         c = {k.removeprefix("head_"): v for k, v in j["in_sample_choice"].items()}
         points = sorted(
             (round(100 * (r["engaged_or_not"] - rule[key]["engaged_or_not"])),
@@ -275,14 +275,14 @@ def vote_section(results: dict[str, Any]) -> list[str]:
     )
     return [
         *_table(head, lines), "", *textwrap.wrap(advantage, width=88), "",
-        *textwrap.wrap(_most_missed(results), width=88),
+        *textwrap.wrap(_most_missed(judged["before"], judged["now"], results["rule"]), width=88),
     ]  # fmt: skip
 
 
-def _most_missed(results: dict[str, Any]) -> str:
-    """The person sustained attention missed most: their engaged time ENGAGED under the
-    soft vote, before it and under the rule; and whether anyone is greeted more wrongly."""
-    before, now = (_judged(results["crossval"], which) for which in (BEFORE, NOW))
+def _most_missed(before: dict[str, Any], now: dict[str, Any], rule: dict[str, Any]) -> str:
+    """The person sustained attention (``before``) missed most: their engaged time ENGAGED
+    under the soft vote (``now``), before it and under the rule; and whether anyone is
+    greeted more wrongly."""
 
     def engaged(rows: list[dict[str, Any]], person: str) -> list[str]:
         mine = sorted((r["recording"], r["engaged_or_not"]) for r in rows
@@ -305,7 +305,7 @@ def _most_missed(results: dict[str, Any]) -> str:
         f"The person sustained attention missed most, `{person}`, is ENGAGED "
         f"{_and(engaged(now['rows'], person))} of their engaged time "
         f"({_and(engaged(before['rows'], person))} before; the rule "
-        f"{_and(engaged(results['rule']['rows'], person))}); {wrongly}."
+        f"{_and(engaged(rule['rows'], person))}); {wrongly}."
     )
 
 

@@ -339,7 +339,7 @@ class ServiceStatus(BaseModel):
         description="Whether a subscriber matches a result key, as zenoh last told the "
         "service: while false, results are neither formatted nor sent (results_published "
         "stands still; every other output and every query goes on), and when one appears "
-        "every tracked body's current result is said.",
+        "every tracked body's current result is said (but those already sent since).",
     )
     ros2: Ros2Status | None = Field(
         None, description="With --input ros2: the robot's form and what stops results."

@@ -8,8 +8,9 @@ publisher declared on the whole result space (never put on) has zenoh's matching
 true while any subscriber anywhere matches a result key. While nobody does, the JSON
 output neither formats nor sends results, the bulk of what the service says (one per
 pose); queries still answer from state. When a subscriber appears, the worker is woken
-and says every tracked body's current result at once: a consumer that subscribes and
-then sees a single pose (zenoh tells the service of it a moment later) still gets it.
+and says every tracked body's current result at once (but those already sent since,
+``outputs.JsonOutput.tick``): a consumer that subscribes and then sees a single pose
+(zenoh tells the service of it a moment later) still gets it.
 Only results are skipped: a skipped engagement change, event, aggregate or DELETE would
 stay wrong until the next change.
 """
@@ -35,7 +36,7 @@ class Heard:
     """Whether a subscriber matches the result keys: written by zenoh's matching
     listener, read by the worker (bool attributes: atomic). True until zenoh says
     otherwise, so nothing is skipped before the listener is in place. ``joined``: a
-    subscriber appeared since the worker last said every result; ``wake`` wakes the
+    subscriber appeared since the worker last said the current results; ``wake`` wakes the
     worker (the service gives it, once the worker's intake exists)."""
 
     def __init__(self) -> None:
