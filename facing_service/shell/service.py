@@ -156,9 +156,11 @@ class FacingService:
             for thread in self._threads:
                 thread.start()
             spaces = query_spaces(ns)
+            # The status first: declarations reach a router in order, so whoever has an
+            # answer on the results' spaces can ask the status too (CI once asked between).
             self._entities = [
-                *(self._queryable(session, space, key) for space, key in spaces.items()),
                 session.declare_queryable(keys.status_key(ns, s.instance), self._on_status),
+                *(self._queryable(session, space, key) for space, key in spaces.items()),
             ]
             self._token = session.liveliness().declare_token(keys.service_token(ns, s.instance))
         except BaseException:

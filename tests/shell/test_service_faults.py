@@ -300,3 +300,18 @@ def test_a_tracker_that_restarts_and_reuses_its_ids_is_followed(net):
     send(again, "hri/bodies/a/pose/cam", pose_json("a", "cam", sec=5))  # restarted, later
     results.wait_for(lambda i: i.kind == "put" and i.value["stamp"]["sec"] == 5)
     assert service.status().counters["clock_restarts"] == 1
+
+
+def test_whoever_is_answered_on_results_is_answered_on_the_status(net):
+    """Declarations reach a router in order: the status queryable, declared first, is
+    there for anyone the results' queryables answer (CI once asked between the two; with
+    the status declared last, 6 of 40 service processes under load missed it)."""
+    router = net.router()
+    ep = endpoint(router.port)
+    consumer = net.client(ep, mode="client")
+    for i in range(10):
+        flags = ("-e", ep, "--base-frame", "cam", "--instance", f"i{i}")
+        with running_cli("run", *LOOPBACK_FLAGS, *flags):
+            wait_until_answered(consumer, FRAME_KEY, timeout=20)
+            replies = consumer.get(f"hri/services/facing/i{i}/status")
+            assert [r for r in replies if r.ok is not None], f"service {i}: no status"
