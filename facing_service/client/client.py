@@ -45,6 +45,7 @@ from ..contract.schemas import (
 from .bodies import BodyCache
 from .health import ask, no_service_seen
 from .options import ClientOptionFields, client_options
+from .pulling import Pulled
 from .replies import engagement_states, facing_states
 from .scene import ClientEvent, Event, SceneListener
 
@@ -94,11 +95,15 @@ class FacingClient:
         self._scene = SceneListener(self.namespace, self.frame, self._is_live, self._emit)
         self._events: queue.SimpleQueue[_Call | None] = queue.SimpleQueue()  # None: stop
         self._session: zenoh.Session | None = None
-        self._subscribers: list[zenoh.Subscriber[None]] = []
+        self._subscriptions = Pulled("facing-client-intake")
         self._dispatcher: threading.Thread | None = None
         #: Why no service was seen when the client opened (one line), None when one was.
         self.absence: str | None = None
-        self._said_unknown = False  # that no service knows this client's frame, once
+        # Under the lock: whether open() has begun its own seeding (a service appearing
+        # before that is in its answer; one appearing after asks for a re-seed), and that
+        # no service knows this client's frame, said once.
+        self._seeding = False
+        self._said_unknown = False
 
     # -- lifecycle -------------------------------------------------------------------
 
@@ -129,14 +134,16 @@ class FacingClient:
         # who is alive; then subscribe, then seed: a result arriving meanwhile is newer
         # than the query's answer and is kept (states only move forward in stamp order).
         tokens = keys.service_token(self.namespace, "*")
-        live = session.liveliness().declare_subscriber(tokens, self._on_token, history=True)
-        self._subscribers.append(live)
+        subscribe = self._subscriptions.subscribe
+        subscribe(session, tokens, self._on_token, tokens=True)
         facing = keys.facing_key(self.namespace, body_id=keys.ALL_FRAMES, frame_id=self.frame)
-        self._subscribers.append(session.declare_subscriber(facing, self._on_sample))
-        events = keys.event_key(self.namespace, self.frame)
-        self._subscribers.append(session.declare_subscriber(events, self._on_event))
+        subscribe(session, facing, self._on_sample)
+        subscribe(session, keys.event_key(self.namespace, self.frame), self._on_event)
         self._scene.open(session)
-        if self._wait_for_service():
+        found = self._wait_for_service()
+        with self._lock:
+            self._seeding = True
+        if found:
             self.absence = None
             self._reseed()
         else:
@@ -167,13 +174,15 @@ class FacingClient:
             time.sleep(0.05)
 
     def close(self) -> None:
-        for subscriber in self._subscribers:
-            subscriber.undeclare()
-        self._subscribers = []
+        """Undeclare everything, stop the dispatcher, close the session. Safe to call
+        twice, and from one of the client's own callbacks (its thread is not waited for:
+        it ends when the callback returns)."""
+        self._subscriptions.close()
         self._scene.close()
         if self._dispatcher is not None:
             self._events.put(None)
-            self._dispatcher.join(timeout=2.0)
+            if self._dispatcher is not threading.current_thread():
+                self._dispatcher.join(timeout=2.0)
             self._dispatcher = None
         if self._session is not None:
             self._session.close()
@@ -226,7 +235,7 @@ class FacingClient:
         frame = self._frame(frame)
         with self._lock:
             levels = self._bodies.levels.items()
-            return {b: Level[e.level] for (f, b), e in levels if f == frame}
+            return {b: e.level for (f, b), e in levels if f == frame}
 
     def groups(self, frame: str | None = None) -> list[GroupState]:
         """The groups in the frame as the service last said them (``robot``: the robot
@@ -284,7 +293,7 @@ class FacingClient:
         ENGAGED before the client opened)."""
         with self._lock:
             levels = self._bodies.levels.values()
-            current = [e for e in levels if e.level == Level.ENGAGED.name]
+            current = [e for e in levels if e.level is Level.ENGAGED]
             return self._register(ClientEvent.ENGAGED, callback, current)
 
     def on_disengaged(self, callback: LevelCallback) -> LevelCallback:
@@ -363,9 +372,9 @@ class FacingClient:
         instance = _instance_of(str(sample.key_expr))
         if sample.kind == zenoh.SampleKind.PUT:
             with self._lock:
-                new = instance not in self._bodies.live
+                new = instance not in self._bodies.live and self._seeding
                 self._bodies.live.add(instance)
-            if new:  # re-seed from the dispatcher: never query from a zenoh callback
+            if new:  # re-seed from the dispatcher: never query from the intake
                 self._events.put((self._reseed, ()))
             return
         with self._lock:
@@ -389,8 +398,10 @@ class FacingClient:
             try:
                 states = self._ask(self.frame, None)
             except UnknownFrame as error:  # nobody there yet, or a misspelt frame
-                if not error.nothing_tracked and not self._said_unknown:
-                    self._said_unknown = True  # others are known: said once
+                with self._lock:  # others are known: said once
+                    say = not error.nothing_tracked and not self._said_unknown
+                    self._said_unknown = self._said_unknown or say
+                if say:
                     log.warning(
                         "facing client: no service knows frame %r yet (%s); a misspelt "
                         "frame stays empty",
@@ -413,7 +424,7 @@ class FacingClient:
             for state in states:
                 self._emit(self._bodies.apply(state))
             for level in levels:
-                seeded = EngagementEvent(previous=Level.UNKNOWN.name, **level.model_dump())
+                seeded = EngagementEvent(previous=Level.UNKNOWN, **level.model_dump())
                 self._emit(self._bodies.take_level(seeded))
 
     def _on_sample(self, sample: zenoh.Sample) -> None:

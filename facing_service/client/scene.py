@@ -21,6 +21,7 @@ import zenoh
 from ..contract import keys
 from ..contract.schemas import FrameGazing, FrameGroups, GazePair, Greeting, GroupState
 from ..contract.stamps import Time
+from .pulling import Pulled
 
 log = logging.getLogger("facing_service.client")
 
@@ -113,17 +114,15 @@ class SceneListener:
         self._is_live, self._emit = is_live, emit
         self._lock = threading.Lock()
         self._cache = SceneCache()
-        self._subscribers: list[zenoh.Subscriber[None]] = []
+        self._subscriptions = Pulled("facing-client-scene")
         self.dropped_from_dead = 0
 
     def open(self, session: zenoh.Session) -> None:
         for key in self._keys:  # one by one: a Ctrl-C meanwhile closes those declared
-            self._subscribers.append(session.declare_subscriber(key, self._on_sample))
+            self._subscriptions.subscribe(session, key, self._on_sample)
 
     def close(self) -> None:
-        for subscriber in self._subscribers:
-            subscriber.undeclare()
-        self._subscribers = []
+        self._subscriptions.close()
 
     def seed(self, session: zenoh.Session, timeout_s: float) -> None:
         """What the services say now (at start, and when one appears)."""

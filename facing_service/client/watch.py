@@ -34,6 +34,7 @@ from ..contract import keys
 from ..contract.schemas import FacingState, GroupState
 from ..contract.stamps import Time
 from .client import FacingClient
+from .pulling import Pulled
 
 #: Arrows for a heading in the map (base x is up, base y is left), every 45 degrees.
 _ARROWS = "↑↖←↙↓↘→↗"
@@ -216,21 +217,17 @@ class Watcher:
         self._since: dict[str, tuple[bool, float, bool, float]] = {}
         self._levels: dict[str, str] = {}
         self._frames: dict[str, int] = {}  # frame -> people tracked there (aggregates)
-        self._subscribers = [
-            client.session.declare_subscriber(
-                keys.frame_key(client.namespace, keys.ALL_FRAMES), self._on_frame
-            ),
-            client.session.declare_subscriber(
-                keys.engagement_key(client.namespace, body_id=keys.ALL_FRAMES, frame_id=frame),
-                self._on_engagement,
-            ),
-        ]
+        session = client.session
+        aggregates = keys.frame_key(client.namespace, keys.ALL_FRAMES)
+        levels = keys.engagement_key(client.namespace, body_id=keys.ALL_FRAMES, frame_id=frame)
+        self._subscriptions = Pulled("facing-watch")
+        for key, handle in ((aggregates, self._on_frame), (levels, self._on_engagement)):
+            self._subscriptions.subscribe(session, key, handle)
         client.on_change(self._on_result)
         client.on_lost(self._on_lost)
 
     def close(self) -> None:
-        for subscriber in self._subscribers:
-            subscriber.undeclare()
+        self._subscriptions.close()
 
     def _on_frame(self, sample: zenoh.Sample) -> None:
         """Every frame's aggregate: which frames have people (said when this one has none)."""
