@@ -54,7 +54,7 @@ class BodyCache:
     def take_level(self, event: EngagementEvent) -> list[Event]:
         """A change of level, said or seeded: kept, and the events of the transition from
         the level last seen (an older change, raced by the seed, is not)."""
-        level = Level[event.level]
+        level = event.level
         key = BodyRef(frame_id=event.frame_id, body_id=event.body_id)
         if event.instance is not None and event.instance not in self.live:
             self.dropped_from_dead += 1
@@ -63,7 +63,7 @@ class BodyCache:
         if known is not None and _time(known) > _time(event):
             return []
         previous = known.level if known is not None else event.previous
-        was_engaged = Level[previous] in ENGAGED_LEVELS
+        was_engaged = previous in ENGAGED_LEVELS
         if level is Level.UNKNOWN:
             self.levels.pop(key, None)
         else:
@@ -92,9 +92,9 @@ class BodyCache:
         events: list[Event] = []
         for body in orphans:
             last = self._forget(body)
-            if last is not None and Level[last.level] in ENGAGED_LEVELS:
+            if last is not None and last.level in ENGAGED_LEVELS:
                 gone = last.model_copy(
-                    update={"previous": last.level, "level": "UNKNOWN", "level_value": 0}
+                    update={"previous": last.level, "level": Level.UNKNOWN, "level_value": 0}
                 )
                 events.append((ClientEvent.DISENGAGED, (gone,)))
             events.append((ClientEvent.LOST, (body,)))

@@ -11,6 +11,7 @@ from typing import Any
 import msgspec
 from pydantic import BaseModel, Field
 
+from .levels import LevelName
 from .poses import FastStamp, FastVector3, TransformStamped
 from .stamps import NS_PER_S, Stamp
 
@@ -133,7 +134,9 @@ class EngagementState(BaseModel):
     body_id: str
     frame_id: str
     stamp: Stamp = Field(description="Stamp of the newest pose behind this state.")
-    level: str = Field(description="UNKNOWN, DISENGAGED, ENGAGING, ENGAGED or DISENGAGING.")
+    level: LevelName = Field(
+        description="UNKNOWN, DISENGAGED, ENGAGING, ENGAGED or DISENGAGING (a ``Level`` in Python)."
+    )
     level_value: int = Field(description="As hri_msgs/EngagementLevel: 0 to 4, same order.")
     score: float = Field(description="The smoothed facing score, in [0, 1].")
     zone: str = Field(description="Proxemic zone: intimate, personal, social or public.")
@@ -151,8 +154,8 @@ class EngagementEvent(BaseModel):
     body_id: str
     frame_id: str
     stamp: Stamp
-    previous: str
-    level: str
+    previous: LevelName
+    level: LevelName
     level_value: int
     score: float
     zone: str

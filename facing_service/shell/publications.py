@@ -291,7 +291,7 @@ def _engagement_fields(update: EngagementUpdate, instance: str) -> dict[str, Any
         "body_id": update.body_id,
         "frame_id": update.frame_id,
         "stamp": update.stamp.model(),
-        "level": update.level.name,
+        "level": update.level,
         "level_value": int(update.level),
         "score": update.score,
         "zone": update.zone.value,
@@ -305,4 +305,4 @@ def engagement_state(update: EngagementUpdate, instance: str) -> EngagementState
 
 def engagement_event(update: EngagementUpdate, instance: str) -> EngagementEvent:
     assert update.previous is not None
-    return EngagementEvent(**_engagement_fields(update, instance), previous=update.previous.name)
+    return EngagementEvent(**_engagement_fields(update, instance), previous=update.previous)

@@ -3,9 +3,14 @@ EngagementLevel.msg (its git blob is checked against hri_msgs 2.0.0 in tests/ros
 
 from __future__ import annotations
 
+import json
 import re
 
+import pytest
+from pydantic import ValidationError
+
 from facing_service.contract.levels import Level
+from facing_service.contract.schemas import EngagementEvent
 from facing_service.ros2.output import ENGAGEMENT_LEVEL
 
 from upstream import definition
@@ -16,3 +21,35 @@ def test_each_level_is_numbered_as_hri_msgs_numbers_it():
     assert {name: int(value) for name, value in said.items()} == {
         level.name: level.value for level in Level
     }
+
+
+def test_a_level_prints_as_its_name_and_is_made_from_it():
+    """Issue 67: ``str(Level.ENGAGED)`` printed ``3`` on Python 3.11, ``Level("ENGAGED")``
+    raised."""
+    assert str(Level.ENGAGED) == f"{Level.ENGAGED}" == "ENGAGED"
+    assert f"{Level.ENGAGING:>10}" == "  ENGAGING"
+    assert Level("ENGAGED") is Level(3) is Level["ENGAGED"] is Level.ENGAGED
+    with pytest.raises(ValueError):
+        Level("engaged ")
+
+
+def test_a_level_compares_as_its_number_and_still_equals_its_name():
+    """Code written when a callback's ``event.level`` was the string keeps its meaning."""
+    assert Level.ENGAGED == 3 and Level.ENGAGED == "ENGAGED" and "ENGAGED" == Level.ENGAGED
+    assert Level.ENGAGED != "DISENGAGED" and Level.ENGAGED != 1
+    assert Level.DISENGAGED < Level.ENGAGED
+    assert {Level.ENGAGED: "x"}[3] == "x"
+
+
+def test_a_wire_model_reads_the_name_and_hands_out_a_level():
+    """Issue 67: in ``on_engaged``, ``event.level == Level.ENGAGED`` was False (a str)."""
+    said = {
+        "body_id": "anna", "frame_id": "base_link", "stamp": {"sec": 1, "nanosec": 0},
+        "previous": "ENGAGING", "level": "ENGAGED", "level_value": 3, "score": 0.9,
+        "zone": "social",
+    }  # fmt: skip
+    event = EngagementEvent.model_validate_json(json.dumps(said))
+    assert event.level is Level.ENGAGED and event.previous is Level.ENGAGING
+    assert json.loads(event.model_dump_json())["level"] == "ENGAGED"  # the wire: its name
+    with pytest.raises(ValidationError):
+        EngagementEvent.model_validate_json(json.dumps({**said, "level": "ENGAGD"}))
