@@ -138,6 +138,9 @@ def summary(status: ServiceStatus, reach: str) -> str:
         + (f" ({frames})" if frames else "")
         + f", {sum(status.rejected.values())} samples refused"
     )
+    if other := status.rejected.get("other_frame"):
+        line += (f" ({other} in another frame than the service's --base-frame: misspelt? "
+                 "its log names the frames)")  # fmt: skip
     if status.outage_s is not None:
         line += f", no router or peer for {status.outage_s:.1f} s"
     if status.ros2 is not None and status.ros2.findings:

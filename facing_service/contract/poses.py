@@ -104,6 +104,7 @@ class Rejection(str, Enum):
     FRAME_MISMATCH = "frame_mismatch"
     CHILD_FRAME_MISMATCH = "child_frame_mismatch"
     QUATERNION_NOT_NORMALIZED = "quaternion_not_normalized"
+    OTHER_FRAME = "other_frame"  # a pose in another frame than a fixed --base-frame
     OUT_OF_ORDER = "out_of_order"
     CAPACITY = "capacity"
     INTERNAL_ERROR = "internal_error"  # handling it met a bug (counted in worker_errors too)

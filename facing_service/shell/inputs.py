@@ -39,6 +39,13 @@ class Loss:
     time_went_back: bool = False
 
 
+@dataclass(frozen=True, slots=True)
+class OtherFrame:
+    """A pose's key in another frame than a fixed base frame's (its payload unread)."""
+
+    key: str
+
+
 class Input(Protocol):
     def hot_key(self) -> str:
         """The key expression the worker reads straight from zenoh's channel."""
@@ -88,14 +95,22 @@ class JsonInput:
     other rejection. Nothing to diagnose.
 
     Each tracked body's pose key is declared to zenoh (``DeclaredKeys``: why), from its
-    first pose until it is lost, so that poses arrive on a cached route."""
+    first pose until it is lost, so that poses arrive on a cached route.
+
+    With a fixed base frame, poses in the other frames are watched for until the first
+    pose in that frame arrives (issue 67: ``--base-frame base_lnk`` dropped every pose
+    without a word): each is refused as ``other_frame``, and the frames they come in are
+    said once. The watch then stops, so it costs nothing once poses flow."""
 
     def __init__(
         self, namespace: str, base_frame: str, max_payload_bytes: int, max_bodies: int,
         ledger: Ledger,
     ) -> None:  # fmt: skip
         self._namespace = namespace
+        self._base_frame = base_frame
         self._subscription = keys.pose_subscription(namespace, base_frame)
+        self._other_frames: zenoh.Subscriber[None] | None = None  # until a pose in ours
+        self._said_other_frames = False
         self._limit = max_payload_bytes
         self._pose_key = keys.PoseKeyParser(namespace, 2 * max_bodies)
         self._ledger = ledger
@@ -113,10 +128,26 @@ class JsonInput:
             session.declare_subscriber(key, hand_off, allowed_origin=zenoh.Locality.REMOTE)
             for key in keys.mistyped_pose_keys(self._namespace)
         ]
+        if self._base_frame != keys.ALL_FRAMES:
+            ours = f"/pose/{self._base_frame}"
+
+            def other_frame(sample: zenoh.Sample) -> None:  # zenoh's thread: a key test only
+                key = str(sample.key_expr)
+                if not key.endswith(ours):
+                    hand_off(OtherFrame(key))
+
+            self._other_frames = session.declare_subscriber(
+                keys.pose_subscription(self._namespace, keys.ALL_FRAMES),
+                other_frame,
+                allowed_origin=zenoh.Locality.REMOTE,
+            )
         return self._subscription
 
     def read(self, item: object, poses: list[PoseSample]) -> Loss | None:
-        assert isinstance(item, zenoh.Sample)  # the JSON input's only items
+        if isinstance(item, OtherFrame):
+            self._refuse_other_frame(item.key)
+            return None
+        assert isinstance(item, zenoh.Sample)  # the JSON input's only other items
         key = str(item.key_expr)
         parsed = self._pose_key(key)
         if item.kind == zenoh.SampleKind.DELETE:
@@ -137,10 +168,34 @@ class JsonInput:
             self._ledger.reject(decoded.reason, key, decoded.detail)
             return None
         poses.append(PoseSample(parsed, decoded))
+        if self._other_frames is not None:  # poses flow in the frame read: no more watch
+            self._stop_watching_other_frames()
         declared = self.declared_keys
         if declared is not None and key not in declared.exprs:
             declared.declare(key)
         return None
+
+    def _refuse_other_frame(self, key: str) -> None:
+        """A pose in another frame than the one read, while none has come in that one."""
+        parsed = self._pose_key(key)
+        frame = "?" if parsed is None else parsed.frame_id
+        self._ledger.reject(
+            Rejection.OTHER_FRAME, key, f"frame {frame!r}, this service reads {self._base_frame!r}"
+        )
+        if self._said_other_frames or self._other_frames is None:
+            return
+        self._said_other_frames = True
+        log.warning(
+            "poses arrive in frame %r, none yet in %r, the only frame this service reads "
+            "(--base-frame, FACING_BASE_FRAME): is it misspelt? Refused, counted as "
+            "other_frame until a pose in %r arrives",
+            keys.cut(frame), self._base_frame, self._base_frame,
+        )  # fmt: skip
+
+    def _stop_watching_other_frames(self) -> None:
+        if self._other_frames is not None:
+            self._other_frames.undeclare()
+            self._other_frames = None
 
     def _say_invalid_key(self, key: str) -> None:
         """Each invalid key in a line of its own, once (the rejections' periodic summary
@@ -180,5 +235,6 @@ class JsonInput:
         for subscriber in self._mistyped:
             subscriber.undeclare()
         self._mistyped = []
+        self._stop_watching_other_frames()
         if self.declared_keys is not None:
             self.declared_keys.close()

@@ -141,8 +141,8 @@ def test_rejection_reasons(reason, payload):
 
 def test_every_decoder_reason_is_exercised():
     """Reasons not produced by the decoder come from the key parser, the tracker, the
-    worker (internal_error: test_service_faults.py) and the ROS 2 input (each exercised
-    in test_ros2_input.py)."""
+    worker (internal_error: test_service_faults.py), the JSON input (other_frame:
+    test_inputs.py) and the ROS 2 input (each exercised in test_ros2_input.py)."""
     ros2 = {r for r in Rejection if r.value.startswith("tf_")} | {
         Rejection.TYPE_MISMATCH,
         Rejection.MALFORMED_CDR,
@@ -154,6 +154,7 @@ def test_every_decoder_reason_is_exercised():
         - ros2
         - {
             Rejection.INVALID_KEY,
+            Rejection.OTHER_FRAME,
             Rejection.OUT_OF_ORDER,
             Rejection.CAPACITY,
             Rejection.INTERNAL_ERROR,

@@ -8,6 +8,7 @@ import time
 
 import zenoh
 
+from facing_service.client.health import summary
 from facing_service.contract.keys import BodyRef
 from facing_service.core.records import PoseSample
 from facing_service.shell.inputs import JsonInput
@@ -51,6 +52,42 @@ def test_mistyped_pose_keys_are_counted_and_logged_not_lost_in_silence(rig, capl
     for key in mistyped:  # each named once, in a line of its own
         assert sum(f"poses on {key} are refused" in line for line in said) == 1, said
     assert any("invalid_key=10" in line for line in said)  # and in the summary
+
+
+def test_poses_in_another_frame_than_a_fixed_base_frame_are_counted_and_said(net, caplog):
+    """Issue 67: ``run --base-frame base_lnk`` with poses in base_link: nothing printed,
+    nothing logged, 0 accepted and every rejection counter 0. Now each is refused as
+    other_frame, the frames are said once, and health's line says it; the watch ends at
+    the first pose in the frame read."""
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    service, ep = net.service(base_frame="base_lnk")
+    tracker = net.client(ep)
+    wait_until(lambda: service.status().status == "ok", 5.0, "the service up")
+    time.sleep(0.3)  # the tracker's session meets the service's
+    for sec in (1, 2, 3):
+        send(tracker, "hri/bodies/a/pose/base_link", pose_json("a", "base_link", sec=sec))
+    wait_until(lambda: service.status().rejected["other_frame"] == 3, 5.0, "3 refused")
+    said = [r.getMessage() for r in caplog.records if "the only frame" in r.getMessage()]
+    assert said == [
+        "poses arrive in frame 'base_link', none yet in 'base_lnk', the only frame this service "
+        "reads (--base-frame, FACING_BASE_FRAME): is it misspelt? Refused, counted as "
+        "other_frame until a pose in 'base_lnk' arrives"
+    ]
+    line = summary(service.status(), "at here")
+    assert "3 samples refused (3 in another frame than the service's --base-frame" in line
+    send(tracker, "hri/bodies/a/pose/base_lnk", pose_json("a", "base_lnk", sec=4))
+    wait_until(lambda: service.status().counters["samples_accepted"] == 1, 5.0, "accepted")
+    send(tracker, "hri/bodies/b/pose/base_link", pose_json("b", "base_link", sec=5))
+    send(tracker, "hri/bodies/a/pose/base_lnk", pose_json("a", "base_lnk", sec=6))
+    wait_until(lambda: service.status().counters["samples_accepted"] == 2, 5.0, "accepted")
+    assert service.status().rejected["other_frame"] == 3  # no watch once poses flow
+
+
+def test_a_service_of_every_frame_refuses_no_frame(rig):
+    service, client, rec = rig(base_frame="*")
+    send(client, "hri/bodies/a/pose/base_link", pose_json("a", "base_link", sec=1))
+    rec.wait_for(is_put("hri/bodies/a/facing/base_link"))
+    assert service.status().rejected["other_frame"] == 0
 
 
 def test_a_pose_key_is_declared_from_the_first_pose_until_the_body_is_lost(net):
