@@ -55,6 +55,7 @@ from .intake import Intake
 from .json_sender import JSON
 from .ledger import Ledger
 from .links import NO_ROUTER_AFTER_S, LinkWatch
+from .neighbours import Neighbours
 from .outbox import Outbox
 from .outputs import JsonOutput
 from .publications import QuerySpace
@@ -120,6 +121,7 @@ class FacingService:
         self._session: zenoh.Session | None = None
         self._entities: list[zenoh.Subscriber[None] | zenoh.Queryable[None]] = []
         self._token: zenoh.LivelinessToken | None = None
+        self._neighbours: Neighbours | None = None
         self._threads: list[threading.Thread] = []
         self._link_watch: LinkWatch | None = None
         self._session_in_force: dict[str, object] = {}  # mode and scouting in force (status)
@@ -163,6 +165,7 @@ class FacingService:
                 *(self._queryable(session, space, key) for space, key in spaces.items()),
             ]
             self._token = session.liveliness().declare_token(keys.service_token(ns, s.instance))
+            self._neighbours = Neighbours(session, ns, s.base_frame)
         except BaseException:
             self.close()
             raise
@@ -209,6 +212,9 @@ class FacingService:
         releases it).
         """
         self._closing.set()
+        if self._neighbours is not None:
+            self._neighbours.close()
+            self._neighbours = None
         if self._token is not None:
             self._token.undeclare()
             self._token = None

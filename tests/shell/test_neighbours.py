@@ -1,0 +1,56 @@
+"""A second service reading the same poses in one namespace is said in both logs (issue
+67: every result arrived twice and neither log said anything); one sharded by frame is
+not."""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import pytest
+
+from facing_service.shell.neighbours import PERIOD_S, overlapping
+
+from loopback import wait_until
+
+SAID = "another facing service reads the same poses in namespace 'hri'"
+
+
+def said(caplog: pytest.LogCaptureFixture) -> list[str]:
+    return [r.getMessage() for r in caplog.records if SAID in r.getMessage()]
+
+
+@pytest.mark.slow
+def test_two_services_on_the_same_frames_each_say_the_other(net, caplog):
+    """Both of the host's name (the default --instance), so one token: the older one
+    learns of the newer by asking again (PERIOD_S)."""
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    _, ep = net.service(base_frame="*")
+    net.service(base_frame="cam", connect=[ep])
+    wait_until(lambda: len(said(caplog)) == 2, PERIOD_S + 5, "both services said the other")
+    lines = said(caplog)
+    assert any("base frame cam; this one's *" in line for line in lines), lines
+    assert any("base frame *; this one's cam" in line for line in lines), lines
+    assert all("Give each its own --namespace, or --base-frame" in line for line in lines)
+    time.sleep(1.0)
+    assert len(said(caplog)) == 2  # once per other service
+
+
+def test_a_second_service_of_another_instance_name_is_said_at_once(net, caplog):
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    _, ep = net.service(instance="left")
+    net.service(instance="right", connect=[ep])
+    wait_until(lambda: len(said(caplog)) == 2, 5.0, "both services said the other at once")
+
+
+def test_services_sharded_by_frame_say_nothing(net, caplog):
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    _, ep = net.service(base_frame="map")
+    net.service(base_frame="camera_left", connect=[ep])
+    time.sleep(3.0)  # both asked the other's status (ASK_S) by now
+    assert said(caplog) == []
+
+
+def test_frames_overlap_when_one_reads_every_frame_or_both_the_same():
+    assert overlapping("*", "map") and overlapping("map", "*") and overlapping("map", "map")
+    assert not overlapping("map", "camera_left")
