@@ -176,15 +176,23 @@ def _id_prefix(text: str) -> str:
     return text
 
 
+#: The camera's flags' defaults (by destination): a demo of simulated people refuses the
+#: flags given otherwise, as it would ignore them.
+CAMERA_DEFAULTS: dict[str, object] = {
+    "calibration": None, "fov_deg": 65.0, "camera_pose": None, "max_faces": 5, "id_prefix": "f",
+}  # fmt: skip
+
+
 def _add_camera_arguments(parser: argparse.ArgumentParser) -> None:
     """How the camera front end sees: its intrinsics, its mount, how many faces."""
+    parser.set_defaults(**CAMERA_DEFAULTS)
     lens = parser.add_mutually_exclusive_group()
     lens.add_argument(
         "--calibration", type=Path, metavar="FILE",
         help="the camera's intrinsics: a ROS camera_info YAML or an OpenCV calibration file",
     )  # fmt: skip
     lens.add_argument(
-        "--fov-deg", type=_field_of_view, default=65.0,
+        "--fov-deg", type=_field_of_view,
         help="without a calibration: the camera's horizontal field of view (default 65, a "
         "laptop's or a USB webcam's; every distance scales with it)",
     )  # fmt: skip
@@ -194,11 +202,11 @@ def _add_camera_arguments(parser: argparse.ArgumentParser) -> None:
         "order); default: --base-frame is the camera's own (x forward, y left, z up)",
     )  # fmt: skip
     parser.add_argument(
-        "--max-faces", type=_number(1, strict=False, integer=True), default=5,
+        "--max-faces", type=_number(1, strict=False, integer=True),
         help="faces followed at once (default 5)",
     )  # fmt: skip
     parser.add_argument(
-        "--id-prefix", type=_id_prefix, default="f",
+        "--id-prefix", type=_id_prefix,
         help="the faces' ids are this and a count (default f: f1, f2, ...); two cameras "
         "publishing to one service need two prefixes",
     )  # fmt: skip

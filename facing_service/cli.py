@@ -21,9 +21,10 @@ from typing import NoReturn
 import zenoh
 from rich.console import Console
 
-from .arguments import build_parser
+from .arguments import CAMERA_DEFAULTS, build_parser
 from .client import health
 from .client.client import FacingClient
+from .client.presence import ServiceWatch
 from .client.sim import Crowd, TrackerPublisher, nobody_heard, simulate
 from .client.watch import Watcher
 from .config.disclosure import zenoh_failure
@@ -152,7 +153,8 @@ def _simulate(args: argparse.Namespace) -> int:
     except zenoh.ZError as error:
         print(zenoh_failure("simulate", error), file=sys.stderr)
         return 1
-    with session:
+    watch = ServiceWatch(session, "simulate", settings.namespace, settings.connect, _warn)
+    with session, watch:
         publish = TrackerPublisher(session, progress_every_s=5.0, say=_say)
         try:
             ticks = simulate(
@@ -178,6 +180,10 @@ def _simulate(args: argparse.Namespace) -> int:
 
 def _say(line: str) -> None:
     print(line, flush=True)
+
+
+def _warn(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
 
 
 def _viewer(args: argparse.Namespace, command: str, stop: threading.Event) -> FacingClient | int:
@@ -278,8 +284,14 @@ def _demo(args: argparse.Namespace) -> int:
         simulate(publish, crowd, args.base_frame, settings.namespace, args.rate_hz,
                  should_stop=should_stop)  # fmt: skip
 
+    if args.camera is None and (strays := _camera_flags_given(args)):
+        print(f"facing-service demo: {' and '.join(strays)} only with --camera: the "
+              "simulated people have no camera", file=sys.stderr)  # fmt: skip
+        return 2
     with nullcontext() if args.camera is None else _without_native_chatter():
-        feed = simulated if args.camera is None else _camera_feed(args, settings) or simulated
+        feed = simulated if args.camera is None else _camera_feed(args, settings)
+        if isinstance(feed, int):
+            return feed
         seen_facing = run_demo(
             settings.model_copy(update={"base_frame": args.base_frame}),
             feed,
@@ -300,26 +312,32 @@ def _without_native_chatter() -> AbstractContextManager[None]:
     return without_native_chatter()
 
 
-def _camera_feed(args: argparse.Namespace, settings: Settings) -> Feed | None:
-    """``demo --camera``'s feed, or None after one line saying why the demo falls back to
-    its simulated people (no extra, no camera, a bad calibration)."""
+def _camera_flags_given(args: argparse.Namespace) -> list[str]:
+    """The camera's flags given to a demo of simulated people, which would ignore them."""
+    return [f"--{name.replace('_', '-')}" for name, default in CAMERA_DEFAULTS.items()
+            if getattr(args, name) != default]  # fmt: skip
+
+
+def _camera_feed(args: argparse.Namespace, settings: Settings) -> Feed | int:
+    """``demo --camera``'s feed, or the exit code after one line saying why there is none
+    (no extra, no such camera or file, a bad calibration): the camera was asked for, so a
+    typo is said and ends the demo rather than showing other people (issue 67)."""
     from .camera.extra import missing_extra
 
     if missing := missing_extra():
-        print(f"demo: {missing}; simulated people instead", flush=True)
-        return None
+        print(f"facing-service demo: --camera: {missing}", file=sys.stderr)
+        return 2
     from .camera.command import demo_source, open_feed, options_of
     from .camera.frames import SourceError
 
     try:
         source = demo_source(args.camera)
     except SourceError as error:
-        print(f"demo: --camera {args.camera}: {error}; simulated people instead", flush=True)
-        return None
+        print(f"facing-service demo: --camera {args.camera}: {error}", file=sys.stderr)
+        return 2
     feed = open_feed(options_of(args, settings, source), "demo")
     if isinstance(feed, int):
-        print("demo: simulated people instead", flush=True)
-        return None
+        return feed
     print(f"demo: the people are the faces of {source.describe()}", flush=True)
 
     def faces(

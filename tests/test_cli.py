@@ -127,6 +127,9 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
         (["simulate", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
         (["simulate", "--rate-hz", "-5"], "argument --rate-hz: must be a number > 0, got -5"),
         (["demo", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
+        # issue 67: the camera's flags were ignored by a demo of simulated people
+        (["demo", "--calibration", "ci.yaml"], "demo: --calibration only with --camera"),
+        (["demo", "--fov-deg", "90", "--max-faces", "2"], "--fov-deg and --max-faces only with"),
         (["simulate", "--people", "-1"], "argument --people: must be a number >= 1, got -1"),
         (["health", "--timeout", "-1"], "argument --timeout: must be a number > 0, got -1"),
         (["watch", "--wait-s", "nan"], "argument --wait-s: must be a number >= 0, got nan"),

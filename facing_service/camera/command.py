@@ -10,6 +10,7 @@ import threading
 
 import zenoh
 
+from ..client.presence import ServiceWatch
 from ..client.sim import TrackerPublisher, nobody_heard
 from ..config.disclosure import zenoh_failure
 from ..config.session import zenoh_config
@@ -84,7 +85,8 @@ def _publish_faces(args: argparse.Namespace, settings: Settings, stop: threading
         feed.close()
         print(zenoh_failure("camera", error), file=sys.stderr)
         return 1
-    with session:
+    watch = ServiceWatch(session, "camera", settings.namespace, settings.connect, _warn)
+    with session, watch:
         publish = TrackerPublisher(session)
         try:
             stats = feed.run(publish, stop.is_set, _say)
@@ -116,3 +118,7 @@ def summary(stats: CameraStats) -> str:
 
 def _say(line: str) -> None:
     print(line, flush=True)
+
+
+def _warn(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)

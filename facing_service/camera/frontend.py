@@ -5,6 +5,7 @@ stops facing the camera, so what the service will decide can be read off the ter
 
 from __future__ import annotations
 
+import itertools
 import json
 import time
 from collections.abc import Callable, Generator
@@ -18,8 +19,14 @@ from ..core.detector import classify_one
 from .face_ids import FaceIds, FaceSeen
 from .face_model import FaceModel, face_model
 from .frames import Image, Source, frames
-from .head_pose import FloatArray, HeadPose, Mount, fit_head
-from .intrinsics import DEFAULT_FOV_DEG, Intrinsics, from_field_of_view, load_calibration
+from .head_pose import FloatArray, HeadPose, Mount, fit_head, placed
+from .intrinsics import (
+    DEFAULT_FOV_DEG,
+    CalibrationError,
+    Intrinsics,
+    from_field_of_view,
+    load_calibration,
+)
 from .landmarks import FaceMesh, seen
 
 Publish = Callable[[str, bytes | None], None]
@@ -61,9 +68,22 @@ class CameraFeed:
 
     def __init__(self, options: CameraOptions) -> None:
         self.options = options
-        self._calibration = load_calibration(options.calibration) if options.calibration else None
+        calibration = load_calibration(options.calibration) if options.calibration else None
         self._frames: Generator[Image, None, None] | None = frames(options.source)
-        self._mesh = FaceMesh(options.max_faces)
+        try:
+            # The first frame's size is known once the source opens: a calibration for
+            # another aspect is refused now, in one line, not at the first face (issue 67).
+            self._first: Image | None = next(self._frames, None)
+            self._camera = None if self._first is None else _intrinsics(
+                self._first, calibration, options.fov_deg
+            )  # fmt: skip
+            self._mesh = FaceMesh(options.max_faces)
+        except BaseException as error:  # the capture released now, not by the collector
+            self._frames.close()
+            self._frames = None
+            if isinstance(error, CalibrationError):  # the file named, as in its other lines
+                raise CalibrationError(f"{options.calibration}: {error}") from None
+            raise
 
     def run(
         self,
@@ -76,23 +96,24 @@ class CameraFeed:
         options, model = self.options, face_model()
         stats, ids = CameraStats(), FaceIds(prefix=options.id_prefix)
         lines = _FacingLines(options.threshold_deg, say)
-        camera: Intrinsics | None = None
         started = time.monotonic()
+        first, self._first = self._first, None
+        camera, mount = self._camera, options.mount  # frames share the first one's size
         try:
-            for image in self._frames or ():
-                if should_stop():
+            for image in itertools.chain(() if first is None else (first,), self._frames or ()):
+                if should_stop() or camera is None:
                     break
                 wall, cpu = time.perf_counter(), time.process_time()
-                if camera is None:
-                    camera = _intrinsics(image, self._calibration, options.fov_deg)
-                heads = _heads(self._mesh(image), model, camera, options.mount)
+                heads = _heads(self._mesh(image), model, camera)
                 named, lost = ids.update([face for face, _ in heads], time.monotonic())
                 stamp = Time.from_seconds(time.time())
-                for face_id, (_, head) in zip(named, heads, strict=True):
+                for face_id, (_, seen_by_camera) in zip(named, heads, strict=True):
+                    head = seen_by_camera if mount is None else placed(seen_by_camera, mount)
                     publish(
                         _key(options, face_id), _payload(face_id, options.base_frame, stamp, head)
                     )
-                    lines.said(face_id, head, time.monotonic() - started)
+                    # "facing the camera" is the camera's to say, wherever it is mounted
+                    lines.said(face_id, seen_by_camera, time.monotonic() - started)
                 if ids.given > stats.faces_seen:  # a face new in this frame: its first result
                     stats.faces_seen = ids.given
                     first_ms = (time.perf_counter() - wall) * 1e3
@@ -105,9 +126,11 @@ class CameraFeed:
                 stats.busy_s += time.perf_counter() - wall
                 stats.cpu_s += time.process_time() - cpu
         finally:
-            for face_id in ids.forget_all():
-                publish(_key(options, face_id), None)
-            self.close()
+            try:  # each face held is said gone; publishing may fail (the session closed)
+                for face_id in ids.forget_all():
+                    publish(_key(options, face_id), None)
+            finally:  # and the capture and the models are released all the same
+                self.close()
         return stats
 
     def close(self) -> None:
@@ -126,12 +149,12 @@ def _intrinsics(image: Image, calibration: Intrinsics | None, fov_deg: float) ->
 
 
 def _heads(
-    found: list[FloatArray], model: FaceModel, camera: Intrinsics, mount: Mount | None
+    found: list[FloatArray], model: FaceModel, camera: Intrinsics
 ) -> list[tuple[FaceSeen, HeadPose]]:
-    """Each face the fit could place, with where it is in the frame."""
+    """Each face the fit could place (in ``camera_link``), with where it is in the frame."""
     heads = []
     for landmarks in found:
-        head = fit_head(landmarks, model, camera, mount)
+        head = fit_head(landmarks, model, camera)
         if head is not None:
             heads.append((seen(landmarks), head))
     return heads

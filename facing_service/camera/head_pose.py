@@ -16,6 +16,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
+from ..core.tf.geometry import add, qmul, rotate
 from .face_model import FaceModel
 from .intrinsics import Intrinsics
 
@@ -49,8 +50,8 @@ class Mount:
 
 @dataclass(frozen=True)
 class HeadPose:
-    """The face frame in the base frame: translation (metres) and unit quaternion
-    (x, y, z, w)."""
+    """The face frame in ``camera_link`` or, placed (``placed``), in the base frame the
+    camera is mounted in: translation (metres) and unit quaternion (x, y, z, w)."""
 
     translation: tuple[float, float, float]
     rotation: tuple[float, float, float, float]
@@ -70,11 +71,17 @@ def fit_head(
     if not ok or tvec[2, 0] <= 0.0:
         return None
     face_in_optical, _ = cv2.Rodrigues(rvec)
-    mount = mount or Mount()
-    rotation = mount.rotation @ OPTICAL_TO_BODY @ face_in_optical
-    translation = mount.rotation @ (OPTICAL_TO_BODY @ tvec[:, 0]) + np.array(mount.translation)
-    x, y, z = (float(v) for v in translation)
-    return HeadPose((x, y, z), quaternion_of(rotation))
+    x, y, z = (float(v) for v in OPTICAL_TO_BODY @ tvec[:, 0])
+    head = HeadPose((x, y, z), quaternion_of(OPTICAL_TO_BODY @ face_in_optical))
+    return head if mount is None else placed(head, mount)
+
+
+def placed(head: HeadPose, mount: Mount) -> HeadPose:
+    """A face seen from the camera (in ``camera_link``), put where the camera is mounted."""
+    turn = quaternion_of(mount.rotation)
+    return HeadPose(
+        add(rotate(turn, head.translation), mount.translation), qmul(turn, head.rotation)
+    )
 
 
 def quaternion_of(rotation: FloatArray) -> tuple[float, float, float, float]:

@@ -21,6 +21,8 @@ from typing import Any
 DEFAULT_FOV_DEG = 65.0
 #: The distortion models whose coefficients OpenCV's pinhole model takes as they are.
 PINHOLE_MODELS = ("plumb_bob", "rational_polynomial")
+#: How many distortion coefficients OpenCV's solvePnP takes (none, or one of these).
+DISTORTION_COUNTS = (4, 5, 8, 12, 14)
 
 
 class CalibrationError(ValueError):
@@ -103,6 +105,11 @@ def parse_calibration(text: str, name: str) -> Intrinsics:
     if model not in PINHOLE_MODELS:
         raise CalibrationError(
             f"{name}: distortion_model '{model}' is not supported ({', '.join(PINHOLE_MODELS)})"
+        )
+    if distortion and len(distortion) not in DISTORTION_COUNTS:
+        raise CalibrationError(
+            f"{name}: distortion_coefficients has {len(distortion)} numbers; OpenCV takes "
+            f"{', '.join(map(str, DISTORTION_COUNTS))} (or none)"
         )
     if not (fx > 0 and fy > 0 and 0 < cx < width and 0 < cy < height):
         raise CalibrationError(

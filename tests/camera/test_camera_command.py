@@ -1,6 +1,6 @@
 """``facing-service camera`` and ``demo --camera`` as a user runs them: a photograph's face
-reaches a real service, which decides it faces the robot; every failure is one line; the
-demo falls back to its simulated people when the camera cannot be had."""
+reaches a real service, which decides it faces the robot; every failure is one line, the
+demo's too (a camera asked for and not had ends it: issue 67)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ pytest.importorskip(
 import cv2
 import skimage.data
 
-from facing_service.testing import LOOPBACK_FLAGS
+from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from browser import Browser
 from loopback import endpoint, free_port, wait_until
@@ -52,6 +52,38 @@ def test_a_photographed_face_reaches_the_service_which_says_it_faces(net, photos
     assert result.key == "hri/bodies/f1/facing/cam" and result.value["facing"] is True
     recorder.wait_for(lambda r: r.kind == "delete", timeout=10)  # the face's end said
     assert proc.stderr == ""  # MediaPipe's native start-up lines kept off the terminal
+
+
+@pytest.mark.slow
+def test_a_camera_publishing_to_nobody_says_so_while_it_runs(photos: Path):
+    """Issue 67: ``camera -e tcp/127.0.0.1:1`` printed its faces as if all were well, and
+    said nobody heard only at its end (a webcam has none)."""
+    nowhere = endpoint(free_port())
+    args = ("camera", "--images", str(photos), "--loop", "-e", nowhere, *LOOPBACK_FLAGS)
+    with running_cli(*args) as proc:
+        assert proc.stdout is not None
+        lines = [proc.stdout.readline()]
+        while "nobody hears yet" not in lines[-1]:
+            lines.append(proc.stdout.readline())
+            assert lines[-1], lines
+        assert proc.poll() is None  # said while it runs
+    assert f"facing-service camera: nothing answers at {nowhere}" in lines[-1]
+
+
+@pytest.mark.slow
+def test_a_mounted_camera_says_facing_the_camera_by_the_camera(net, photos: Path):
+    """Issue 67: with --camera-pose, a face looking into the camera was said "not facing
+    the camera (28°)": the angle was the service's, to the robot's origin."""
+    _, ep = net.service()
+    recorder = net.recorder(net.client(ep), "hri/bodies/*/facing/cam")
+    mount = ("--camera-pose", "1", "1", "1.2", "0", "0", "0")  # 1 m ahead and 1 m left
+    proc = run("camera", "--images", str(photos), "--base-frame", "cam", *mount, "-e", ep,
+               *LOOPBACK_FLAGS)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "f1 facing the camera (0°, 0.85 m)" in proc.stdout, proc.stdout
+    (result,) = recorder.wait_for(lambda r: r.kind == "put", timeout=10)
+    assert result.value["facing"] is False  # toward the robot's origin: 28° off
+    assert result.value["angle_deg"] > 20
 
 
 @pytest.mark.parametrize(
@@ -107,10 +139,57 @@ def _answers(port: int) -> bool:
         return False
 
 
-@pytest.mark.slow
-def test_demo_without_a_camera_falls_back_to_its_simulated_people():
-    proc = run("demo", "--camera", "57", "--duration-s", "2", "--view-port", "0")
-    assert proc.returncode == 0, proc.stderr
-    assert "demo: no camera 57: /dev/video57 does not exist" in proc.stderr
-    assert "demo: simulated people instead" in proc.stdout
-    assert "faced the robot during the demo: p" in proc.stdout
+@pytest.fixture(scope="module")
+def video(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A 640x480 video of the astronaut, a second long."""
+    path = tmp_path_factory.mktemp("video") / "faces.avi"
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 10, (640, 480))
+    frame = cv2.resize(cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR), (640, 480))
+    for _ in range(10):
+        writer.write(frame)
+    writer.release()
+    return path
+
+
+def test_a_calibration_of_another_aspect_is_refused_in_one_line_before_the_first_frame(
+    video: Path, tmp_path: Path
+):
+    """Issue 67: a valid camera_info for 1280x720 with a 640x480 video printed a traceback
+    (camera), or a thread's traceback under the live view and nobody (demo, exit 0)."""
+    calibration = tmp_path / "ci_169.yaml"
+    calibration.write_text(CAMERA_INFO_1280X720)
+    said = f"--calibration: {calibration}: calibrated for 1280x720, frames are 640x480"
+    nowhere = ("-e", endpoint(free_port()), *LOOPBACK_FLAGS)
+    for command in (
+        ["camera", "--video", str(video), *nowhere],
+        ["demo", "--camera", str(video), "--duration-s", "5", "--view-port", "0"],
+    ):
+        proc = run(*command, "--calibration", str(calibration), timeout=30)
+        assert proc.returncode == 2, (command, proc.stdout, proc.stderr)
+        assert said in proc.stderr and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+        assert "Traceback" not in proc.stdout + proc.stderr
+
+
+#: A valid camera_info of a 1280x720 camera (16:9).
+CAMERA_INFO_1280X720 = """image_width: 1280
+image_height: 720
+camera_matrix: {rows: 3, cols: 3, data: [1000.0, 0.0, 640.0, 0.0, 1000.0, 360.0, 0.0, 0.0, 1.0]}
+distortion_model: plumb_bob
+distortion_coefficients: {rows: 1, cols: 5, data: [0.0, 0.0, 0.0, 0.0, 0.0]}
+"""
+
+
+@pytest.mark.parametrize(
+    ("args", "code", "said"),
+    [
+        (["--camera", "57"], 1, "demo: no camera 57: /dev/video57 does not exist"),
+        (["--camera", "nope.mp4"], 2, "neither a camera index nor an existing video or folder"),
+    ],
+)
+def test_demo_with_a_camera_it_cannot_have_says_so_and_ends(args: list[str], code: int, said: str):
+    """Issue 67: a typo (``demo --camera nope.mp4``) ran the simulated people, one line
+    above the live view."""
+    proc = run("demo", *args, "--duration-s", "2", "--view-port", "0")
+    assert proc.returncode == code, proc.stderr
+    assert said in proc.stderr and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert "faced the robot during the demo" not in proc.stdout

@@ -75,6 +75,10 @@ def test_a_calibration_scales_to_frames_of_the_same_aspect_and_refuses_another()
         (ROS_CAMERA_INFO.replace("322.1", "922.1"), "principal point inside the 640x480"),
         (ROS_CAMERA_INFO.replace("615.2", ".nan"), "finite numbers"),
         (ROS_CAMERA_INFO.replace("plumb_bob", "equidistant"), "'equidistant' is not supported"),
+        (  # issue 67: six coefficients passed the checks and failed at the first face
+            ROS_CAMERA_INFO.replace("[0.11, -0.23, 0.001, -0.002, 0.0]", "[0.1, 0, 0, 0, 0, 0]"),
+            "distortion_coefficients has 6 numbers; OpenCV takes 4, 5, 8, 12, 14",
+        ),
     ],
 )
 def test_a_bad_calibration_is_one_line_naming_the_file(tmp_path: Path, text: str, said: str):

@@ -35,7 +35,8 @@ def test_a_level_prints_as_its_name_and_is_made_from_it():
 
 def test_a_level_compares_as_its_number_and_still_equals_its_name():
     """Code written when a callback's ``event.level`` was the string keeps its meaning."""
-    assert Level.ENGAGED == 3 and Level.ENGAGED == "ENGAGED" and "ENGAGED" == Level.ENGAGED
+    assert Level.ENGAGED == 3 and Level.ENGAGED == "ENGAGED"
+    assert "ENGAGED" == Level.ENGAGED  # noqa: SIM300 (the string on the left, on purpose)
     assert Level.ENGAGED != "DISENGAGED" and Level.ENGAGED != 1
     assert Level.DISENGAGED < Level.ENGAGED
     assert {Level.ENGAGED: "x"}[3] == "x"
