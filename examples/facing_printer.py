@@ -1,7 +1,7 @@
 """The ROS4HRI tutorial's node, without ROS: every second, print the ids of the bodies
 oriented toward the robot.
 
-    python examples/facing_printer.py [-e tcp/<host>:7447] [--frame base_link]
+    .venv/bin/python examples/facing_printer.py [-e tcp/<host>:7447] [--frame base_link]
 
 With ROS4HRI this is an HRIListener, a loop over getBodies() and a tf transform per body;
 here the facing-service does the geometry and the client keeps the answer up to date.

@@ -1,7 +1,7 @@
 """A behaviour: greet people once when they start facing the robot, say goodbye when
 they turn away for good or leave.
 
-    python examples/greeter.py [-e tcp/<host>:7447] [--frame base_link]
+    .venv/bin/python examples/greeter.py [-e tcp/<host>:7447] [--frame base_link]
 
 Transitions, not samples: on_facing fires once when someone turns toward the robot, not
 30 times a second. A short grace period keeps a glance away from ending the conversation.

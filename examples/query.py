@@ -1,6 +1,6 @@
 """Ask the service, in plain zenoh: everyone in a frame now, decided under a wider cone.
 
-    python examples/query.py [-e tcp/<host>:7447] [--frame base_link] [--threshold-deg 35]
+    .venv/bin/python examples/query.py [-e tcp/<host>:7447] [--frame base_link] [--threshold-deg 35]
 
 A `get` on NS/bodies/*/facing/<frame> is answered from the service's state, with one
 FacingState per body; `threshold_deg` re-decides them under another cone. A refusal is an

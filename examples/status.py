@@ -1,6 +1,6 @@
 """Read every service's status, in plain zenoh, as `facing-service health` does.
 
-    python examples/status.py [-e tcp/<host>:7447]
+    .venv/bin/python examples/status.py [-e tcp/<host>:7447]
 
 NS/services/facing/<instance>/status answers a `get` with the service's ServiceStatus:
 its instance, version, uptime, bodies tracked per frame and every counter.

@@ -1,6 +1,6 @@
 """Every result as it is published, in plain zenoh: who faces the robot, pose by pose.
 
-    python examples/subscribe.py [-e tcp/<host>:7447] [--frame base_link]
+    .venv/bin/python examples/subscribe.py [-e tcp/<host>:7447] [--frame base_link]
 
 A result (docs/contract.md, FacingState) goes out on NS/bodies/<id>/facing/<frame> for
 every pose while anyone subscribes to results; a DELETE there says the body was lost.

@@ -2,7 +2,7 @@
 in, and to greet each person engaging with it in no group (x, y in metres and the way to
 face in degrees, in the base frame): what a navigation goal is made of.
 
-    python examples/where_to_stand.py [-e tcp/<host>:7447] [--frame base_link]
+    .venv/bin/python examples/where_to_stand.py [-e tcp/<host>:7447] [--frame base_link]
 
 The service works the places out from the people it sees (docs/groups.md, "Where to
 stand"); a robot sends the one it chooses to its navigation as a goal.

@@ -199,7 +199,7 @@ def _add_camera_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--camera-pose", type=_finite, nargs=6, metavar=("X", "Y", "Z", "YAW", "PITCH", "ROLL"),
         help="the camera's pose in --base-frame (metres, degrees; static_transform_publisher's "
-        "order); default: --base-frame is the camera's own (x forward, y left, z up)",
+        "order); default: at its origin, looking along x (x forward, y left, z up)",
     )  # fmt: skip
     parser.add_argument(
         "--max-faces", type=_number(1, strict=False, integer=True),
@@ -239,8 +239,11 @@ def _add_camera_command(commands: Any) -> None:
                         help="frame width asked of a camera (default 640)")  # fmt: skip
     camera.add_argument("--height", type=_number(1, strict=False, integer=True), default=480,
                         help="frame height asked of a camera (default 480)")  # fmt: skip
-    camera.add_argument("--base-frame", default="camera_link",
-                        help="the frame of the poses (default camera_link)")  # fmt: skip
+    camera.add_argument(
+        "--base-frame", default="base_link",
+        help="the frame of the poses (default base_link, as run, watch and view: the camera "
+        "at the robot's origin, looking along x, unless --camera-pose places it)",
+    )  # fmt: skip
     _add_camera_arguments(camera)
     add_settings_arguments(camera, ["namespace", "threshold_deg"])
     add_zenoh_arguments(camera)

@@ -534,3 +534,13 @@ def test_view_says_a_port_in_use_in_one_line(net):
     assert proc.returncode == 1
     assert f"facing-service view: --host 127.0.0.1 --port {port}: " in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+
+
+def test_the_camera_publishes_in_the_frame_the_views_and_the_service_default_to():
+    """Issue 67: camera published in camera_link, view and watch defaulted to base_link:
+    following docs/camera.md gave an empty radar."""
+    from facing_service.arguments import build_parser
+
+    parser = build_parser()
+    frames = {c: parser.parse_args([c]).base_frame for c in ("camera", "watch", "view", "demo")}
+    assert set(frames.values()) == {"base_link"}, frames

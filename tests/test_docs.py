@@ -183,3 +183,14 @@ def test_performance_figures_are_stated_once_on_the_performance_page():
             continue
         found = figure.findall(doc.read_text())
         assert not found, f"{doc.name} states performance figures {found}: link performance.md"
+
+
+def test_the_examples_are_run_with_the_venvs_python():
+    """Issue 67: examples/README said `python examples/tracker.py`, a ModuleNotFoundError
+    (zenoh) unless the venv was active."""
+    texts = [*ROOT.glob("*.md"), *PAGES, *ROOT.glob("examples/**/*.md"),
+             *ROOT.glob("examples/*.py")]  # fmt: skip
+    bare = re.compile(r"(?<![\w/.-])python3? examples/")
+    said = [f"{p.relative_to(ROOT)}: {m.group(0)}" for p in texts for m in bare.finditer(
+        p.read_text())]  # fmt: skip
+    assert said == []

@@ -6,9 +6,11 @@ from __future__ import annotations
 import importlib.util
 import sys
 
-INSTALL = "pip install 'facing-service[camera]'"
-#: mediapipe 0.10.18-0.10.21 publish wheels for CPython 3.9-3.12 only.
-PYTHONS = ((3, 9), (3, 12))
+#: As the README and docs/camera.md install it: in a venv of its own, from the clone.
+INSTALL = "python3 -m venv .venv-camera && .venv-camera/bin/pip install '.[camera]'"
+#: mediapipe 0.10.18-0.10.21 publish wheels for CPython 3.9-3.12 only; the package needs
+#: 3.10 or later.
+PYTHONS = ((3, 10), (3, 12))
 
 
 def missing_extra() -> str | None:

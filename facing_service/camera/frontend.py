@@ -37,7 +37,7 @@ class CameraOptions:
     """What ``facing-service camera`` and ``demo --camera`` were asked for."""
 
     source: Source
-    base_frame: str = "camera_link"
+    base_frame: str = "base_link"
     namespace: str = "hri"
     max_faces: int = 5
     id_prefix: str = "f"

@@ -1,0 +1,78 @@
+"""The front end lets go of its capture and models however it ends (issue 67: a publish
+failing in ``run``'s end skipped ``close()``; a ``FaceMesh`` failing to load left the
+opened video to the garbage collector)."""
+
+from __future__ import annotations
+
+from collections.abc import Generator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip(
+    "mediapipe", reason="the camera extra is not installed: its tests run in .venv-camera (README)"
+)
+import cv2
+import skimage.data
+
+from facing_service.camera import frontend
+from facing_service.camera.frames import Source
+from facing_service.camera.frontend import CameraFeed, CameraOptions
+
+
+class Capture:
+    """Frames as a source gives them, and whether the source was let go."""
+
+    def __init__(self, image: np.ndarray, count: int) -> None:
+        self.image, self.count, self.released = image, count, False
+
+    def __call__(self, _source: Source) -> Generator[np.ndarray, None, None]:
+        try:
+            for _ in range(self.count):
+                yield self.image
+        finally:
+            self.released = True
+
+
+@pytest.fixture
+def capture(monkeypatch: pytest.MonkeyPatch) -> Capture:
+    frame = cv2.resize(skimage.data.astronaut(), (640, 480))
+    source = Capture(frame, 3)
+    monkeypatch.setattr(frontend, "frames", source)
+    return source
+
+
+def options() -> CameraOptions:
+    return CameraOptions(source=Source(images=Path("unused")))
+
+
+def test_a_publish_failing_at_the_end_still_releases_the_capture(capture: Capture):
+    feed = CameraFeed(options())
+
+    def publish(key: str, payload: bytes | None) -> None:
+        if payload is None:  # the session closed under the front end
+            raise RuntimeError("session closed")
+
+    with pytest.raises(RuntimeError, match="session closed"):
+        feed.run(publish, say=lambda line: None)
+    assert capture.released and feed._frames is None
+
+
+def test_models_failing_to_load_release_the_opened_capture(
+    capture: Capture, monkeypatch: pytest.MonkeyPatch
+):
+    def broken(_max_faces: int) -> None:
+        raise RuntimeError("no graph")
+
+    monkeypatch.setattr(frontend, "FaceMesh", broken)
+    with pytest.raises(RuntimeError, match="no graph"):
+        CameraFeed(options())
+    assert capture.released
+
+
+def test_the_first_frame_read_to_check_the_calibration_is_not_lost(capture: Capture):
+    seen: list[str] = []
+    feed = CameraFeed(options())
+    stats = feed.run(lambda key, payload: seen.append(key), say=lambda line: None)
+    assert stats.frames == 3 and stats.faces_seen == 1
