@@ -19,10 +19,12 @@ says which services answer, and how they are.
 
 from __future__ import annotations
 
+import atexit
 import logging
 import queue
 import threading
 import time
+import weakref
 from collections.abc import Callable, Iterable
 from typing import TypeVar
 
@@ -116,6 +118,7 @@ class FacingClient:
         error (it may start later): ``absence`` then says why, in one line, logged unless
         the caller says it itself (``log_absence=False``)."""
         session = self._session = session if session is not None else zenoh.open(self._config)
+        _OPEN.add(self)  # closed at exit at the latest: nothing of it outlives the program
         try:
             self._start(session, log_absence)
         except BaseException:
@@ -187,6 +190,7 @@ class FacingClient:
         if self._session is not None:
             self._session.close()
             self._session = None
+        _OPEN.discard(self)
 
     def __enter__(self) -> FacingClient:
         return self.open()
@@ -454,6 +458,16 @@ class FacingClient:
                 callback(*args)
             except Exception:
                 log.exception("facing client: a callback raised")
+
+
+#: Every open client; the program's exit closes those it did not (issue 67).
+_OPEN: weakref.WeakSet[FacingClient] = weakref.WeakSet()
+
+
+@atexit.register
+def _close_at_exit() -> None:
+    for client in list(_OPEN):
+        client.close()
 
 
 def _instance_of(token_key: str) -> str:

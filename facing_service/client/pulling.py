@@ -5,12 +5,18 @@ ends, fails or is interrupted without closing its ``FacingClient`` would never e
 (issue 67). A channel pulled by a daemon thread keeps nothing of the client's alive past
 the program's own code, and, like zenoh's callback thread, a slow handler never stalls
 the session (the channel holds the samples meanwhile).
+
+Those still open when the interpreter exits are closed by an ``atexit`` hook, before
+Python stops its daemon threads: one stopped while zenoh hands it a sample unwinds
+through zenoh's native code and aborts the process ("FATAL: exception not rethrown").
 """
 
 from __future__ import annotations
 
+import atexit
 import logging
 import threading
+import weakref
 from collections.abc import Callable
 
 import zenoh
@@ -52,16 +58,28 @@ class Pulled:
         )
         thread.start()
         self._entries.append((subscriber, thread))
+        _OPEN.add(self)
 
     def close(self) -> None:
         """Undeclare every subscriber (its channel ends, its thread with it) and wait for
         the threads, but never for the calling one (a handler may close the client)."""
         entries, self._entries = self._entries, []
+        _OPEN.discard(self)
         for subscriber, _ in entries:
             subscriber.undeclare()
         for _, thread in entries:
             if thread is not threading.current_thread():
                 thread.join(timeout=2.0)
+
+
+#: Every Pulled with a subscription, until it is closed (at the latest at exit).
+_OPEN: weakref.WeakSet[Pulled] = weakref.WeakSet()
+
+
+@atexit.register
+def _close_at_exit() -> None:
+    for pulled in list(_OPEN):
+        pulled.close()
 
 
 def _pull(subscriber: Subscription, handle: Callable[[zenoh.Sample], object]) -> None:

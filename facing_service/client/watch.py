@@ -31,6 +31,7 @@ from rich.table import Table
 from rich.text import Text
 
 from ..contract import keys
+from ..contract.errors import FacingError
 from ..contract.schemas import FacingState, GroupState
 from ..contract.stamps import Time
 from .client import FacingClient
@@ -87,10 +88,18 @@ def arrow(yaw_deg: float) -> str:
 #: What the screen's marks and columns mean, said under it (a newcomer asked).
 LEGEND = (
     "arrows: where each person faces (green: facing the robot R, yellow: not); "
-    "held s: how long the facing decision has held (≥: already so when the view started); "
-    "engagement needs more than facing: a score that falls with distance past 2.5 m (0 at "
-    "4.5 m) held about a second (docs/engagement.md)"
+    "held s: how long the facing decision has held (≥: at least, already so when this "
+    "view first saw them); "
 )
+#: How the service decides engagement, by its --engagement mode (its status says which).
+ENGAGEMENT_LEGENDS = {
+    "service": "engagement needs more than facing: a score that falls with distance past "
+    "2.5 m (0 at 4.5 m) held about a second (docs/engagement.md)",
+    "rule": "engagement is hri_engagement's rule: mutual gaze and distance voted every 0.1 s "
+    "over a 10 s window, no level for the first 5 s (docs/engagement.md)",
+}
+#: The lines the map needs at the least, and at the most (its width follows).
+MAP_ROWS = (7, 19)
 
 
 def render(
@@ -101,12 +110,14 @@ def render(
     height: int = 19,
     elsewhere: dict[str, int] | None = None,
     groups: Sequence[GroupState] = (),
+    legend: str | None = LEGEND + ENGAGEMENT_LEGENDS["service"],
 ) -> RenderableType:
     """The map and the table for one instant; ``elsewhere``: people tracked in other
     frames (frame -> how many), said when this frame has nobody; ``groups``: the frame's
-    F-formations (each centre drawn ``o``, each member's group in the table)."""
+    F-formations (each centre drawn ``o``, each member's group in the table); ``legend``
+    under the table (None: none)."""
     canvas = _map(people, radius_m, width, height, groups)
-    table = _table(people, frame_id, groups)
+    table = _table(people, frame_id, groups, legend)
     facing = sum(1 for p in people if p.facing)
     title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
     parts: list[RenderableType] = [Panel(canvas, title=title, expand=False)]
@@ -177,9 +188,41 @@ def _map(
     return canvas
 
 
-def _table(people: list[PersonView], frame_id: str, groups: Sequence[GroupState]) -> Table:
+def fitted(
+    draw: Callable[[int, int, str | None], RenderableType],
+    legend: str,
+    columns: int,
+    lines: int,
+) -> RenderableType:
+    """``draw(map_width, map_rows, legend)`` made to fit a terminal of ``columns`` x
+    ``lines`` with every person's row (issue 67: on 80x24 the table's rows were cut after
+    its header): measured with the smallest map, the legend goes first, then the map
+    takes what is left, between MAP_ROWS' bounds (odd: the robot on the middle row)."""
+    low, high = MAP_ROWS
+    for shown in (legend, None):
+        spare = lines - 1 - _lines(draw(_map_width(low, columns), low, shown), columns)
+        if spare >= 0 or shown is None:  # (Live keeps the last line for its cursor)
+            rows = max(low, min(high, low + spare))
+            rows -= 1 - rows % 2
+            return draw(_map_width(rows, columns), rows, shown)
+    raise AssertionError("unreachable: the last try takes what it gets")
+
+
+def _map_width(rows: int, columns: int) -> int:
+    """As wide as a round map of ``rows`` looks in a terminal's cells, within the screen."""
+    return max(min(2 * rows + 3, columns - 2), 5)
+
+
+def _lines(renderable: RenderableType, columns: int) -> int:
+    console = Console(width=columns, file=io.StringIO(), color_system=None)
+    return len(console.render_lines(renderable, console.options, pad=False))
+
+
+def _table(
+    people: list[PersonView], frame_id: str, groups: Sequence[GroupState], legend: str | None
+) -> Table:
     """One row a person: facing, angle, distance, how long it held, engagement, group."""
-    table = Table(title=f"frame {frame_id}", caption=LEGEND, caption_justify="left", expand=False)
+    table = Table(title=f"frame {frame_id}", caption=legend, caption_justify="left", expand=False)
     group_of = {m: g.id + (" +R" if g.robot else "") for g in groups for m in g.members}
     for name in ("id", "facing", "angle °", "distance m", "held s", "engagement", "group"):
         table.add_column(name, justify="left" if name == "id" else "right")
@@ -217,6 +260,10 @@ class Watcher:
         self._since: dict[str, tuple[bool, float, bool, float]] = {}
         self._levels: dict[str, str] = {}
         self._frames: dict[str, int] = {}  # frame -> people tracked there (aggregates)
+        self.legend = LEGEND + ENGAGEMENT_LEGENDS["service"]  # the service's mode: ask_frames
+        # Already tracked when the view opened: their decision began before it, so held
+        # is "at least"; anyone else's first result is when their decision began.
+        self._there_before = set(client.bodies(frame)) if frame != keys.ALL_FRAMES else set()
         session = client.session
         aggregates = keys.frame_key(client.namespace, keys.ALL_FRAMES)
         levels = keys.engagement_key(client.namespace, body_id=keys.ALL_FRAMES, frame_id=frame)
@@ -243,7 +290,12 @@ class Watcher:
 
     def ask_frames(self) -> None:
         """Ask the service which frames have people now (the aggregates are also
-        published on every change; this answers at once)."""
+        published on every change; this answers at once), and how it decides engagement
+        (its status: the legend explains that mode's)."""
+        with contextlib.suppress(FacingError, zenoh.ZError):
+            modes = {str(s.config.get("engagement", "service")) for s in self.client.status()}
+            if len(modes) == 1 and (mode := modes.pop()) in ENGAGEMENT_LEGENDS:
+                self.legend = LEGEND + ENGAGEMENT_LEGENDS[mode]
         with contextlib.suppress(zenoh.ZError):
             for reply in self.client.session.get(
                 keys.frame_key(self.client.namespace, keys.ALL_FRAMES), timeout=2.0
@@ -276,7 +328,8 @@ class Watcher:
         with self._lock:
             previous = self._since.get(state.body_id)
             if previous is None:
-                self._since[state.body_id] = (state.facing, t, False, t)
+                seen_begin = state.body_id not in self._there_before
+                self._since[state.body_id] = (state.facing, t, seen_begin, t)
             elif previous[0] != state.facing:
                 self._since[state.body_id] = (state.facing, t, True, t)
             else:
@@ -286,6 +339,7 @@ class Watcher:
         if body.frame_id == self.frame:
             with self._lock:
                 self._since.pop(body.body_id, None)
+                self._there_before.discard(body.body_id)  # back later: seen from its start
 
     def people(self) -> list[PersonView]:
         states = self.client.bodies(self.frame)
@@ -317,18 +371,26 @@ class Watcher:
             )
         return people
 
-    def view(self) -> RenderableType:
-        groups = self.client.groups(self.frame)
-        return render(self.people(), self.frame, elsewhere=self.frames(), groups=groups)
+    def view(self, size: tuple[int, int] | None = None) -> RenderableType:
+        """The screen; ``size`` (columns, lines): fitted to a terminal of that size."""
+        groups, people, elsewhere = self.client.groups(self.frame), self.people(), self.frames()
+
+        def draw(width: int, height: int, legend: str | None) -> RenderableType:
+            return render(people, self.frame, width=width, height=height,
+                          elsewhere=elsewhere, groups=groups, legend=legend)  # fmt: skip
+
+        return draw(41, 19, self.legend) if size is None else fitted(draw, self.legend, *size)
 
     def live(self, keep_going: Callable[[], bool], period_s: float = 0.1) -> None:
-        """Redraw in the terminal every ``period_s`` while ``keep_going()``; the last
-        frame stays on screen."""
-        with Live(self.view(), refresh_per_second=1 / period_s) as screen:
+        """Redraw in the terminal every ``period_s`` while ``keep_going()``, fitted to its
+        size (read each time: a resized window refits); the last frame stays on screen."""
+        console = Console()
+        with Live(self.view(console.size), console=console,
+                  refresh_per_second=1 / period_s) as screen:  # fmt: skip
             while keep_going():
                 time.sleep(period_s)
-                screen.update(self.view())
-            screen.update(self.view())
+                screen.update(self.view(console.size))
+            screen.update(self.view(console.size))
         if not screen.console.is_terminal:  # (a terminal gets its line break from Live)
             screen.console.line()
 

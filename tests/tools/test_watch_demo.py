@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import time
@@ -13,7 +15,14 @@ import pytest
 from rich.console import Console
 
 from facing_service.arguments import build_parser
-from facing_service.client.watch import PersonView, arrow, render
+from facing_service.client.watch import (
+    ENGAGEMENT_LEGENDS,
+    LEGEND,
+    PersonView,
+    arrow,
+    fitted,
+    render,
+)
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint, free_port, send, wait_until_answered
@@ -198,8 +207,38 @@ def test_watch_lists_what_the_service_says_on_ros2_input(net):
         robot.close()
     assert "1 of 1 facing the robot" in text and "not drawn" not in text
     assert "↓body_a" in text  # 2 m ahead, facing the robot (down the screen)
-    # held: 44 frames of pose time (1.47 s) at least, since the view did not see it begin
-    assert re.search(r"body_a\s*│\s*yes\s*│\s*0\.0\s*│\s*2\.00\s*│\s*≥1\.5", text), text
+    # held: 44 frames of pose time (1.47 s), exactly: body_a appeared after the view opened
+    assert re.search(r"body_a\s*│\s*yes\s*│\s*0\.0\s*│\s*2\.00\s*│\s*1\.5", text), text
+
+
+def test_held_is_at_least_only_for_people_there_before_the_view(net):
+    """Issue 67: "≥" (already so when the view started) was said of people who appeared
+    after the view started too: their first result is when their decision began."""
+    from facing_service.client.client import FacingClient
+    from facing_service.client.watch import Watcher
+    from facing_service.tools.loopback import loopback_config
+
+    _, ep = net.service(base_frame="base_link")
+    tracker = net.client(ep)
+    wait_until_answered(tracker, "hri/facing/base_link")
+    key = "hri/bodies/{}/pose/base_link"
+    send(tracker, key.format("early"), pose_json("early", "base_link", off_deg=5.0, sec=1))
+    wait_until_answered(tracker, "hri/bodies/early/facing/base_link")
+    with FacingClient("hri", "base_link", session_config=loopback_config(connect=[ep])) as c:
+        watcher = Watcher(c, "base_link")
+        try:
+            for sec in (2, 3, 4):
+                for who in ("early", "late"):
+                    send(tracker, key.format(who), pose_json(who, "base_link", off_deg=5.0,
+                                                             sec=sec))  # fmt: skip
+            deadline = time.monotonic() + 5
+            while not re.search(r"late\s*│.*│\s*2\.0\s*│", text := text_of(watcher.view())):
+                assert time.monotonic() < deadline, text
+                time.sleep(0.05)
+        finally:
+            watcher.close()
+    assert re.search(r"early\s*│\s*yes\s*│.*│\s*≥2\.0\s*│", text), text
+    assert re.search(r"late\s*│\s*yes\s*│.*│\s*2\.0\s*│", text), text
 
 
 def test_a_person_and_their_face_are_one_human_in_the_view():
@@ -261,3 +300,71 @@ def test_where_to_stand_prints_the_places_to_join_and_to_greet(net):
         r"to join ann, bob: stand at \((2|1)\.\d\d, -?0\.\d\d\) facing -?\d°", printed
     ), printed
     assert re.search(r"to greet cy: stand at \(-1\.20, -?0\.00\) facing -?180°", printed), printed
+
+
+def test_the_demo_fits_an_80x24_terminal_as_a_person_sees_it(tmp_path):
+    """Issue 67: on 80x24 the demo showed the radar and only the table's header, then
+    "...". Run in a real terminal (tmux) of that size: every person's row is on screen."""
+    if shutil.which("tmux") is None:
+        pytest.fail("tmux is the terminal here (Debian's tmux)")
+    session = f"facing-demo-{os.getpid()}"
+    command = shlex.join([sys.executable, "-m", "facing_service", "demo", "--duration-s", "20",
+                          "--view-port", "0"])  # fmt: skip
+    subprocess.run(["tmux", "new-session", "-d", "-s", session, "-x", "80", "-y", "24",
+                    f"cd {shlex.quote(str(ROOT))} && {command}"], check=True)  # fmt: skip
+    try:
+        deadline, screen = time.monotonic() + 20, ""
+        while time.monotonic() < deadline:
+            time.sleep(0.5)
+            screen = subprocess.run(["tmux", "capture-pane", "-p", "-t", session],
+                                    capture_output=True, text=True).stdout  # fmt: skip
+            if len(re.findall(r"^\s*│?\s*p\d+\s", screen, re.M)) == 5:
+                break  # (ids go on as people leave and others come: p6, p7, ...)
+    finally:
+        subprocess.run(["tmux", "kill-session", "-t", session], capture_output=True)
+    rows = re.findall(r"^\s*│?\s*(p\d+)\s", screen, re.M)
+    assert len(set(rows)) == 5, screen  # five people, each a row
+    assert "R" in screen and "facing the robot (R)" in screen, screen
+    assert len(screen.rstrip("\n").splitlines()) <= 24
+
+
+@pytest.mark.parametrize(("columns", "lines"), [(80, 24), (100, 40), (64, 24), (200, 60)])
+def test_the_view_fits_the_terminal_with_every_row(columns: int, lines: int):
+    people = [PersonView(f"p{i}", 1.0 + i * 0.3, 0.5, 180.0, i % 2 == 0, 4.0, 2.0, 20.0, 1.0)
+              for i in range(1, 6)]  # fmt: skip
+    drawn: list[tuple[int, int, str | None]] = []
+
+    def draw(width: int, height: int, legend: str | None):
+        drawn.append((width, height, legend))
+        return render(people, "base_link", width=width, height=height, legend=legend)
+
+    console = Console(width=columns, height=lines, record=True, color_system=None)
+    console.print(fitted(draw, LEGEND + ENGAGEMENT_LEGENDS["rule"], columns, lines))
+    printed = console.export_text().rstrip("\n").splitlines()
+    assert len(printed) <= lines - 1, "\n".join(printed)  # Live keeps a line
+    assert all(any(f"p{i} " in line for line in printed) for i in range(1, 6)), printed
+    width, height, legend = drawn[-1]
+    assert height % 2 == 1 and 7 <= height <= 19 and width <= columns
+    assert (legend is not None) == (lines >= 40), (columns, lines, drawn)
+    assert ("hri_engagement's rule" in "\n".join(printed)) == (legend is not None)
+
+
+@pytest.mark.parametrize(
+    ("mode", "said"),
+    [("rule", "engagement is hri_engagement's rule"), ("service", "needs more than facing")],
+)
+def test_the_legend_explains_the_engagement_mode_the_service_runs(net, mode: str, said: str):
+    """Issue 67: with --engagement rule, watch's footer still explained the default mode."""
+    from facing_service.client.client import FacingClient
+    from facing_service.client.watch import Watcher
+    from facing_service.tools.loopback import loopback_config
+
+    _, ep = net.service(base_frame="base_link", engagement=mode)
+    with FacingClient("hri", "base_link", session_config=loopback_config(connect=[ep])) as c:
+        watcher = Watcher(c, "base_link")
+        try:
+            watcher.ask_frames()
+            text = " ".join(text_of(watcher.view()).split())
+        finally:
+            watcher.close()
+    assert said in text, text
