@@ -307,7 +307,11 @@ def build_parser() -> _Parser:
         "flags but -m/--mode: the mode is always router.",
     )
     add_settings_arguments(router, ["log_level"])
-    add_settings_arguments(router, [f for f in ZENOH_FIELDS if f != "mode"])  # always router
+    # the mode is always router, and a router waits for no router (issue 67: its help
+    # offered --exit-without-router)
+    add_settings_arguments(
+        router, [f for f in ZENOH_FIELDS if f not in ("mode", "exit_without_router")]
+    )
 
     replay = commands.add_parser(
         "replay",

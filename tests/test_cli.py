@@ -127,6 +127,12 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
         (["simulate", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
         (["simulate", "--rate-hz", "-5"], "argument --rate-hz: must be a number > 0, got -5"),
         (["demo", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
+        # issue 67: the rule named the fields, not the flags
+        (
+            ["run", "--disengage-below", "0.7", "--engage-above", "0.6"],
+            "--disengage-below (FACING_DISENGAGE_BELOW, 0.7) must be below --engage-above "
+            "(FACING_ENGAGE_ABOVE, 0.6)",
+        ),
         # issue 67: the camera's flags were ignored by a demo of simulated people
         (["demo", "--calibration", "ci.yaml"], "demo: --calibration only with --camera"),
         (["demo", "--fov-deg", "90", "--max-faces", "2"], "--fov-deg and --max-faces only with"),
@@ -544,3 +550,17 @@ def test_the_camera_publishes_in_the_frame_the_views_and_the_service_default_to(
     parser = build_parser()
     frames = {c: parser.parse_args([c]).base_frame for c in ("camera", "watch", "view", "demo")}
     assert set(frames.values()) == {"base_link"}, frames
+
+
+def test_the_router_offers_no_flag_it_would_ignore():
+    """Issue 67: router --help offered --exit-without-router (a router waits for none)."""
+    from facing_service.arguments import build_parser
+
+    parser = build_parser()
+    helped = subprocess.run([sys.executable, "-m", "facing_service", "router", "--help"],
+                            capture_output=True, text=True, timeout=30).stdout  # fmt: skip
+    assert "--listen" in helped and "--exit-without-router" not in helped
+    assert "--exit-without-router" in subprocess.run(
+        [sys.executable, "-m", "facing_service", "run", "--help"], capture_output=True, text=True,
+        timeout=30).stdout  # fmt: skip
+    assert parser.parse_args(["router"]).command == "router"

@@ -16,6 +16,7 @@ from ..config.disclosure import zenoh_failure
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
+from ..contract.words import counted
 from .frames import Source, SourceError, source_of
 from .frontend import CameraFeed, CameraOptions, CameraStats
 from .head_pose import Mount
@@ -111,7 +112,7 @@ def summary(stats: CameraStats) -> str:
     return (
         f"camera: {stats.frames} frames, {1 / per_frame if per_frame else 0:.0f} a second of "
         f"work ({stats.cpu_s / stats.frames * 1e3:.1f} ms CPU a frame), up to "
-        f"{stats.most_faces} faces at once, {stats.faces_seen} seen"
+        f"{counted(stats.most_faces, 'face', 'faces')} at once, {stats.faces_seen} seen"
         + (f" (slowest first result {first:.0f} ms)" if first is not None else "")
     )
 

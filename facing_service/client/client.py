@@ -48,7 +48,7 @@ from .bodies import BodyCache
 from .health import ask, no_service_seen
 from .options import ClientOptionFields, client_options
 from .pulling import Pulled
-from .replies import engagement_states, facing_states
+from .replies import engagement_states, facing_states, waited
 from .scene import ClientEvent, Event, SceneListener
 
 log = logging.getLogger("facing_service.client")
@@ -354,11 +354,12 @@ class FacingClient:
         """The status of every live service in the namespace that answers within
         ``timeout_s`` (what ``facing-service health`` prints), by instance; ``NoService``
         when none answers."""
+        started = time.monotonic()
         answers = ask(self._open_session(), self.namespace, "*", self.timeout_s)
         if not answers:
             raise NoService(
                 f"no facing service in namespace {self.namespace!r} answered its status "
-                f"within {self.timeout_s:g} s"
+                + waited(started, self.timeout_s)
             )
         return sorted(answers, key=lambda status: status.instance)
 

@@ -23,6 +23,7 @@ from ..config.sources import env_name, load_settings
 from ..contract import keys
 from ..contract.errors import SettingsError
 from ..contract.schemas import ServiceStatus
+from ..contract.words import counted
 
 
 def statuses(
@@ -80,11 +81,29 @@ def ask(
     ]
 
 
+def instances_seen(session: zenoh.Session, namespace: str, timeout: float = 0.5) -> list[str]:
+    """The instances whose liveliness token is seen in ``namespace`` now."""
+    replies = session.liveliness().get(keys.service_token(namespace, "*"), timeout=timeout)
+    return sorted({str(r.ok.key_expr).rsplit("/", 1)[-1] for r in replies if r.ok is not None})
+
+
 def _why_no_answer(
-    settings: Settings, instance: str, timeout: float, alive: bool, identity: str | None
+    settings: Settings,
+    instance: str,
+    timeout: float,
+    alive: bool,
+    identity: str | None,
+    others: Sequence[str] = (),
 ) -> str:
-    """The usual cause first (no service at all), then the others: one alive that did
-    not answer, or access control hiding it from this identity."""
+    """The usual cause first (no service at all, or none of that --instance: those there
+    are named), then the others: one alive that did not answer, or access control hiding
+    it from this identity."""
+    if not alive and instance != "*" and others:
+        return (
+            f"no facing service of instance {instance!r} {reached(settings)} in namespace "
+            f"'{settings.namespace}'; instances there: {', '.join(others)} (--instance, or "
+            "FACING_INSTANCE, names one of them; none: any)"
+        )
     acl = (
         ""
         if identity
@@ -134,9 +153,10 @@ def summary(status: ServiceStatus, reach: str) -> str:
     line = (
         f"{status.status}: instance {status.instance} (facing-service {status.version}) "
         f"{reach}" + (f", listening on {listens}" if listens else "") + ", up "
-        f"{status.uptime_s:.0f} s, {status.bodies_tracked_total} bodies tracked"
+        f"{status.uptime_s:.0f} s, {counted(status.bodies_tracked_total, 'body', 'bodies')} "
+        "tracked"
         + (f" ({frames})" if frames else "")
-        + f", {sum(status.rejected.values())} samples refused"
+        + f", {counted(sum(status.rejected.values()), 'sample', 'samples')} refused"
     )
     if other := status.rejected.get("other_frame"):
         line += (f" ({other} in another frame than the service's --base-frame: misspelt? "
@@ -184,12 +204,13 @@ def check(
         with zenoh.open(config) as session:
             left = max(deadline - time.monotonic(), 0.1)
             answers, alive = statuses(session, settings.namespace, instance, left)
+            others = [] if answers or alive else instances_seen(session, settings.namespace)
     except zenoh.ZError as error:
         print(zenoh_failure("health", error), file=sys.stderr)
         return 1
     for status in answers:
         print(status.model_dump_json() if as_json else summary(status, reached(settings)))
     if not answers:
-        why = _why_no_answer(settings, instance, timeout, alive, identity)
+        why = _why_no_answer(settings, instance, timeout, alive, identity, others)
         print(f"facing-service health: {why}", file=sys.stderr)
     return 0 if any(status.status == "ok" for status in answers) else 1

@@ -4,6 +4,7 @@ Apart from the client's cache and callbacks: what a query's replies mean is one 
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterable
 
 import zenoh
@@ -23,6 +24,7 @@ def facing_states(
     service seen alive (its liveliness token), is ``NoService``: with one alive, a
     wildcard frame that matches nobody gets no reply, and that is an empty answer."""
     states, unknown, answers = [], [], 0
+    started = time.monotonic()
     for reply in replies:
         answers += 1
         if reply.ok is not None:
@@ -39,11 +41,21 @@ def facing_states(
         raise UnknownFrame(unknown[0].error, unknown[0].detail)
     if not answers and not service_seen:
         raise NoService(
-            f"no facing service answered {selector!r} within {timeout_s:g} s (none is seen "
-            "alive: is one running, in this namespace, and does this client's endpoint "
-            "reach it?)"
+            f"no facing service answered {selector!r} {waited(started, timeout_s)}; none is "
+            "seen alive: is one running, in this namespace, and does this client's endpoint "
+            "reach it?"
         )
     return states
+
+
+def waited(started: float, timeout_s: float) -> str:
+    """How long a question that got no answer was waited for, since ``started``
+    (``time.monotonic()``): zenoh ends one that nothing reachable can answer at once
+    (issue 67: NoService after 0.0 s said "within 2 s")."""
+    took = time.monotonic() - started
+    if took >= timeout_s / 2:
+        return f"within {timeout_s:g} s"
+    return f"(the question ended after {took:.1f} s: nothing reachable answers it)"
 
 
 def engagement_states(replies: Iterable[zenoh.Reply]) -> list[EngagementState]:

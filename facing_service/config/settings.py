@@ -404,7 +404,10 @@ class Settings(SessionChecks):
     @model_validator(mode="after")
     def _hysteresis(self) -> Settings:
         if self.disengage_below >= self.engage_above:
-            raise ValueError("disengage_below must be below engage_above")
+            raise ValueError(
+                f"--disengage-below (FACING_DISENGAGE_BELOW, {self.disengage_below:g}) must be "
+                f"below --engage-above (FACING_ENGAGE_ABOVE, {self.engage_above:g})"
+            )
         return self
 
     @property

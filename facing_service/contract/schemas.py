@@ -9,7 +9,7 @@ from __future__ import annotations
 from typing import Any
 
 import msgspec
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, model_validator
 
 from .levels import LevelName
 from .poses import FastStamp, FastVector3, TransformStamped
@@ -209,11 +209,27 @@ class Greeting(BaseModel):
     place: Place
 
 
-class FrameGroups(BaseModel):
+class OfAFrame(BaseModel):
+    """What is said of a whole base frame names it ``frame_id``, as results do (issue 67:
+    groups and gazing said ``frame`` alone); ``frame``, its first name, is said too for
+    the consumers that read it, and is enough on input."""
+
+    frame_id: str = Field(default="", description="The base frame, named as results name it.")
+    frame: str = Field(description="The same: its first name, kept for consumers that read it.")
+
+    @model_validator(mode="after")
+    def _named_once(self) -> OfAFrame:
+        if not self.frame_id:
+            self.frame_id = self.frame
+        elif self.frame_id != self.frame:
+            raise ValueError(f"frame_id {self.frame_id!r} and frame {self.frame!r} differ")
+        return self
+
+
+class FrameGroups(OfAFrame):
     """Every group of a base frame, on ``NS/groups/<frame>``: published when a group
     forms, changes or dissolves (an empty list: none), and answered as a queryable."""
 
-    frame: str
     stamp: Stamp = Field(description="Stamp of the newest pose behind this grouping.")
     groups: list[GroupState]
     people_left_out: int = Field(
@@ -234,12 +250,11 @@ class GazePair(BaseModel):
     mutual: bool = Field(description="The receiver faces the sender too.")
 
 
-class FrameGazing(BaseModel):
+class FrameGazing(OfAFrame):
     """Who faces whom in a base frame, on ``NS/gazing/<frame>``: published when a pair
     starts or stops facing, and answered as a queryable. A faces B when B is within A's
     facing cone (the rule for the robot, with B in its place, and its hysteresis)."""
 
-    frame: str
     stamp: Stamp
     pairs: list[GazePair]
     people_left_out: int

@@ -173,6 +173,7 @@ def group_state(group: Group) -> GroupState:
 def groups_json(update: SceneUpdate, instance: str) -> bytes:
     return (
         FrameGroups(
+            frame_id=update.frame_id,
             frame=update.frame_id,
             stamp=update.stamp.model(),
             groups=[group_state(g) for g in update.groups],
@@ -192,6 +193,7 @@ def gazing_json(update: SceneUpdate, instance: str) -> bytes:
     ]
     return (
         FrameGazing(
+            frame_id=update.frame_id,
             frame=update.frame_id,
             stamp=update.stamp.model(),
             pairs=pairs,

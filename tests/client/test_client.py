@@ -193,6 +193,19 @@ def test_no_service_is_said_by_a_named_error(net):
     assert issubclass(NoService, FacingError)
 
 
+def test_no_service_says_how_long_it_was_waited_for(net):
+    """Issue 67: NoService after 0.0 s said "within 2 s": zenoh ends a question nothing
+    reachable can answer at once."""
+    nobody = endpoint(free_port())
+    with FacingClient(session_config=loopback_config(connect=[nobody]), timeout_s=2) as client:
+        started = time.monotonic()
+        with pytest.raises(NoService, match=r"the question ended after 0\.\d s") as raised:
+            client.query("base_link")
+        assert "within 2 s" not in str(raised.value) and time.monotonic() - started < 1
+        with pytest.raises(NoService, match=r"its status \(the question ended after"):
+            client.status()
+
+
 def test_engagement_is_replayed_to_late_callbacks_and_read_by_a_getter(net):
     """on_engaged was not replayed for a person ENGAGED before the client opened, yet
     on_disengaged fired for them later ("anna disengaged" with no "anna is ENGAGED")."""

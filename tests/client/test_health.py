@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import threading
@@ -96,9 +97,13 @@ def test_health_command_configured_like_a_container(net):
     assert health(env={**env, "FACING_INSTANCE": "robot-9"}).returncode == 0
     other = health(env={**env, "FACING_INSTANCE": "someone-else"})
     assert other.returncode == 1
-    assert "no facing service found: no liveliness token on hri/services/facing/someone-else" in (
-        other.stderr
-    )
+    # issue 67: it hinted at the namespace; the instances that are there are named
+    assert (
+        "no facing service of instance 'someone-else' at tcp/127.0.0.1:"
+        f"{port} in namespace 'hri'; instances there: robot-9 (--instance"
+    ) in other.stderr, other.stderr
+    # issue 67: "1 bodies", "1 samples"
+    assert re.search(r"\b0 bodies tracked \(0 in cam\), 0 samples refused", line), line
 
 
 def test_health_fails_when_nothing_runs():

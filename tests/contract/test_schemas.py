@@ -97,3 +97,18 @@ def test_no_negative_zero_is_said():
     )
     assert b"-0.0" not in fast
     assert json.loads(fast)["robot_in_body"]["z"] == 0.0
+
+
+def test_groups_and_gazing_name_their_frame_as_results_do():
+    """Issue 67: results said frame_id, groups and gazing said frame; both now say
+    frame_id, and frame for the consumers that read it; a payload of either name reads."""
+    from facing_service.contract.schemas import FrameGazing, FrameGroups
+
+    old = {"frame": "map", "stamp": {"sec": 1, "nanosec": 0}, "pairs": [], "people_left_out": 0}
+    gazing = FrameGazing.model_validate(old)
+    assert gazing.frame_id == gazing.frame == "map"
+    said = json.loads(FrameGroups(frame_id="map", frame="map", stamp=old["stamp"], groups=[],
+                                  people_left_out=0).model_dump_json())  # fmt: skip
+    assert said["frame_id"] == said["frame"] == "map"
+    with pytest.raises(ValueError, match="differ"):
+        FrameGazing.model_validate({**old, "frame_id": "base_link"})
