@@ -195,3 +195,43 @@ def test_labels_of_people_standing_close_do_not_overlap(browser):
                 assert apart, (a, b)
     finally:
         page.close()
+
+
+def test_a_person_close_to_the_robot_is_drawn_apart_from_it_and_their_group(browser):
+    """Issue 67: at 0.6 m (a face in front of a laptop's camera) the robot, the face's
+    label and the group's circle were drawn over each other on a 4 m radar."""
+    person = {
+        "id": "f1",
+        "x": 0.6,
+        "y": 0.0,
+        "heading_deg": 180.0,
+        "facing": True,
+        "angle_deg": 0.0,
+        "distance_m": 0.6,
+        "threshold_deg": 20.0,
+        "level": "ENGAGED",
+    }
+    group = {
+        "id": "1",
+        "members": ["f1"],
+        "robot": True,
+        "centre": {"x": 0.3, "y": 0.0},
+        "join": None,
+    }
+    model = {"frame": "base_link", "service": "live", "people": [person], "not_drawn": 0,
+             "groups": [group], "gazing": [], "elsewhere": {}}  # fmt: skip
+    page = Page(serve, lambda: model, "127.0.0.1", free_port())
+    try:
+        browser.open(page.url)
+        browser.wait_for("document.querySelectorAll('text.label').length === 1")
+        marks = json.loads(browser.evaluate(
+            "JSON.stringify(['polygon.robot', 'g.group circle', 'g.person circle', 'text.label',"
+            " 'text.robot-label'].map((s) => { const b = document.querySelector(s)"
+            ".getBoundingClientRect(); return [s, b.left, b.top, b.right, b.bottom]; }))"
+        ))  # fmt: skip
+    finally:
+        page.close()
+    for i, (a, *ra) in enumerate(marks):
+        for b, *rb in marks[i + 1 :]:
+            apart = ra[2] <= rb[0] or rb[2] <= ra[0] or ra[3] <= rb[1] or rb[3] <= ra[1]
+            assert apart, (a, ra, b, rb)

@@ -15,8 +15,10 @@ function el(name, attrs, parent) {
   parent.appendChild(node);
   return node;
 }
-// Base frame (x ahead, y left) to the screen (up, left): sx = -y, sy = -x.
-const sx = (p) => -p.y, sy = (p) => -p.x;
+// Base frame (x ahead, y left) to the screen (up, left): sx = -y, sy = -x, times the zoom:
+// the marks keep their size on screen while a scene within 2 m is spread over the radar.
+let zoom = 1;
+const sx = (p) => -p.y * zoom, sy = (p) => -p.x * zoom;
 
 // Where the robot should stand (a place: x, y, yaw in radians): a triangle pointing the
 // way to face.
@@ -46,12 +48,15 @@ function labelSpot(x, y, width, placed) {
 function draw(model) {
   document.getElementById("frame").textContent = "frame " + model.frame;
   const people = model.people;
-  const far = Math.max(4, ...people.map((p) => Math.hypot(p.x, p.y) + 1));
-  const r = Math.min(Math.ceil(far), 50);
-  radar.setAttribute("viewBox", `${-r} ${-r} ${2 * r} ${2 * r}`);
+  // Zoomed to the people (at least 2 m around the robot), the marks at the size they have
+  // on a 4 m radar: someone at 0.6 m is drawn apart from the robot and the group, not on them.
+  const far = Math.max(2, ...people.map((p) => Math.hypot(p.x, p.y) + 1));
+  const r = Math.min(Math.ceil(far), 50), view = Math.max(r, 4);
+  zoom = view / r;
+  radar.setAttribute("viewBox", `${-view} ${-view} ${2 * view} ${2 * view}`);
   radar.replaceChildren();
   for (let ring = 1; ring <= r; ring++)
-    el("circle", { cx: 0, cy: 0, r: ring, fill: "none", stroke: "#e3e3e3", "stroke-width": 0.02 }, radar);
+    el("circle", { cx: 0, cy: 0, r: ring * zoom, fill: "none", stroke: "#e3e3e3", "stroke-width": 0.02 }, radar);
   const at = Object.fromEntries(people.map((p) => [p.id, p]));
   at[""] = { x: 0, y: 0 };
   for (const g of model.gazing) {
@@ -64,7 +69,7 @@ function draw(model) {
   for (const g of model.groups) {
     const c = { x: g.centre.x, y: g.centre.y };
     const shape = el("g", { class: "group", "data-id": g.id, "data-robot": g.robot }, radar);
-    el("circle", { cx: sx(c), cy: sy(c), r: 0.3, fill: GROUP, "fill-opacity": 0.15,
+    el("circle", { cx: sx(c), cy: sy(c), r: 0.12, fill: GROUP, "fill-opacity": 0.3,
                    stroke: GROUP, "stroke-width": 0.04 }, shape);
     for (const m of g.members.concat(g.robot ? [""] : [])) {
       const p = at[m];
@@ -75,7 +80,8 @@ function draw(model) {
   }
   for (const g of model.greetings || []) place(g.place, "greet", g.body_id);
   el("polygon", { points: "0,-0.25 0.18,0.15 -0.18,0.15", fill: "#223", class: "robot" }, radar);
-  el("text", { x: 0.25, y: 0.35, "font-size": 0.3, fill: "#223" }, radar).textContent = "robot";
+  el("text", { x: 0.25, y: 0.35, "font-size": 0.3, fill: "#223", class: "robot-label" },
+     radar).textContent = "robot";
   const placed = [];  // label boxes drawn: people standing close get labels apart
   for (const p of people) {
     const colour = COLOUR[p.level] || COLOUR.UNKNOWN;
@@ -85,7 +91,7 @@ function draw(model) {
     el("path", { d: `M0 0 L${len * Math.cos(t)} ${len * Math.sin(t)} A${len} ${len} 0 0 0 ${len * Math.cos(t)} ${-len * Math.sin(t)} Z`,
                  fill: colour, "fill-opacity": 0.18, stroke: colour, "stroke-width": 0.01,
                  class: "cone" }, shape);
-    el("line", { x1: 0, y1: 0, x2: 0.55, y2: 0, stroke: colour, "stroke-width": 0.06 }, shape);
+    el("line", { x1: 0, y1: 0, x2: 0.45, y2: 0, stroke: colour, "stroke-width": 0.06 }, shape);
     el("circle", { cx: 0, cy: 0, r: 0.14, fill: colour }, shape);
     const name = p.label ?? p.id;
     const [lx, ly] = labelSpot(sx(p) + 0.2, sy(p) - 0.2, 0.17 * name.length, placed);
