@@ -1,0 +1,84 @@
+"""fd 2 filtered while the camera runs (issue 67: the filter closed the saved descriptor
+while its thread could still write, so a file opened next received stderr lines; and a
+filter that died left fd 2 a pipe nobody reads, blocking every writer)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+from facing_service.camera import native_log
+from facing_service.camera.native_log import without_native_chatter
+
+
+def run(program: str, tmp_path: Path) -> subprocess.CompletedProcess[str]:
+    path = tmp_path / "program.py"
+    path.write_text(textwrap.dedent(program))
+    return subprocess.run([sys.executable, str(path)], capture_output=True, text=True,
+                          timeout=30, cwd=tmp_path)  # fmt: skip
+
+
+def test_chatter_is_dropped_and_every_other_line_passed(tmp_path: Path):
+    done = run(
+        """
+        import os
+        from facing_service.camera.native_log import without_native_chatter
+        with without_native_chatter():
+            os.write(2, b"W0000 00:00:1.000 123 feedback.cc:12] chatter\\n")
+            os.write(2, b"a real error\\n")
+            os.write(2, b"INFO: Created TensorFlow Lite XNNPACK delegate for CPU.\\n")
+        os.write(2, b"after\\n")
+        """,
+        tmp_path,
+    )
+    assert done.stderr == "a real error\nafter\n", done.stderr
+
+
+def test_a_slow_passer_never_writes_into_a_file_opened_after(tmp_path: Path):
+    """The passer held up past the 2 s join: before, its saved fd was closed and reused."""
+    done = run(
+        f"""
+        import os, re, time
+        from facing_service.camera import native_log
+        class Slow:  # the filter held up longer than the context's 2 s wait
+            def match(self, line):
+                time.sleep(3)
+                return None
+        native_log.CHATTER = Slow()
+        with native_log.without_native_chatter():
+            os.write(2, b"late line\\n")
+        with open({str(tmp_path / "next.txt")!r}, "wb") as f:  # may take the freed number
+            time.sleep(4)  # the passer writes meanwhile
+            f.write(b"mine\\n")
+        """,
+        tmp_path,
+    )
+    assert (tmp_path / "next.txt").read_bytes() == b"mine\n"
+    assert done.stderr == "late line\n", done.stderr
+
+
+def test_a_passer_that_fails_gives_fd_2_back(monkeypatch, tmp_path: Path):
+    """Before: the filter's death left fd 2 a pipe nobody read: the next writes failed
+    (or, with the pipe held open, blocked once it was full)."""
+
+    def broken(line: bytes) -> None:
+        raise RuntimeError("a bug in the filter")
+
+    monkeypatch.setattr(native_log, "CHATTER", type("Broken", (), {"match": staticmethod(broken)}))
+    seen = tmp_path / "stderr.txt"
+    saved = os.dup(2)
+    with open(seen, "wb") as stderr:
+        os.dup2(stderr.fileno(), 2)  # stderr as the test sees it: a file
+        try:
+            with without_native_chatter():
+                os.write(2, b"first\n")
+                for _ in range(2000):  # 200 KB: more than a pipe holds
+                    os.write(2, b"x" * 100)
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+    said = seen.read_bytes()
+    assert said.startswith(b"first\n") and len(said) == 6 + 200_000
