@@ -10,9 +10,11 @@ tried again one by one, so only the one at fault is lost (``internal_error``).
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 
+from ..contract.keys import BodyRef
 from ..contract.poses import Rejection
 from ..core.records import Changes, PoseSample
 from ..core.social.scene import Scenes
@@ -82,15 +84,21 @@ class Decisions:
 
     def apply(self, change: Callable[[], Changes]) -> Changes:
         """One tracker call and the publications it calls for, whole or not at all."""
+        with self._whole():
+            changes = change()
+            self.publish(changes)
+        return changes
+
+    @contextmanager
+    def _whole(self) -> Iterator[None]:
+        """Tracker calls and their publications, whole or not at all."""
         mark = len(self._decided)
         try:
             with self.tracker.transaction():
-                changes = change()
-                self.publish(changes)
+                yield
         except Exception:
             del self._decided[mark:]
             raise
-        return changes
 
     def publish(self, changes: Changes) -> None:
         """What the changes call for, in the order it must be sent (put in the outbox at the end
@@ -137,7 +145,34 @@ class Decisions:
         self.ledger.reject(Rejection.INTERNAL_ERROR, self.source.origin(sample), detail)
 
     def _ingest(self, poses: list[PoseSample], now: float) -> None:
-        changes = self.apply(lambda: self.tracker.ingest(poses, now))
+        """The poses, and those of trackers whose clock started over (a new life: lost,
+        then followed on the new clock), in one transaction; what they decided is counted
+        once it holds. Before (issue 67), the restart's part ran after the first part was
+        counted and kept: a bug in it had ``flush`` go over every pose again, counting the
+        first part twice and refusing its poses as out of order."""
+        steps: list[Changes] = []
+        restarted: list[list[BodyRef]] = []
+        with self._whole():
+            batch = poses
+            while batch:
+                steps.append(changes := self.tracker.ingest(batch, now))
+                self.publish(changes)
+                batch = changes.restarted
+                if batch:
+                    restarted.append(list(dict.fromkeys(sample.body for sample in batch)))
+                    self.publish(self.tracker.lose(restarted[-1], now, time_went_back=True))
+        for changes in steps:
+            self._count(changes)
+        for bodies in restarted:
+            for body in bodies:
+                log.warning(
+                    "%s in %s: its tracker's clock started over (%d poses in a row older "
+                    "than its last, each newer than the one before): lost, and followed "
+                    "on the new clock", body.body_id, body.frame_id, RESTART_EVIDENCE,
+                )  # fmt: skip
+            self.ledger.count("clock_restarts", len(bodies))
+
+    def _count(self, changes: Changes) -> None:
         for sample in changes.out_of_order:
             self.ledger.reject(
                 Rejection.OUT_OF_ORDER,
@@ -151,17 +186,6 @@ class Decisions:
                 f"already tracking max_bodies={self.tracker.max_bodies}",
             )
         self._accepted += len(changes.results)
-        if changes.restarted:  # a tracker restarted, its clock starting over: a new life
-            bodies = list(dict.fromkeys(sample.body for sample in changes.restarted))
-            for body in bodies:
-                log.warning(
-                    "%s in %s: its tracker's clock started over (%d poses in a row older "
-                    "than its last, each newer than the one before): lost, and followed "
-                    "on the new clock", body.body_id, body.frame_id, RESTART_EVIDENCE,
-                )  # fmt: skip
-            self.ledger.count("clock_restarts", len(bodies))
-            self.apply(lambda: self.tracker.lose(bodies, now, time_went_back=True))
-            self._ingest(changes.restarted, now)
 
     def to_outbox(self) -> None:
         """Give the publisher all this turn decided, in one go, as the worker is about to

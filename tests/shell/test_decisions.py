@@ -86,3 +86,31 @@ def test_a_turn_without_errors_clears_degraded():
 def poses_said(outbox: Outbox, made: Decisions) -> int:
     made.to_outbox()
     return sum(p.kind is Kind.RESULT for p in outbox.take(0))
+
+
+class FailsOnAsNewClock(JsonOutput):
+    """A bug met on the result of a body followed on its tracker's new clock."""
+
+    def on_changes(self, changes: Changes) -> list[Publication]:
+        if any(s.body_id == "a" and s.stamp.sec < 100 for s in changes.results):
+            raise RuntimeError("a bug on the new clock")
+        return super().on_changes(changes)
+
+
+def test_a_bug_in_a_restart_counts_the_rest_of_the_batch_once():
+    """Issue 67: the restart's part ran after the batch's first part was counted and
+    kept; a bug in it had every pose go again, so ``b`` was counted accepted and then
+    refused as out of order. The whole is one transaction now."""
+    from facing_service.core.tracker import RESTART_EVIDENCE
+
+    made, ledger, outbox, _ = decisions_with(FailsOnAsNewClock("hri", "test", 100))
+    made.flush([sample("a", sec=1000)], 0.0)
+    for i in range(RESTART_EVIDENCE - 1):  # the first of the new clock's poses, refused
+        made.flush([sample("a", sec=1 + i)], 0.1 * i)
+    made.flush([sample("b", sec=5), sample("a", sec=RESTART_EVIDENCE)], 1.0)
+    made.to_outbox()
+    assert ledger.decided["samples_accepted"] == 2  # a at 1000, b once
+    assert ledger.rejected[Rejection.OUT_OF_ORDER] == RESTART_EVIDENCE - 1  # a's, not b's
+    assert ledger.rejected[Rejection.INTERNAL_ERROR] == 1  # a on its new clock, alone
+    results = [p.key for p in outbox.take(0) if p.kind is Kind.RESULT]
+    assert results.count("hri/bodies/b/facing/cam") == 1
