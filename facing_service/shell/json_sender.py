@@ -17,6 +17,7 @@ stay wrong until the next change.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from typing import Any
 
@@ -33,26 +34,50 @@ _PER_BODY = (Kind.RESULT, Kind.ENGAGEMENT)
 
 
 class Heard:
-    """Whether a subscriber matches the result keys: written by zenoh's matching
-    listener, read by the worker (bool attributes: atomic). True until zenoh says
-    otherwise, so nothing is skipped before the listener is in place. ``joined``: a
-    subscriber appeared since the worker last said the current results; ``wake`` wakes the
-    worker (the service gives it, once the worker's intake exists)."""
+    """Whether a subscriber matches the result keys, and whether one appeared that the
+    worker has yet to say the current results to: written by zenoh's matching listener,
+    read by the worker, both under one small lock (issue 67: two plain attributes written
+    by two threads in an order that mattered lost a join between the worker's check and
+    its clear). ``results`` is true until zenoh says otherwise, so nothing is skipped
+    before the listener is in place. Each appearance has a number of its own, so what the
+    worker collected for one is never taken for another's. ``wake`` wakes the worker (the
+    service gives it, once the worker's intake exists)."""
 
     def __init__(self) -> None:
-        self.results = True
-        self.joined = False
+        self._lock = threading.Lock()
+        self._results = True
+        self._appearances = 0
+        self._due: int | None = None  # the appearance the current results are due to
         self.wake: Callable[[], None] | None = None
+
+    @property
+    def results(self) -> bool:
+        return self._results  # one attribute read: atomic
 
     def matching(self, matching: bool) -> None:
         """What zenoh says now; a subscriber that appears wakes the worker to say the
-        current results."""
-        appeared = matching and not self.results
-        if appeared:  # before ``results``: a worker that reads it true sees the re-say due
-            self.joined = True
-        self.results = matching
+        current results. One that vanishes before the worker said them is owed nothing."""
+        with self._lock:
+            appeared = matching and not self._results
+            if appeared:
+                self._appearances += 1
+                self._due = self._appearances
+            elif not matching:
+                self._due = None
+            self._results = matching
         if appeared and self.wake is not None:
             self.wake()
+
+    def now(self) -> tuple[bool, int | None]:
+        """Whether results are heard, and the appearance they are due to (None: none)."""
+        with self._lock:
+            return self._results, self._due
+
+    def take_due(self) -> int | None:
+        """The appearance the current results are due to, now being said (None: none)."""
+        with self._lock:
+            due, self._due = self._due, None
+            return due
 
 
 class JsonSender:
@@ -70,7 +95,7 @@ class JsonSender:
         self._listener = self._watch.declare_matching_listener(self._on_matching)
         # zenoh 1.10's stub says bool; the property is a MatchingStatus, as the listener's
         status: Any = self._watch.matching_status
-        heard.results = bool(status.matching)
+        heard.matching(bool(status.matching))
 
     def _on_matching(self, status: zenoh.MatchingStatus) -> None:
         self._heard.matching(status.matching)

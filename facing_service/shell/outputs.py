@@ -85,8 +85,10 @@ class JsonOutput:
         self._capacity = max_bodies
         self._heard = Heard()  # anyone subscribed to results? (the sender's listener says)
         #: Bodies whose result went out since a subscriber appeared (while the re-say
-        #: for it is pending): it heard them, so the re-say leaves them out.
+        #: for it is pending): it heard them, so the re-say leaves them out; with the
+        #: appearance they were said after (another's re-say leaves none out).
         self._said_since_joined: set[BodyRef] = set()
+        self._said_after: int | None = None
 
     @property
     def results_heard(self) -> bool:
@@ -94,8 +96,10 @@ class JsonOutput:
         return self._heard.results
 
     def on_changes(self, changes: Changes) -> list[Publication]:
-        heard = self._heard.results  # read once: the listener's thread writes it
-        if heard and self._heard.joined:
+        heard, due = self._heard.now()  # read once: the listener's thread writes it
+        if heard and due is not None:
+            if due != self._said_after:  # said after another appearance: not this one's
+                self._said_after, self._said_since_joined = due, set()
             self._said_since_joined.update(state.body for state in changes.results)
         return publications(changes, self._us, heard)
 
@@ -107,15 +111,16 @@ class JsonOutput:
         said since zenoh told us of it (they reached it: zenoh's routing knows a
         subscriber before its listener tells us, so the results of poses handled between
         went out and a re-say would repeat them)."""
-        if not self._heard.joined:
+        due = self._heard.take_due()
+        if due is None:
             return []
-        self._heard.joined = False
-        said, self._said_since_joined = self._said_since_joined, set()
+        said = self._said_since_joined if due == self._said_after else set()
+        self._said_after, self._said_since_joined = None, set()
         unsaid = [state for state in snapshot.states if state.body not in said]
         return result_publications(unsaid, self._us)
 
     def next_due(self) -> float | None:
-        return 0.0 if self._heard.joined else None
+        return 0.0 if self._heard.now()[1] is not None else None
 
     def wake_with(self, wake: Callable[[], None]) -> None:
         self._heard.wake = wake

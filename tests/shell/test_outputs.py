@@ -25,7 +25,7 @@ def test_json_keys_say_results_while_heard_and_state_changes_always():
     said = output.on_changes(first)
     assert [p.kind for p in said][:1] == [Kind.RESULT] and said[0].key == "hri/bodies/a/facing/cam"
     assert b'"instance":"front"' in said[0].payload
-    output._heard.results = False  # what the sender's matching listener says with nobody
+    output._heard.matching(False)  # what the sender's matching listener says with nobody
     unheard = output.on_changes(first)
     assert Kind.RESULT not in {p.kind for p in unheard}
     assert [p.kind for p in unheard] == [p.kind for p in said if p.kind is not Kind.RESULT]
@@ -69,6 +69,38 @@ def test_the_re_say_leaves_out_results_said_since_the_subscriber_appeared():
     heard.matching(False)
     heard.matching(True)  # another appearance: a's result is due again this time
     assert len(output.tick(0.0, TurnSnapshot(t))) == 2
+
+
+def test_a_subscriber_gone_and_another_come_before_the_re_say_misses_nothing():
+    """Issue 67: the bodies said after the first appearance were left out of the re-say
+    for a second subscriber that came after the first had gone: it never heard them."""
+    output = JsonOutput("hri", "test", 100)
+    t = tracker()
+    heard = output._heard
+    heard.matching(False)
+    output.on_changes(t.ingest([sample("a", sec=1), sample("b", sec=1)], 0.0))
+    heard.matching(True)  # the first subscriber
+    output.on_changes(t.ingest([sample("a", sec=2)], 0.0))  # a's heard by the first
+    heard.matching(False)  # it leaves, and another comes, before the worker's turn
+    heard.matching(True)
+    re_said = output.tick(0.0, TurnSnapshot(t))
+    assert sorted(p.key for p in re_said) == ["hri/bodies/a/facing/cam", "hri/bodies/b/facing/cam"]
+
+
+def test_an_appearance_between_the_workers_check_and_its_clear_is_kept():
+    """Issue 67: ``if joined: ... joined = False`` on the worker's thread could clear a
+    join zenoh's thread set in between. Taking the due appearance is one step now: one
+    made after it is due at the next turn."""
+    output = JsonOutput("hri", "test", 100)
+    t = tracker()
+    t.ingest([sample("a", sec=1)], 0.0)
+    heard = output._heard
+    heard.matching(False)
+    heard.matching(True)
+    assert len(output.tick(0.0, TurnSnapshot(t))) == 1  # the first appearance's re-say
+    heard.matching(False)
+    heard.matching(True)  # right after the take: due again, not lost
+    assert output.next_due() == 0.0 and len(output.tick(0.0, TurnSnapshot(t))) == 1
 
 
 def test_json_keys_have_no_periodic_work_and_the_robots_topics_say_what_they_add():
