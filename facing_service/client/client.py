@@ -19,12 +19,10 @@ says which services answer, and how they are.
 
 from __future__ import annotations
 
-import atexit
 import logging
 import queue
 import threading
 import time
-import weakref
 from collections.abc import Callable, Iterable
 from typing import TypeVar
 
@@ -45,9 +43,9 @@ from ..contract.schemas import (
     ServiceStatus,
 )
 from .bodies import BodyCache
-from .health import ask, no_service_seen
+from .health import ask, no_service_seen, wait_for_service
 from .options import ClientOptionFields, client_options
-from .pulling import Pulled
+from .pulling import Pulled, close_at_exit, opened_no_more
 from .replies import engagement_states, facing_states, waited
 from .scene import ClientEvent, Event, SceneListener
 
@@ -118,7 +116,7 @@ class FacingClient:
         error (it may start later): ``absence`` then says why, in one line, logged unless
         the caller says it itself (``log_absence=False``)."""
         session = self._session = session if session is not None else zenoh.open(self._config)
-        _OPEN.add(self)  # closed at exit at the latest: nothing of it outlives the program
+        close_at_exit(self)  # at the latest: nothing of it outlives the program
         try:
             self._start(session, log_absence)
         except BaseException:
@@ -143,7 +141,7 @@ class FacingClient:
         subscribe(session, facing, self._on_sample)
         subscribe(session, keys.event_key(self.namespace, self.frame), self._on_event)
         self._scene.open(session)
-        found = self._wait_for_service()
+        found = wait_for_service(session, self.namespace, self.timeout_s, self._seen_alive)
         with self._lock:
             self._seeding = True
         if found:
@@ -155,26 +153,6 @@ class FacingClient:
             if log_absence:
                 said = "%s within %.1f s; the cache fills as results arrive"
                 log.warning(said, self.absence, self.timeout_s)
-
-    def _wait_for_service(self) -> bool:
-        """Wait (up to ``timeout_s``) until a service's liveliness token is visible. A
-        session just opened may not be connected yet, and the service declares its token
-        after its queryables: once the token is seen, the seeding query reaches them."""
-        session = self._open_session()
-        token = keys.service_token(self.namespace, "*")
-        deadline = time.monotonic() + self.timeout_s
-        while True:
-            found = False
-            for reply in session.liveliness().get(token, timeout=0.2):
-                if reply.ok is not None:
-                    with self._lock:
-                        self._bodies.live.add(_instance_of(str(reply.ok.key_expr)))
-                    found = True
-            if found:
-                return True
-            if time.monotonic() >= deadline:
-                return False
-            time.sleep(0.05)
 
     def close(self) -> None:
         """Undeclare everything, stop the dispatcher, close the session. Safe to call
@@ -190,7 +168,7 @@ class FacingClient:
         if self._session is not None:
             self._session.close()
             self._session = None
-        _OPEN.discard(self)
+        opened_no_more(self)
 
     def __enter__(self) -> FacingClient:
         return self.open()
@@ -386,6 +364,10 @@ class FacingClient:
             self._emit(self._bodies.instance_gone(instance))
         self._scene.forget(instance)  # outside the lock: the scene's is its own
 
+    def _seen_alive(self, instance: str) -> None:
+        with self._lock:
+            self._bodies.live.add(instance)
+
     def _is_live(self, instance: str) -> bool:
         return instance in self._bodies.live  # a set read: atomic under the GIL
 
@@ -459,16 +441,6 @@ class FacingClient:
                 callback(*args)
             except Exception:
                 log.exception("facing client: a callback raised")
-
-
-#: Every open client; the program's exit closes those it did not (issue 67).
-_OPEN: weakref.WeakSet[FacingClient] = weakref.WeakSet()
-
-
-@atexit.register
-def _close_at_exit() -> None:
-    for client in list(_OPEN):
-        client.close()
 
 
 def _instance_of(token_key: str) -> str:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +44,28 @@ def statuses(
                 return answers, alive
         time.sleep(min(0.05, max(deadline - time.monotonic(), 0)))
     return [], alive
+
+
+def wait_for_service(
+    session: zenoh.Session, namespace: str, timeout: float, seen: Callable[[str], None]
+) -> bool:
+    """Wait (up to ``timeout``) until a service's liveliness token is visible in
+    ``namespace``, telling ``seen`` each instance found. A session just opened may not be
+    connected yet, and a service declares its token after its queryables: once the token
+    is seen, a query reaches them."""
+    token = keys.service_token(namespace, "*")
+    deadline = time.monotonic() + timeout
+    while True:
+        found = False
+        for reply in session.liveliness().get(token, timeout=0.2):
+            if reply.ok is not None:
+                seen(str(reply.ok.key_expr).rsplit("/", 1)[-1])
+                found = True
+        if found:
+            return True
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(0.05)
 
 
 def namespaces_with_service(session: zenoh.Session, timeout: float = 0.5) -> list[str]:

@@ -14,10 +14,12 @@ through zenoh's native code and aborts the process ("FATAL: exception not rethro
 from __future__ import annotations
 
 import atexit
+import itertools
 import logging
 import threading
 import weakref
 from collections.abc import Callable
+from typing import Protocol
 
 import zenoh
 
@@ -58,13 +60,13 @@ class Pulled:
         )
         thread.start()
         self._entries.append((subscriber, thread))
-        _OPEN.add(self)
+        close_at_exit(self)
 
     def close(self) -> None:
         """Undeclare every subscriber (its channel ends, its thread with it) and wait for
         the threads, but never for the calling one (a handler may close the client)."""
         entries, self._entries = self._entries, []
-        _OPEN.discard(self)
+        opened_no_more(self)
         for subscriber, _ in entries:
             subscriber.undeclare()
         for _, thread in entries:
@@ -72,14 +74,29 @@ class Pulled:
                 thread.join(timeout=2.0)
 
 
-#: Every Pulled with a subscription, until it is closed (at the latest at exit).
-_OPEN: weakref.WeakSet[Pulled] = weakref.WeakSet()
+class Closable(Protocol):
+    def close(self) -> None: ...
+
+
+#: What is open (a client, a Pulled), until it is closed: at the latest at exit, newest
+#: first (a client before the subscriptions it holds).
+_OPEN: weakref.WeakKeyDictionary[Closable, int] = weakref.WeakKeyDictionary()
+_opened = itertools.count()
+
+
+def close_at_exit(thing: Closable) -> None:
+    """Close ``thing`` when the program exits, unless ``opened_no_more`` says it was."""
+    _OPEN[thing] = next(_opened)
+
+
+def opened_no_more(thing: Closable) -> None:
+    _OPEN.pop(thing, None)
 
 
 @atexit.register
 def _close_at_exit() -> None:
-    for pulled in list(_OPEN):
-        pulled.close()
+    for thing, _ in sorted(_OPEN.items(), key=lambda kv: -kv[1]):
+        thing.close()
 
 
 def _pull(subscriber: Subscription, handle: Callable[[zenoh.Sample], object]) -> None:
