@@ -32,8 +32,10 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: {message} (see {self.prog} --help)\n")
 
 
-def _number(minimum: float, *, strict: bool, integer: bool = False) -> Callable[[str], float]:
-    """An argparse type: a finite number above (or from) ``minimum``."""
+def _number(
+    minimum: float, *, strict: bool, integer: bool = False, most: float | None = None
+) -> Callable[[str], float]:
+    """An argparse type: a finite number above (or from) ``minimum``, and at ``most``."""
 
     def parse(text: str) -> float:
         try:
@@ -43,6 +45,8 @@ def _number(minimum: float, *, strict: bool, integer: bool = False) -> Callable[
         if not math.isfinite(value) or value < minimum or (strict and value == minimum):
             bound = f"> {minimum:g}" if strict else f">= {minimum:g}"
             raise argparse.ArgumentTypeError(f"must be a number {bound}, got {text}")
+        if most is not None and value > most:
+            raise argparse.ArgumentTypeError(f"must be a number <= {most:g}, got {text}")
         return value
 
     return parse
@@ -180,6 +184,7 @@ def _id_prefix(text: str) -> str:
 #: flags given otherwise, as it would ignore them.
 CAMERA_DEFAULTS: dict[str, object] = {
     "calibration": None, "fov_deg": 65.0, "camera_pose": None, "max_faces": 5, "id_prefix": "f",
+    "reach_m": 5.0,
 }  # fmt: skip
 
 
@@ -200,6 +205,11 @@ def _add_camera_arguments(parser: argparse.ArgumentParser) -> None:
         "--camera-pose", type=_finite, nargs=6, metavar=("X", "Y", "Z", "YAW", "PITCH", "ROLL"),
         help="the camera's pose in --base-frame (metres, degrees; static_transform_publisher's "
         "order); default: at its origin, looking along x (x forward, y left, z up)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--reach-m", type=_number(0.5, strict=False, most=20.0), metavar="METRES",
+        help="how far faces are looked for (default 5: across a room; 2: faces near only, "
+        "about half the CPU; more: tiles of the frame smaller, found later)",
     )  # fmt: skip
     parser.add_argument(
         "--max-faces", type=_number(1, strict=False, integer=True),

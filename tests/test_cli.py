@@ -127,6 +127,8 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
         (["simulate", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
         (["simulate", "--rate-hz", "-5"], "argument --rate-hz: must be a number > 0, got -5"),
         (["demo", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
+        (["camera", "--reach-m", "0.1"], "argument --reach-m: must be a number >= 0.5, got 0.1"),
+        (["camera", "--reach-m", "50"], "argument --reach-m: must be a number <= 20, got 50"),
         # issue 67: the rule named the fields, not the flags
         (
             ["run", "--disengage-below", "0.7", "--engage-above", "0.6"],

@@ -36,6 +36,7 @@ def options_of(args: argparse.Namespace, settings: Settings, source: Source) -> 
         fov_deg=args.fov_deg,
         calibration=args.calibration,
         mount=Mount.of(*args.camera_pose) if args.camera_pose else None,
+        reach_m=args.reach_m,
     )
 
 

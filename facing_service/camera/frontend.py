@@ -27,9 +27,24 @@ from .intrinsics import (
     from_field_of_view,
     load_calibration,
 )
-from .landmarks import FaceMesh, seen
+from .landmarks import DETECTOR_FACE_PX, DETECTOR_PX, FaceMesh, seen
 
 Publish = Callable[[str, bytes | None], None]
+
+
+#: How far faces are looked for by default: across a room, where the person to attract
+#: stands in the doorway (issue 69), at about twice the CPU of faces near alone.
+DEFAULT_REACH_M = 5.0
+#: A face's width (m): the average adult's, the size every distance here comes from.
+FACE_WIDTH_M = 0.15
+
+
+def tile_for(camera: Intrinsics, reach_m: float) -> int | None:
+    """The tiles' side that shows the detector a face ``reach_m`` away as wide as it
+    finds them (``DETECTOR_FACE_PX``); None when the whole frame already does."""
+    face_px = FACE_WIDTH_M * camera.fx / reach_m
+    side = round(DETECTOR_PX * face_px / DETECTOR_FACE_PX)
+    return None if side >= max(camera.width, camera.height) else side
 
 
 @dataclass(frozen=True)
@@ -45,6 +60,7 @@ class CameraOptions:
     fov_deg: float = DEFAULT_FOV_DEG
     calibration: Path | None = None
     mount: Mount | None = None
+    reach_m: float = DEFAULT_REACH_M
 
 
 @dataclass
@@ -77,7 +93,8 @@ class CameraFeed:
             self._camera = None if self._first is None else _intrinsics(
                 self._first, calibration, options.fov_deg
             )  # fmt: skip
-            self._mesh = FaceMesh(options.max_faces)
+            tile = None if self._camera is None else tile_for(self._camera, options.reach_m)
+            self._mesh = FaceMesh(options.max_faces, tile)
         except BaseException as error:  # the capture released now, not by the collector
             self._frames.close()
             self._frames = None

@@ -62,7 +62,7 @@ def test_a_publish_failing_at_the_end_still_releases_the_capture(capture: Captur
 def test_models_failing_to_load_release_the_opened_capture(
     capture: Capture, monkeypatch: pytest.MonkeyPatch
 ):
-    def broken(_max_faces: int) -> None:
+    def broken(_max_faces: int, _tile_px: int | None) -> None:
         raise RuntimeError("no graph")
 
     monkeypatch.setattr(frontend, "FaceMesh", broken)
