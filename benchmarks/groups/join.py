@@ -1,24 +1,29 @@
 """Where the robot should stand to join a group, judged on where people really stood
-(issue 53).
+(issues 53, 68).
 
     python -m benchmarks.groups.join          # choose held out by dataset, print tables
     python -m benchmarks.groups.join --out F  # ... written as JSON (the page's source)
+    python -m benchmarks.groups.join --live N --out F  # ... and N cases through the service
     python -m benchmarks.groups.join --page   # docs/groups.md's join tables from it
 
 Leave one member out of a real group (three or more, as annotated in the shared F-formation
 sequences; every member in turn, every annotated frame) and ask where a newcomer should
 stand: where the left-out member stood is the answer a person gave. The core's join
-(``core/join.py``, the robot at the frame's origin as on a robot, everyone else in the
-frame as obstacles) against two baselines from the same remaining members: their centroid,
-and the naive slot (the middle of the largest angular gap around their centroid, at their
+(``core/social/join.py``, everyone else in the frame as obstacles) with the robot at each
+of ``ROBOTS`` around the remaining members (four directions at 2 and 4 m, and far away on
+two sides), against two baselines from the same remaining members: their centroid, and
+the naive slot (the middle of the largest angular gap around their centroid, at their
 mean radius, facing the centroid). Distance and heading error (to the member's annotated
-heading), medians with 95 % bootstrap intervals over cases, and the share of cases within
-0.5 m; "found" is the share of cases given a place (none: no room).
+heading), medians with 95 % bootstrap intervals over cases and robot places, the share of
+them within 0.5 m, "found": the share given a place (none: no room); and how much the
+answer depends on the robot: the range of the medians over the robot's places, over
+every case and over the groups with one clear gap.
 
 The join's parameters are chosen with each dataset held out, as the groups' are: among
 the candidates that give a place in at least 80 % of the cases of every training
 sequence (else the most), the one whose worst training sequence is best, measured as its
-median distance over the better baseline's.
+median distance over the better baseline's. "Before" is issue 53's rule (the free arc
+nearest the robot, ``tie`` 0) with its shipped parameters, on the same cases.
 """
 
 from __future__ import annotations
@@ -35,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from facing_service.core.social.join import JoinParams, join_pose
+from facing_service.core.social.join import JoinParams, chosen, offered
 
 from .. import paths, results_file
 from ..sections import generate
@@ -47,6 +52,14 @@ PAGE = paths.DOCS / "groups.md"
 BOOTSTRAP = 1000
 FOUND_AT_LEAST = 0.8
 ROBOT = (0.0, 0.0)  # the robot at the frame's origin, as the service has it
+#: Where the robot stands, from the remaining members' centroid (m): four directions at 2
+#: and 4 m, and far away on two sides.
+ROBOTS = tuple(
+    (r * math.cos(math.radians(a)), r * math.sin(math.radians(a)))
+    for r, a in [(d, a) for d in (2.0, 4.0) for a in (0, 90, 180, 270)] + [(30, 45), (30, 225)]
+)
+#: Issue 53's rule and parameters: the free arc nearest the robot.
+BEFORE = JoinParams(tie=0.0)
 
 
 @dataclass(frozen=True)
@@ -99,9 +112,56 @@ def naive_slot(case: Case) -> Place:
     return float(x), float(y), math.atan2(c[1] - y, c[0] - x)
 
 
-def core(case: Case, p: JoinParams) -> Place:
-    pose = join_pose(case.members, case.headings, case.others, ROBOT, p)
-    return None if pose is None else (pose.x, pose.y, pose.yaw)
+def core(case: Case, p: JoinParams) -> list[Place]:
+    """The join's place with the robot at each of ``ROBOTS`` (around the members' centroid);
+    the group's places worked out once."""
+    offer = offered(case.members, case.headings, case.others, p)
+    if offer is None:
+        return [None] * len(ROBOTS)
+    x, y = case.members.mean(axis=0)
+    poses = [chosen(offer, (x + dx, y + dy), p) for dx, dy in ROBOTS]
+    return [(pose.x, pose.y, pose.yaw) for pose in poses]
+
+
+def pair_sides(cs: Sequence[Case]) -> dict[str, int]:
+    """Of the cases where two members remain: how many put the left-out member more along
+    the pair's axis than beside it, how many have headings pointing to a side (their facing
+    vectors' sum across the axis), and how many of those point to the member's side."""
+    pairs = along = pointing = right = 0
+    for c in cs:
+        if len(c.members) != 2:
+            continue
+        a, b = c.members
+        axis = (b - a) / np.linalg.norm(b - a)
+        across = np.array([-axis[1], axis[0]])
+        truth = c.truth - (a + b) / 2
+        facing = float(np.column_stack([np.cos(c.headings), np.sin(c.headings)]).sum(0) @ across)
+        pairs += 1
+        along += abs(truth @ axis) > abs(truth @ across)
+        if abs(facing) > 1e-6:
+            pointing += 1
+            right += (facing > 0) == (truth @ across > 0)
+    return {"pairs": pairs, "along": int(along), "pointing": pointing, "right_side": int(right)}
+
+
+def one_gap(case: Case, p: JoinParams) -> bool:
+    """The group leaves one clear arc: where to stand should not depend on the robot."""
+    offer = offered(case.members, case.headings, case.others, p)
+    return offer is not None and len(offer.places) == 1
+
+
+def robot_spread(placed: Sequence[list[Place]], cs: Sequence[Case], keep: Sequence[bool]) -> float:
+    """How far the median distance moves with where the robot stands (over the cases
+    ``keep`` says): the range of the per-robot-place medians."""
+    chosen_cases = [c for c, k in zip(cs, keep, strict=True) if k]
+    if not chosen_cases:
+        return math.nan
+    medians = []
+    for r in range(len(ROBOTS)):
+        found = [places[r] for places, k in zip(placed, keep, strict=True) if k]
+        dist, _ = errors(found, chosen_cases)
+        medians.append(float(np.median(dist)) if len(dist) else math.nan)
+    return float(np.nanmax(medians) - np.nanmin(medians))
 
 
 def errors(found: Sequence[Place], all_cases: Sequence[Case]) -> tuple[np.ndarray, np.ndarray]:
@@ -125,6 +185,11 @@ def median_interval(values: np.ndarray, rng: random.Random) -> tuple[float, floa
     return draws[int(0.025 * BOOTSTRAP)], draws[int(0.975 * BOOTSTRAP) - 1]
 
 
+def pooled(placed: Sequence[list[Place]], cs: Sequence[Case]) -> tuple[list[Place], list[Case]]:
+    """Every (case, robot place) pair as one case."""
+    return [p for places in placed for p in places], [c for c in cs for _ in ROBOTS]
+
+
 def figures(found: Sequence[Place], all_cases: Sequence[Case], rng: random.Random) -> dict:
     dist, head = errors(found, all_cases)
     return {
@@ -137,11 +202,14 @@ def figures(found: Sequence[Place], all_cases: Sequence[Case], rng: random.Rando
 
 
 def grid() -> list[JoinParams]:
+    """The settings compared: the o-space's stride, the clearance (a share of the members'
+    spacing; never under 0.3 m, a body's width: a fact about people, not searched), and
+    what a near-tie is (arcs within a tenth of the widest, or equal widths only). The rule
+    itself is not searched: the place is the group's, the robot only breaks ties (issue
+    68); issue 53's rule (every arc a tie, the nearest taken) is the "before" beside it."""
     return [
-        JoinParams(stride_k=s, clearance_k=c, min_clearance_m=m, several=w)
-        for s, c, m, w in itertools.product(
-            (0.5, 0.7, 1.0), (0.6, 0.7, 0.8), (0.3, 0.5), (0.0, 0.75, 1.0)
-        )
+        JoinParams(stride_k=s, clearance_k=c, tie=t)
+        for s, c, t in itertools.product((0.5, 0.7, 1.0), (0.6, 0.7, 0.8), (0.9, 1.0))
     ]
 
 
@@ -166,35 +234,45 @@ def choose(
 
 
 def evaluate(root: Path = SHARED) -> dict[str, Any]:
-    data = {s: list(cases(load(s, root, every=1))) for s in SEQUENCES}
+    data = {s: list(cases(load(s, root))) for s in SEQUENCES}
     rng = random.Random(53)
     options = grid()
-    baselines = {s: (centroid, naive_slot) for s in data}
-    best_baseline = {}
-    out: dict[str, Any] = {"sequences": {}, "default": asdict(JoinParams())}
-    for s, cs in data.items():
-        medians = [float(np.median(errors([b(c) for c in cs], cs)[0])) for b in baselines[s]]
-        best_baseline[s] = min(medians)
+    best_baseline = {
+        s: min(float(np.median(errors([b(c) for c in cs], cs)[0])) for b in (centroid, naive_slot))
+        for s, cs in data.items()
+    }
+    out: dict[str, Any] = {"sequences": {}, "default": asdict(JoinParams()),
+                           "settings_compared": len(options), "robots": ROBOTS}  # fmt: skip
     table: dict[tuple[int, str], tuple[float, float]] = {}
-    placed: dict[tuple[int, str], list[Place]] = {}
+    placed: dict[tuple[int, str], list[list[Place]]] = {}
     for i, p in enumerate(options):
         for s, cs in data.items():
-            found = placed[i, s] = [core(c, p) for c in cs]
-            dist, _ = errors(found, cs)
+            placed[i, s] = [core(c, p) for c in cs]
+            dist, _ = errors(*pooled(placed[i, s], cs))
             ratio = float(np.median(dist)) / best_baseline[s] if len(dist) else math.inf
-            table[i, s] = (ratio, len(dist) / len(cs))
+            table[i, s] = (ratio, len(dist) / (len(cs) * len(ROBOTS)))
     for s, cs in data.items():
         held = choose(table, len(options), [o for o in SEQUENCES if SEQUENCES[o] != SEQUENCES[s]])
+        before = [core(c, BEFORE) for c in cs]
+        gaps = [one_gap(c, options[held]) for c in cs]
         out["sequences"][s] = {
             "dataset": SEQUENCES[s],
             "cases": len(cs),
-            "join": figures(placed[held, s], cs, rng) | {"params": asdict(options[held])},
+            "one_gap_cases": sum(gaps),
+            "join": figures(*pooled(placed[held, s], cs), rng)
+            | {"params": asdict(options[held]),
+               "robot_spread_m": robot_spread(placed[held, s], cs, [True] * len(cs)),
+               "one_gap_robot_spread_m": robot_spread(placed[held, s], cs, gaps)},
+            "before": figures(*pooled(before, cs), rng)
+            | {"robot_spread_m": robot_spread(before, cs, [True] * len(cs)),
+               "one_gap_robot_spread_m": robot_spread(before, cs, gaps)},
             "centroid": figures([centroid(c) for c in cs], cs, rng),
             "naive_slot": figures([naive_slot(c) for c in cs], cs, rng),
-        }
-    chosen = choose(table, len(options), list(SEQUENCES))
-    out["chosen_on_all"] = asdict(options[chosen])
-    every = [d for s, cs in data.items() for d in errors(placed[chosen, s], cs)[0]]
+            "pair_sides": pair_sides(cs),
+        }  # fmt: skip
+    chosen_i = choose(table, len(options), list(SEQUENCES))
+    out["chosen_on_all"] = asdict(options[chosen_i])
+    every = [d for s, cs in data.items() for d in errors(*pooled(placed[chosen_i, s], cs))[0]]
     out["overall_median_m"] = float(np.median(every))
     return out
 
@@ -209,43 +287,49 @@ def _deg(value: float | None) -> str:
 
 def tables(results: dict[str, Any]) -> list[str]:
     lines = [
-        "Each member of each annotated group of three or more left out in turn, the join"
-        " held out by dataset (its parameters chosen on the other datasets), against the two"
-        " baselines on the same cases: median distance to where the member stood [95 %"
-        " interval], share within 0.5 m, median heading error, share of cases given a place:",
+        "Each member of each annotated group of three or more left out in turn (SALSA: every"
+        " third frame), the robot at each of ten places around the remaining members (four"
+        " directions at 2 and 4 m, and 30 m away on two sides); the join held out by dataset"
+        " (its parameters chosen on the other datasets, among"
+        f" {results['settings_compared']} settings), issue 53's rule (the free arc nearest the"
+        " robot) before it, and the two baselines on the same cases: share given a place,"
+        " median distance to where the member stood [95 % interval], share within 0.5 m,"
+        " median heading error, and how far the median moves with where the robot stands"
+        " (over every case; over the groups with one clear gap):",
         "",
-        "| sequence | cases | join: found | median m | within 0.5 m | heading ° | centroid m"
-        " | naive slot m | within 0.5 m | heading ° |",
-        "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |",
+        "| sequence | cases | found | median m | within 0.5 m | heading ° | robot moves it m"
+        " (one gap) | before: found | median m | robot moves it m (one gap) | centroid m"
+        " | naive slot m |",
+        "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
     for s, r in results["sequences"].items():
-        j, c, n = r["join"], r["centroid"], r["naive_slot"]
+        j, b, c, n = r["join"], r["before"], r["centroid"], r["naive_slot"]
         lo, hi = j["median_m_interval"]
         lines.append(
             f"| {s} | {r['cases']} | {j['found']:.0%} | **{_m(j['median_m'])}** [{_m(lo)},"
             f" {_m(hi)}] | {j['within_half_m']:.0%} | {_deg(j['heading_deg'])}"
-            f" | {_m(c['median_m'])} | {_m(n['median_m'])} | {n['within_half_m']:.0%}"
-            f" | {_deg(n['heading_deg'])} |"
+            f" | {_m(j['robot_spread_m'])} ({_m(j['one_gap_robot_spread_m'])})"
+            f" | {b['found']:.0%} | {_m(b['median_m'])}"
+            f" | {_m(b['robot_spread_m'])} ({_m(b['one_gap_robot_spread_m'])})"
+            f" | {_m(c['median_m'])} | {_m(n['median_m'])} |"
         )
     if "live" in results:
-        lines += [
-            "",
-            "The shipped join through the live service (each case's frame, the member left out,"
-            " held 0.6 s as JSON poses at 30 Hz; `hri/groups/<frame>` queried at its end): a"
-            " place is given only for a group the service found (holding the remaining"
-            " members); its distance to where the member stood, beside the centroid's and the"
-            " naive slot's on the same cases, and against the core's place for the same people:",
-            "",
-            "| sequence | cases | given a place | median m | centroid m | naive slot m"
-            " | live - core, worst m |",
-            "| --- | ---: | ---: | ---: | ---: | ---: | ---: |",
-        ]
-        for s, r in results["live"].items():
-            lines.append(
-                f"| {s} | {r['cases']} | {r['placed']:.0%} | {_m(r['median_m'])}"
-                f" | {_m(r.get('centroid_median_m'))} | {_m(r.get('naive_slot_median_m'))}"
-                f" | {_m(r['live_minus_core_m'])} |"
-            )
+        lines += ["", *_live_table(results["live"])]
+    lines += [
+        "",
+        "Where two members remain (every such case above): the left-out member more along"
+        " the pair's axis than beside it, and the pair's headings pointing to the member's"
+        " side (of the cases where they point to a side):",
+        "",
+        "| sequence | two remain | along the axis | headings point to a side | to the right side |",
+        "| --- | ---: | ---: | ---: | ---: |",
+    ]
+    for s, r in results["sequences"].items():
+        ps = r["pair_sides"]
+        lines.append(
+            f"| {s} | {ps['pairs']} | {ps['along']} | {ps['pointing']}"
+            f" | {ps['right_side']} ({ps['right_side'] / max(ps['pointing'], 1):.0%}) |"
+        )
     d = results["chosen_on_all"]
     lines += [
         "",
@@ -253,11 +337,37 @@ def tables(results: dict[str, Any]) -> list[str]:
         f" The shipped set: stride {d['stride_k']:g}x the members' spacing, clearance"
         f" {d['clearance_k']:g}x their nearest spacing and at least {d['min_clearance_m']:g} m,"
         + (
-            " the nearest free arc."
-            if d["several"] == 0
-            else f" the nearest of the arcs at least {d['several']:g} of the widest."
+            " the widest free arc, the robot breaking exact ties."
+            if d["tie"] == 1
+            else f" the widest free arc, the robot choosing among arcs at least {d['tie']:g}"
+            " of its width."
         ),
     ]
+    return lines
+
+
+def _live_table(live: dict[str, Any]) -> list[str]:
+    lines = [
+        "Through the live service (JSON poses at 30 Hz; `hri/groups/<frame>` queried at the"
+        " end), the robot at four places 3 m around the remaining members and one 30 m away:"
+        " *stays*, each case's frame without the member from the start, held 0.6 s (the"
+        " place is inferred from the remaining people alone); *walks away*, the whole frame"
+        " held 0.6 s, then the member gone for 0.6 s (as a robot sees it happen). A place is"
+        " given only for a group the service found holding the remaining members; its"
+        " distance to where the member stood, beside the centroid's and the naive slot's on"
+        " the same cases:",
+        "",
+        "| sequence | cases | stays: given a place | median m | robot moves it m | walks away:"
+        " given a place | median m | centroid m | naive slot m |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+    ]
+    for s, r in live.items():
+        st, wa = r["stays"], r["walks_away"]
+        lines.append(
+            f"| {s} | {r['cases']} | {st['placed']:.0%} | {_m(st['median_m'])}"
+            f" | {_m(st['robot_spread_m'])} | {wa['placed']:.0%} | {_m(wa['median_m'])}"
+            f" | {_m(r['centroid_median_m'])} | {_m(r['naive_slot_median_m'])} |"
+        )
     return lines
 
 
@@ -272,15 +382,17 @@ def page(check: bool) -> int:
     )
 
 
-def live_cases(frames: Sequence[Frame], most: int) -> list[tuple[Frame, Case, frozenset[int]]]:
-    """At most ``most`` leave-one-out cases, evenly spread: each with its frame minus the
-    member left out (what the live service is shown) and the remaining members' ids."""
+def live_cases(
+    frames: Sequence[Frame], most: int
+) -> list[tuple[Frame, Frame, Case, frozenset[int]]]:
+    """At most ``most`` leave-one-out cases, evenly spread: each with its whole frame, the
+    frame minus the member left out, and the remaining members' ids."""
     every = []
     for f in frames:
         for case, (out, rest) in zip(cases([f]), _left_out(f), strict=True):
             keep = [i for i, pid in enumerate(f.ids) if pid != out]
             shown = Frame(tuple(f.ids[i] for i in keep), f.positions[keep], f.headings[keep], ())
-            every.append((shown, case, rest))
+            every.append((f, shown, case, rest))
     step = max(1, len(every) // most)
     return every[::step][:most]
 
@@ -297,49 +409,93 @@ def _left_out(f: Frame) -> Iterator[tuple[int, frozenset[int]]]:
                 yield out, rest
 
 
-def evaluate_live(most: int, hold_s: float, root: Path = SHARED) -> dict[str, Any]:
-    """The shipped join through the live service (JSON poses at 30 Hz, each case's frame
-    held ``hold_s``, ``hri/groups/<frame>`` queried at its end) beside the core on the
-    group the service found: where the service says to stand is where the core says, for
-    the same people; and how far from where the member stood."""
+#: The robot's places for the live runs (m from the remaining members' centroid).
+LIVE_ROBOTS = ((3.0, 0.0), (0.0, 3.0), (-3.0, 0.0), (0.0, -3.0), (30.0, 30.0))
+#: People of different cases never share a name (a group of one case is never taken for
+#: another's by the service, nor a place left in one for the next's).
+RENAME = 1000
+
+
+def _placed(frame: Frame, at: np.ndarray, n: int) -> Frame:
+    """``frame`` moved so the robot (the origin) stands at ``at`` from it, its people named
+    apart from other cases' (``n``)."""
+    return Frame(tuple(RENAME * n + i for i in frame.ids), frame.positions - at,
+                 frame.headings, ())  # fmt: skip
+
+
+def evaluate_live(most: int, root: Path = SHARED) -> dict[str, Any]:
+    """The shipped join through the live service, both protocols, the robot at each of
+    ``LIVE_ROBOTS``: how far from where the member stood, and how far the median moves
+    with where the robot stands."""
     from .live import live_said
 
     out: dict[str, Any] = {}
     for s in SEQUENCES:
-        picked = live_cases(load(s, root, every=1), most)
-        said = live_said([shown for shown, _, _ in picked], hold_s)
-        to_truth, to_core, placed = [], [], 0
-        baselines: dict[str, list[float]] = {"centroid": [], "naive_slot": []}
-        for (shown, case, rest), groups in zip(picked, said, strict=True):
-            group = next((g for g in groups if rest <= {int(m[1:]) for m in g["members"]}), None)
-            if group is None or group["join"] is None:
-                continue
-            placed += 1
-            join = group["join"]
-            to_truth.append(math.hypot(join["x"] - case.truth[0], join["y"] - case.truth[1]))
-            for name, baseline in (("centroid", centroid), ("naive_slot", naive_slot)):
-                where = baseline(case)  # the same case, the same remaining members
-                baselines[name].append(
-                    math.hypot(where[0] - case.truth[0], where[1] - case.truth[1])
+        picked = live_cases(load(s, root), most)
+        runs: dict[str, list[list[float | None]]] = {"stays": [], "walks_away": []}
+        for r, (dx, dy) in enumerate(LIVE_ROBOTS):
+            asked = [
+                (
+                    case,
+                    rest,
+                    case.members.mean(axis=0) + np.array([dx, dy]),
+                    2 * (r * len(picked) + k),
                 )
-            inside = [i for i, pid in enumerate(shown.ids) if f"p{pid}" in group["members"]]
-            others = [i for i in range(len(shown.ids)) if i not in inside]
-            core_pose = join_pose(shown.positions[inside], shown.headings[inside],
-                                  shown.positions[others], ROBOT, JoinParams())  # fmt: skip
-            if core_pose is not None:
-                to_core.append(math.hypot(join["x"] - core_pose.x, join["y"] - core_pose.y))
+                for k, (_, _, case, rest) in enumerate(picked)
+            ]
+            stays = [_placed(shown, at, n) for (_, shown, _, _), (_, _, at, n) in zip(
+                picked, asked, strict=True)]  # fmt: skip
+            walks = [
+                frame
+                for (whole, shown, _, _), (_, _, at, n) in zip(picked, asked, strict=True)
+                for frame in (_placed(whole, at, n + 1), _placed(shown, at, n + 1))
+            ]
+            said = {"stays": live_said(stays, 0.6),  # the whole frame, then the member gone
+                    "walks_away": live_said(walks, 0.6)[1::2]}  # fmt: skip
+            for name, offset in (("stays", 0), ("walks_away", 1)):
+                runs[name].append(
+                    [
+                        _distance(groups, case, rest, at, RENAME * (n + offset))
+                        for (case, rest, at, n), groups in zip(asked, said[name], strict=True)
+                    ]
+                )
         out[s] = {
             "cases": len(picked),
-            "placed": placed / len(picked),
-            "median_m": float(np.median(to_truth)) if to_truth else None,
-            **{
-                f"{name}_median_m": float(np.median(d)) if d else None
-                for name, d in baselines.items()
-            },
-            "live_minus_core_m": float(np.max(to_core)) if to_core else None,
-            "hold_s": hold_s,
+            "robots": LIVE_ROBOTS,
+            **{name: _live_figures(per_robot) for name, per_robot in runs.items()},
+            "centroid_median_m": _median_to_truth(centroid, picked),
+            "naive_slot_median_m": _median_to_truth(naive_slot, picked),
         }
     return out
+
+
+def _distance(
+    groups: list[dict], case: Case, rest: frozenset[int], at: np.ndarray, renamed: int
+) -> float | None:
+    """How far the service's place for the group holding the remaining members is from
+    where the left-out member stood (None: no such group, or no place)."""
+    names = {f"p{renamed + m}" for m in rest}
+    group = next((g for g in groups if names <= set(g["members"])), None)
+    if group is None or group["join"] is None:
+        return None
+    truth = case.truth - at
+    return math.hypot(group["join"]["x"] - truth[0], group["join"]["y"] - truth[1])
+
+
+def _live_figures(per_robot: list[list[float | None]]) -> dict[str, Any]:
+    every = [d for run in per_robot for d in run if d is not None]
+    medians = [float(np.median(found)) for run in per_robot
+               if (found := [d for d in run if d is not None])]  # fmt: skip
+    return {
+        "placed": len(every) / sum(len(run) for run in per_robot),
+        "median_m": float(np.median(every)) if every else None,
+        "robot_spread_m": max(medians) - min(medians) if medians else None,
+    }
+
+
+def _median_to_truth(baseline: Any, picked: Sequence[tuple[Frame, Frame, Case, Any]]) -> float:
+    return float(np.median([math.hypot(*(np.array(baseline(case)[:2]) - case.truth))
+                            for _, _, case, _ in picked]))  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -357,7 +513,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--live must be a number of cases from 1 to 1000, got {args.live}")
     results = evaluate()
     if args.live:
-        results["live"] = evaluate_live(args.live, hold_s=0.6)
+        results["live"] = evaluate_live(args.live)
     print("\n".join(tables(results)))
     if args.out is not None:
         results_file.write(args.out, results, "python -m benchmarks.groups.join", vars(args))

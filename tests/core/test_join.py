@@ -76,3 +76,52 @@ def test_the_o_space_centre_is_in_front_of_an_open_arc():
     headings = np.array([0.0, 0.0])
     centre, _ = o_space(members, headings, P)
     assert centre[0] > 2.0
+
+
+def _around(centre, radius, degrees):
+    xy = np.array([(centre[0] + radius * math.cos(math.radians(a)),
+                    centre[1] + radius * math.sin(math.radians(a))) for a in degrees])  # fmt: skip
+    return xy, np.array([math.radians(a) + math.pi for a in degrees])
+
+
+#: Three members at 0°, 80° and 180° of a ring of 1 m around (3, 0): the room the group
+#: leaves is the half ring from 180° to 360° (a fourth stood at 270°); between the two
+#: members at 80° and 180° a narrow sliver is clear too.
+GAP_AND_SLIVER = _around((3.0, 0.0), 1.0, (0, 80, 180))
+
+
+def test_the_group_says_where_to_stand_not_where_the_robot_is():
+    """Issue 68: the free arc nearest the robot won, so a robot behind the group, by the
+    sliver, was sent to the sliver; a person joining takes the room the group leaves."""
+    members, headings = GAP_AND_SLIVER
+    behind = (3.0 + 4 * math.cos(math.radians(130)), 4 * math.sin(math.radians(130)))
+    pose = join_pose(members, headings, np.zeros((0, 2)), behind, P)
+    assert pose is not None
+    where = math.degrees(math.atan2(pose.y, pose.x - 3.0)) % 360
+    assert 230 <= where <= 310, where  # in the room left, where the fourth stood (270°)
+    assert abs(math.degrees(math.remainder(pose.yaw - math.radians(where + 180), math.tau))) < 25
+
+
+def test_a_group_with_one_clear_gap_is_joined_there_from_anywhere():
+    """Issue 68's target: the place moves no more than 0.1 m with where the robot stands
+    (four directions at 2 and 4 m, and far away); it does not move at all."""
+    members, headings = GAP_AND_SLIVER
+    robots = [
+        (3.0 + r * math.cos(a), r * math.sin(a))
+        for r in (2.0, 4.0, 40.0)
+        for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)
+    ]
+    places = {(p.x, p.y) for p in (join_pose(members, headings, np.zeros((0, 2)), robot, P)
+                                   for robot in robots) if p is not None}  # fmt: skip
+    assert len(places) == 1
+
+
+def test_a_group_beside_another_is_joined_on_its_own_free_side():
+    """A pair facing each other, another pair standing close on one side: the room is the
+    other side, wherever the robot is."""
+    members = np.array([[3.0, 0.6], [3.0, -0.6]])
+    headings = np.array([-math.pi / 2, math.pi / 2])
+    neighbours = np.array([[4.1, 0.35], [4.1, -0.35]])  # at x > 3: that side is narrowed
+    for robot in ((6.0, 0.0), (0.0, 0.0), (3.0, 5.0)):
+        pose = join_pose(members, headings, neighbours, robot, P)
+        assert pose is not None and pose.x < 3.0, robot

@@ -213,3 +213,25 @@ def test_over_a_long_simulated_run_nobody_greeted_is_in_a_group_said_beside():
             assert not grouped & {g.body_id for g in said.greetings}, (tick, said)
             checked += 1
     assert checked > 3000
+
+
+def test_a_member_who_walks_away_leaves_the_place_the_robot_should_take():
+    """Issue 68: with one member gone, the pair's two sides look alike and the place was
+    the robot's side; the member who just walked away left their place: the join is there,
+    facing in, while it stays clear; someone stepping into it takes it back."""
+    scene = FrameScene("map", replace(PARAMS, max_people=8))
+    trio = [person("a", 3.0, 0.6, -100), person("b", 3.0, -0.6, 100),
+            person("c", 4.0, 0.0, 180)]  # c stands on the far side of the pair  # fmt: skip
+    scene.update(trio, Time.of(1), 0.0)
+    scene.update(trio, Time.of(2), 0.4)
+    gone = [*trio[:2], person("c", 8.0, 3.0, 0)]  # c walks off
+    scene.update(gone, Time.of(3), 0.5)
+    scene.update(gone, Time.of(4), 0.9)
+    (pair,) = [g for g in scene.snapshot().groups if g.members == frozenset({"a", "b"})]
+    assert pair.join is not None
+    assert (pair.join.x, pair.join.y) == pytest.approx((4.0, 0.0), abs=1e-9)  # c's place
+    assert abs(math.degrees(math.remainder(pair.join.yaw - math.pi, math.tau))) < 15
+    taken = [*gone, person("d", 4.1, 0.1, 180)]  # someone else steps in
+    scene.update(taken, Time.of(5), 1.0)
+    (pair,) = [g for g in scene.snapshot().groups if {"a", "b"} <= g.members]
+    assert pair.join is None or math.hypot(pair.join.x - 4.0, pair.join.y) > 0.3

@@ -16,12 +16,16 @@ all face; a newcomer joins by taking a place on that ring where there is room. S
    spacing, at least ``min_clearance_m``): the robot is no closer to anyone than a person
    of the group would stand to another.
 4. **Which place**: the clear places form free arcs; each arc offers its middle (the
-   middle of the gap between the people on either side of it). The robot takes the one
-   nearest to where it stands (``several``: only among arcs at least that share of the
-   widest; the choice held out by dataset took every arc). None is clear: the group has no
-   room, and no place is said.
+   middle of the gap between the people on either side of it). The group says which: the
+   room it leaves is its widest free arc, as a person joining takes it wherever they came
+   from (issue 68: the arc nearest the robot won, so the place depended on where the
+   robot happened to be, by up to 0.5 m in a sequence's median). Where the robot stands only
+   breaks near-ties: among arcs at least ``tie`` of the widest, the nearest. None is
+   clear: the group has no room, and no place is said.
 
-The heading is toward the o-space centre: facing into the group.
+The heading is toward the o-space centre: facing into the group. ``offered`` is what the
+group says (every arc's place, the robot aside), ``chosen`` where a robot goes: a caller
+that asks for many robots' places (the benchmark) works the first out once.
 """
 
 from __future__ import annotations
@@ -45,7 +49,7 @@ class JoinParams:
     min_clearance_m: float = 0.3  # ... and never closer than this
     steps: int = 72  # places looked at around the ring (every 5°)
     widen: tuple[float, ...] = (1.0, 1.15)  # no room on the ring: a step back
-    several: float = 0.0  # arcs at least this share of the widest are places to choose from
+    tie: float = 1.0  # arcs at least this share of the widest: a near-tie, the robot's nearest
 
 
 @dataclass(frozen=True, slots=True)
@@ -82,6 +86,49 @@ def clearance(positions: FloatArray, p: JoinParams) -> float:
     )
 
 
+@dataclass(frozen=True, slots=True)
+class Offered:
+    """The places a group offers a newcomer: the middle of each free arc of its ring, with
+    the arc's width (places of ``2π / steps``), and the o-space centre they face."""
+
+    centre: tuple[float, float]
+    places: tuple[tuple[float, float, int], ...]  # (x, y, width)
+
+
+def offered(
+    members: FloatArray, headings: FloatArray, others: FloatArray, p: JoinParams
+) -> Offered | None:
+    """Where a newcomer could stand in the group of ``members`` ((n, 2), n >= 2, with
+    their ``headings``), clear of them and of ``others`` ((m, 2): everyone else in the
+    frame): on the ring, else a step back; None when neither has room."""
+    centre, ring = o_space(members, headings, p)
+    clear_m = clearance(members, p)
+    around = _around(p.steps)
+    everyone = np.vstack([members, others]) if len(others) else members
+    for radius in (ring * f for f in p.widen):  # the ring first, then a step back
+        gap = (centre + radius * around)[:, None, :] - everyone[None, :, :]
+        free = np.hypot(gap[..., 0], gap[..., 1]).min(axis=1) >= clear_m
+        arcs = _arcs(free)
+        if arcs:
+            cx, cy = float(centre[0]), float(centre[1])
+            return Offered((cx, cy), tuple(
+                (cx + radius * math.cos(middle), cy + radius * math.sin(middle), width)
+                for middle, width in arcs
+            ))  # fmt: skip
+    return None
+
+
+def chosen(offer: Offered, robot: tuple[float, float], p: JoinParams) -> JoinPose:
+    """The place the group leaves most room at; among near-ties (``tie`` of the widest),
+    the nearest to ``robot``; facing the o-space centre."""
+    widest = max(width for _, _, width in offer.places)
+    x, y, _ = min(
+        (place for place in offer.places if place[2] >= p.tie * widest),
+        key=lambda place: math.hypot(place[0] - robot[0], place[1] - robot[1]),
+    )
+    return JoinPose(x, y, math.atan2(offer.centre[1] - y, offer.centre[0] - x))
+
+
 def join_pose(
     members: FloatArray,
     headings: FloatArray,
@@ -89,33 +136,10 @@ def join_pose(
     robot: tuple[float, float],
     p: JoinParams,
 ) -> JoinPose | None:
-    """Where the robot should stand to join the group of ``members`` ((n, 2), n >= 2, with
-    their ``headings``), clear of them and of ``others`` ((m, 2): everyone else in the
-    frame), nearest to ``robot``; None when the ring has no room."""
-    centre, ring = o_space(members, headings, p)
-    clear_m = clearance(members, p)
-    around = _around(p.steps)
-    everyone = np.vstack([members, others]) if len(others) else members
-    best: tuple[float, FloatArray] | None = None
-    for radius in (ring * f for f in p.widen):  # the ring first, then a step back
-        gap = (centre + radius * around)[:, None, :] - everyone[None, :, :]
-        free = np.hypot(gap[..., 0], gap[..., 1]).min(axis=1) >= clear_m
-        arcs = _arcs(free)
-        widest = max((width for _, width in arcs), default=0)
-        for middle, width in arcs:
-            if width < p.several * widest:
-                continue
-            place = centre + radius * np.array([math.cos(middle), math.sin(middle)])
-            far = math.hypot(place[0] - robot[0], place[1] - robot[1])
-            if best is None or far < best[0]:
-                best = (far, place)
-        if best is not None:
-            break
-    if best is None:
-        return None
-    place = best[1]
-    yaw = math.atan2(centre[1] - place[1], centre[0] - place[0])
-    return JoinPose(float(place[0]), float(place[1]), yaw)
+    """Where the robot should stand to join the group of ``members`` (see ``offered``),
+    seen from ``robot``; None when the group has no room."""
+    offer = offered(members, headings, others, p)
+    return None if offer is None else chosen(offer, robot, p)
 
 
 @cache

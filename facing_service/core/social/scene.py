@@ -37,7 +37,8 @@ from .groups import (
     members,
     on_the_ring,
 )
-from .join import JoinParams, JoinPose, join_pose
+from .join import JoinParams, JoinPose, clearance, join_pose, o_space
+from .vacancy import Vacancies
 
 ROBOT = GroupTracker.ROBOT
 _ROBOT_POSE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
@@ -140,6 +141,7 @@ class FrameScene:
     # Where to join each group, worked out from the last computation's people when a
     # group is said or read (most computations are neither), then kept until the next.
     _joins: dict[frozenset[str], JoinPose | None] = field(default_factory=dict)
+    _vacancies: Vacancies = field(default_factory=Vacancies)  # places members just left
 
     def __post_init__(self) -> None:
         self.tracker = GroupTracker(self.params.hold_s)
@@ -158,7 +160,8 @@ class FrameScene:
         t = np.array([person.translation for person in people] + [_ROBOT_POSE[0]])
         q = np.array([person.rotation for person in people] + [_ROBOT_POSE[1]])
         engaging = [person.engaging for person in people]
-        if self._worked is not None and self._worked.still(ids, t, q, engaging):
+        moved = self._worked is None or not self._worked.still(ids, t, q, engaging)
+        if self._worked is not None and not moved:
             gazing, found = self.gazing, self._worked.found  # nobody moved: nothing to redo
             greetings = self._worked.greetings
         else:
@@ -177,7 +180,10 @@ class FrameScene:
             greetings = _greetings(ids, t[:, :2], heading, engaging, labels, p)
             self._worked = LastComputation(ids, t, q, engaging, heading, found, greetings)
             self._joins = {}
+        before = self.tracker.groups
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
+        if moved or changed or dissolved:  # where the said groups' members stand, who left
+            self._seen_seated(before, found)
         # A greeting is for a person in no group *as said*: the groups said lag this
         # reading by ``hold_s``, so a person alone in it may still be in a said group
         # (issue 59: one answer held a group of p3 and the robot, and a greeting for p3).
@@ -197,6 +203,15 @@ class FrameScene:
             return None
         self.gazing, self.left_out, self.said_once = gazing, left_out, True
         return self.snapshot(changed, dissolved, groups_changed, gazing_changed, groups_changed)
+
+    def _seen_seated(
+        self, before: dict[int, Group], found: list[tuple[frozenset[str], tuple[float, float]]]
+    ) -> None:
+        """Where the said groups' members stand, and the place one who left stood in."""
+        worked = self._worked
+        assert worked is not None  # (an update has worked the people out by now)
+        where = dict(zip(worked.ids[:-1], map(tuple, worked.t[:-1, :2].tolist()), strict=True))
+        self._vacancies.seen(self.tracker.groups, before, {m for m, _ in found}, where)
 
     def snapshot(
         self,
@@ -239,14 +254,30 @@ class FrameScene:
             index = {person: i for i, person in enumerate(worked.ids[:-1])}  # the robot last
             inside = [index[m] for m in sorted(group) if m in index]
             others = [i for i in index.values() if i not in inside]
-            self._joins[group] = (
-                None
-                if len(inside) < 2
-                else join_pose(
-                    xy[inside], worked.heading[inside], xy[others], (0.0, 0.0), self.params.join
-                )
-            )
+            self._joins[group] = None if len(inside) < 2 else self._place_in(
+                group, xy[inside], worked.heading[inside], xy[others]
+            )  # fmt: skip
         return self._joins[group]
+
+    def _place_in(
+        self,
+        group: frozenset[str],
+        inside: np.ndarray,
+        headings: np.ndarray,
+        others: np.ndarray,
+    ) -> JoinPose | None:
+        """The place a member just left, while nobody takes it and the group stays; else
+        the place the group's ring offers (``join_pose``)."""
+        p = self.params.join
+        gid = next((g.id for g in self.tracker.groups.values() if g.members == group), None)
+        if gid is not None:
+            clear_m = clearance(inside, p)
+            left = self._vacancies.place(gid, inside, others, clear_m, p.min_clearance_m)
+            if left is not None:
+                centre, _ = o_space(inside, headings, p)
+                yaw = math.atan2(centre[1] - left[1], centre[0] - left[0])
+                return JoinPose(left[0], left[1], yaw)
+        return join_pose(inside, headings, others, (0.0, 0.0), p)
 
     def _who_faces_whom(self, ids: list[str], t: np.ndarray, q: np.ndarray) -> frozenset[Pair]:
         """Pairs (a, b) with b in a's cone; a pair already said keeps facing within the
