@@ -38,7 +38,7 @@ from facing_service.camera.frames import on_frame as placed
 from facing_service.camera.frontend import DEFAULT_REACH_M, FACE_WIDTH_M, tile_for
 from facing_service.camera.head_pose import HeadPose, fit_head
 from facing_service.camera.intrinsics import from_field_of_view
-from facing_service.camera.landmarks import FaceMesh, seen
+from facing_service.camera.landmarks import TILES_PER_FRAME, FaceMesh, seen, tiles
 from facing_service.camera.native_log import without_native_chatter
 from facing_service.core.detector import classify_one, robot_in_body
 
@@ -47,11 +47,11 @@ from . import results_file
 SIZES = ((640, 480), (1280, 720))
 SPOTS = [(10, 10), (10, 225), (10, 440), (250, 115), (250, 330)]  # in 640x480
 CAMERA = from_field_of_view(640, 480)
-REACHES = (DEFAULT_REACH_M, 2.0)  # the default; the whole frame only (before issue 69)
+REACHES = (DEFAULT_REACH_M, None)  # the default; the whole frame only (before issue 69)
 DISTANCES_M = (1, 2, 3, 4, 5, 6, 7, 8)
 #: Where a face is put in the reach's frames (shares of the width and height).
 PLACES = [(fx, fy) for fx in (0.2, 0.5, 0.8) for fy in (0.35, 0.65)]
-HELD = 8  # frames each placement is held: the tiles take turns
+HELD = 8  # frames each placement is held at the least: the tiles take turns
 
 
 def astronaut_face() -> np.ndarray:
@@ -65,11 +65,11 @@ def cameraman_face() -> np.ndarray:
 def tiled(faces: int, size: tuple[int, int]) -> np.ndarray:
     """``faces`` astronauts as large as in a 640x480 frame at 1 m, in a frame of ``size``."""
     width, height = size
-    scale = width / 640
+    scale = min(width / 640, height / 480)
     face = cv2.resize(astronaut_face(), (round(190 * scale), round(210 * scale)))
     frame = np.full((height, width, 3), 110, np.uint8)
     for row, col in SPOTS[:faces]:
-        r, c = round(row * scale), round(col * scale)
+        r, c = round(row * height / 480), round(col * width / 640)
         frame[r : r + face.shape[0], c : c + face.shape[1]] = face
     return frame
 
@@ -82,12 +82,20 @@ def per_frame(mesh: FaceMesh, frame: np.ndarray, ids: FaceIds, now: float) -> in
     return sum(head is not None for _, head in heads)
 
 
-def front_end(size: tuple[int, int], reach_m: float, faces: int = 5) -> FaceMesh:
-    """The front end's face finder for a camera of ``size`` (65°) and a reach."""
-    return FaceMesh(faces, tile_for(from_field_of_view(*size), reach_m))
+def front_end(size: tuple[int, int], reach_m: float | None, faces: int = 5) -> FaceMesh:
+    """The front end's face finder for a camera of ``size`` (65°) and a reach (None: the
+    whole frame only, as before issue 69)."""
+    tile = None if reach_m is None else tile_for(from_field_of_view(*size), reach_m)
+    return FaceMesh(faces, tile)
 
 
-def speed(faces: int, frames: int, size: tuple[int, int], reach_m: float) -> dict[str, Any]:
+def held(size: tuple[int, int], reach_m: float | None) -> int:
+    """How many frames a placement is held: every tile's turn, and a frame more."""
+    tile = None if reach_m is None else tile_for(from_field_of_view(*size), reach_m)
+    return max(HELD, math.ceil(len(tiles(*size, tile)) / TILES_PER_FRAME) + 1) if tile else HELD
+
+
+def speed(faces: int, frames: int, size: tuple[int, int], reach_m: float | None) -> dict[str, Any]:
     frame = tiled(faces, size)
     mesh = front_end(size, reach_m)
     started = time.perf_counter()
@@ -111,7 +119,7 @@ def speed(faces: int, frames: int, size: tuple[int, int], reach_m: float) -> dic
     }
 
 
-def reach(size: tuple[int, int], reach_m: float) -> list[dict[str, Any]]:
+def reach(size: tuple[int, int], reach_m: float | None) -> list[dict[str, Any]]:
     """Per distance: the share of frontal faces found and said facing, of turned ones found
     and said not facing (a face not found is neither)."""
     width, height = size
@@ -130,7 +138,7 @@ def reach(size: tuple[int, int], reach_m: float) -> list[dict[str, Any]]:
                                     interpolation=cv2.INTER_AREA)  # fmt: skip
                 frame = pasted(background, scaled[:, ::-1] if mirror else scaled, fx, fy)
                 mesh = front_end(size, reach_m)
-                for _ in range(HELD):
+                for _ in range(held(size, reach_m)):
                     found = mesh(frame)
                 mesh.close()
                 verdicts = [
@@ -145,17 +153,20 @@ def reach(size: tuple[int, int], reach_m: float) -> list[dict[str, Any]]:
 
 
 def face_width_px(face: np.ndarray) -> float:
-    """The face's width in its photograph, as the detector boxes it."""
-    mesh = FaceMesh(1)
-    (landmarks,) = mesh(placed(face, 640, 480, 1.0))  # (any size: only the ratio is used)
-    mesh.close()
-    scale = min(640 / face.shape[1], 480 / face.shape[0])
-    return seen(landmarks).width / scale
+    """The face's width in its photograph, as the detector boxes it (the 15 cm a face at a
+    distance is scaled to)."""
+    import mediapipe as mp
+
+    with mp.solutions.face_detection.FaceDetection(model_selection=1) as detector:
+        (found,) = detector.process(face).detections
+    return float(found.location_data.relative_bounding_box.width * face.shape[1])
 
 
 def pasted(background: np.ndarray, face: np.ndarray, fx: float, fy: float) -> np.ndarray:
     frame = background.copy()
     height, width = frame.shape[:2]
+    top, left = max(0, (face.shape[0] - height) // 2), max(0, (face.shape[1] - width) // 2)
+    face = face[top : top + height, left : left + width]  # a photo larger than the frame
     h, w = face.shape[:2]
     x = min(max(0, round(width * fx) - w // 2), width - w)
     y = min(max(0, round(height * fy) - h // 2), height - h)
@@ -196,6 +207,10 @@ def photographs() -> dict[str, float | bool]:
     }
 
 
+def _reach(reach_m: float | None) -> str:
+    return "whole frame" if reach_m is None else f"{reach_m:g} m"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=200, help="frames per row (200)")
@@ -205,13 +220,14 @@ def main() -> None:
     with without_native_chatter():
         rows = [speed(faces, args.frames, size, reach_m)
                 for size in SIZES for reach_m in REACHES for faces in (1, 3, 5)]  # fmt: skip
-        reached = {f"{w}x{h} {r:g} m": reach((w, h), r) for w, h in SIZES for r in REACHES}
+        reached = {f"{w}x{h} {_reach(r)}": reach((w, h), r) for w, h in SIZES for r in REACHES}
         reached["1280x720 8 m"] = reach((1280, 720), 8.0)
         answers = photographs()
     print("size | reach m | faces | found | fps (one core) | CPU ms a frame | first result ms")
     for row in rows:
-        print(f"{row['size']} | {row['reach_m']:g} | {row['faces']} | {row['found_mean']:.2f} | "
-              f"{row['fps']} | {row['cpu_ms_per_frame']} | {row['first_result_ms']}")  # fmt: skip
+        print(f"{row['size']} | {_reach(row['reach_m'])} | {row['faces']} | "
+              f"{row['found_mean']:.2f} | {row['fps']} | {row['cpu_ms_per_frame']} | "
+              f"{row['first_result_ms']}")  # fmt: skip
     for name, by_distance in reached.items():
         print(name, " ".join(f"{r['distance_m']} m {r['frontal']:.0%}/{r['turned']:.0%}"
                              for r in by_distance))  # fmt: skip

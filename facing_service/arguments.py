@@ -208,8 +208,8 @@ def _add_camera_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     parser.add_argument(
         "--reach-m", type=_number(0.5, strict=False, most=20.0), metavar="METRES",
-        help="how far faces are looked for (default 5: across a room; 2: faces near only, "
-        "about half the CPU; more: tiles of the frame smaller, found later)",
+        help="how far faces are looked for (default 5: across a room; 1.5: the whole frame "
+        "only, about half the CPU; 8: smaller tiles, a far face found later)",
     )  # fmt: skip
     parser.add_argument(
         "--max-faces", type=_number(1, strict=False, integer=True),

@@ -43,9 +43,10 @@ def at_distance(photo: np.ndarray, crop, face_px: float, metres: float, where) -
     return frame
 
 
-def verdicts(frame: np.ndarray, reach_m: float, held: int = 8) -> list[bool]:
-    """Facing or not, for each face found after ``held`` frames of the same picture."""
-    mesh = FaceMesh(5, tile_for(CAMERA, reach_m))
+def verdicts(frame: np.ndarray, reach_m: float | None, held: int = 8) -> list[bool]:
+    """Facing or not, for each face found after ``held`` frames of the same picture
+    (``reach_m`` None: the detector on the whole frame only, as before issue 69)."""
+    mesh = FaceMesh(5, None if reach_m is None else tile_for(CAMERA, reach_m))
     try:
         for _ in range(held):
             found = mesh(frame)
@@ -60,7 +61,7 @@ def test_a_frontal_face_five_metres_away_is_found_and_faces(where):
     """Before: the detector saw the frame at 192 px, the face at 4.5 px, and missed it."""
     frame = at_distance(skimage.data.astronaut(), ASTRONAUT, ASTRONAUT_FACE_PX, 5.0, where)
     assert verdicts(frame, reach_m=5.0) == [True]
-    assert verdicts(frame, reach_m=2.0) == []  # the whole frame only: out of its reach
+    assert verdicts(frame, reach_m=None) == []  # the whole frame only: out of its reach
 
 
 def test_a_turned_face_three_metres_away_is_found_and_does_not_face():
@@ -69,7 +70,7 @@ def test_a_turned_face_three_metres_away_is_found_and_does_not_face():
     cameraman = np.stack([skimage.data.camera()] * 3, -1)
     frame = at_distance(cameraman, CAMERAMAN, CAMERAMAN_FACE_PX, 3.0, (0.6, 0.4))
     assert verdicts(frame, reach_m=5.0) == [False]
-    assert verdicts(frame, reach_m=2.0) == []
+    assert verdicts(frame, reach_m=None) == []
 
 
 def test_faces_near_cost_no_tile_and_a_longer_reach_smaller_tiles():
