@@ -270,7 +270,7 @@ class FrameScene:
         the place the group's ring offers (``join_pose``)."""
         p = self.params.join
         gid = next((g.id for g in self.tracker.groups.values() if g.members == group), None)
-        if gid is not None:
+        if gid is not None and gid in self._vacancies:  # (most groups have none: no cost)
             clear_m = clearance(inside, p)
             left = self._vacancies.place(gid, inside, others, clear_m, p.min_clearance_m)
             if left is not None:

@@ -33,6 +33,10 @@ class Vacancies:
         #: group id -> the place left, and where the members who stayed stood then
         self._left: dict[int, tuple[tuple[float, float], tuple[float, float]]] = {}
 
+    def __contains__(self, gid: object) -> bool:
+        """Whether group ``gid`` has a place left (still to be checked by ``place``)."""
+        return gid in self._left
+
     def seen(
         self,
         groups: Mapping[int, Group],
