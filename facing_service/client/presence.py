@@ -54,6 +54,12 @@ class ServiceWatch:
         self._thread.join(timeout=2.0)
 
     def _watch(self) -> None:
+        try:
+            self._say_absence()
+        except zenoh.ZError:  # the session closing under the watch: nothing left to say
+            return
+
+    def _say_absence(self) -> None:
         if self._stop.wait(self._grace_s) or self._seen():
             return
         why = no_service_seen(self._session, self._namespace, self._connect)
@@ -67,9 +73,7 @@ class ServiceWatch:
                 return
 
     def _seen(self) -> bool:
-        token = keys.service_token(self._namespace, "*")
-        try:
-            replies = self._session.liveliness().get(token, timeout=0.5)
-            return any(reply.ok is not None for reply in replies)
-        except zenoh.ZError:  # the session closing under the watch: nothing to say
-            return True
+        replies = self._session.liveliness().get(
+            keys.service_token(self._namespace, "*"), timeout=0.5
+        )
+        return any(reply.ok is not None for reply in replies)
