@@ -23,3 +23,13 @@ def test_a_hosted_ci_alone_does_not_require_the_shared_data(monkeypatch: pytest.
 
 def test_the_projects_ci_requires_it():
     assert f"export {REQUIRE_SHARED_DATA}=1\n" in CI_RUN.read_text()
+
+
+def test_the_variable_is_no_setting_a_command_would_say_is_misspelt():
+    """CI's first run with it named FACING_REQUIRE_SHARED_DATA: every command the tests
+    started said "FACING_REQUIRE_SHARED_DATA names no setting and is ignored", and the
+    tests that read their stderr failed. FACING_TEST_* is the tooling's."""
+    from facing_service.config.sources import unknown_variables
+
+    assert unknown_variables({REQUIRE_SHARED_DATA: "1"}) == []
+    assert unknown_variables({"FACING_REQUIRE_SHARED_DATA": "1"}) != []  # what it was

@@ -15,7 +15,7 @@ ORACLE = Path(__file__).resolve().parent / "tf2_oracle.py"
 SYSTEM_PYTHON = "/usr/bin/python3"
 #: The team's shared data (../shared/data beside the project: recordings, F-formation
 #: sequences). A user's clone has none: tests marked ``shared_data`` skip there, saying so,
-#: and fail in the project's CI (``FACING_REQUIRE_SHARED_DATA=1``, set by .ci/run), which
+#: and fail in the project's CI (``FACING_TEST_REQUIRE_SHARED_DATA=1``, set by .ci/run), which
 #: must run every test (see conftest.py).
 SHARED_DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 #: The shared real recordings.
@@ -35,7 +35,7 @@ def shared_data_missing() -> str | None:
 #: Set by .ci/run: a test of the shared data fails without it instead of skipping. Not
 #: ``CI``: GitHub Actions and GitLab set ``CI=true`` themselves, and a user's fork has no
 #: ../shared (issue 67).
-REQUIRE_SHARED_DATA = "FACING_REQUIRE_SHARED_DATA"
+REQUIRE_SHARED_DATA = "FACING_TEST_REQUIRE_SHARED_DATA"
 
 
 def shared_data_required() -> bool:
