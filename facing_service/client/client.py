@@ -352,7 +352,7 @@ class FacingClient:
 
     def _on_token(self, sample: zenoh.Sample) -> None:
         """A service instance appeared or vanished (killed, partitioned, stopped)."""
-        instance = _instance_of(str(sample.key_expr))
+        instance = keys.instance_of(str(sample.key_expr))
         if sample.kind == zenoh.SampleKind.PUT:
             with self._lock:
                 new = instance not in self._bodies.live and self._seeding
@@ -441,8 +441,3 @@ class FacingClient:
                 callback(*args)
             except Exception:
                 log.exception("facing client: a callback raised")
-
-
-def _instance_of(token_key: str) -> str:
-    """``NS/services/facing/<instance>`` -> ``<instance>``."""
-    return token_key.rsplit("/", 1)[-1]

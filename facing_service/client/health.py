@@ -59,7 +59,7 @@ def wait_for_service(
         found = False
         for reply in session.liveliness().get(token, timeout=0.2):
             if reply.ok is not None:
-                seen(str(reply.ok.key_expr).rsplit("/", 1)[-1])
+                seen(keys.instance_of(str(reply.ok.key_expr)))
                 found = True
         if found:
             return True
@@ -106,7 +106,7 @@ def ask(
 def instances_seen(session: zenoh.Session, namespace: str, timeout: float = 0.5) -> list[str]:
     """The instances whose liveliness token is seen in ``namespace`` now."""
     replies = session.liveliness().get(keys.service_token(namespace, "*"), timeout=timeout)
-    return sorted({str(r.ok.key_expr).rsplit("/", 1)[-1] for r in replies if r.ok is not None})
+    return sorted({keys.instance_of(str(r.ok.key_expr)) for r in replies if r.ok is not None})
 
 
 def _why_no_answer(

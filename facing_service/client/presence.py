@@ -14,8 +14,7 @@ from types import TracebackType
 
 import zenoh
 
-from ..contract import keys
-from .health import no_service_seen
+from .health import instances_seen, no_service_seen
 
 #: How long a session may take to find a service before its absence is said.
 GRACE_S = 2.0
@@ -73,7 +72,4 @@ class ServiceWatch:
                 return
 
     def _seen(self) -> bool:
-        replies = self._session.liveliness().get(
-            keys.service_token(self._namespace, "*"), timeout=0.5
-        )
-        return any(reply.ok is not None for reply in replies)
+        return bool(instances_seen(self._session, self._namespace))

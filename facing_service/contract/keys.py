@@ -114,6 +114,11 @@ def service_token(namespace: str, instance: str) -> str:
     return f"{namespace}/services/facing/{instance}"
 
 
+def instance_of(token_key: str) -> str:
+    """``NS/services/facing/<instance>`` -> ``<instance>``."""
+    return token_key.rsplit("/", 1)[-1]
+
+
 def status_key(namespace: str, instance: str) -> str:
     """``instance`` may be ``*`` to ask every running service."""
     return f"{service_token(namespace, instance)}/status"

@@ -75,3 +75,7 @@ def test_the_remembering_parser_answers_as_the_parser_and_stays_bounded():
     for key in tried:
         assert parse(key) == parse_pose_key("hri", key)
         assert len(parse._known) <= 3
+
+
+def test_a_service_token_names_its_instance():
+    assert keys.instance_of(keys.service_token("robot1/hri", "front")) == "front"
