@@ -226,7 +226,7 @@ class FrameScene:
         whom: its groups are not said, and working the places out would cost for nothing)."""
 
         def placed(group: Group) -> Group:
-            return replace(group, join=self._join(group.members)) if joins else group
+            return replace(group, join=self._join(group)) if joins else group
 
         groups = sorted(self.tracker.groups.values(), key=lambda g: g.id)
         return SceneUpdate(
@@ -242,35 +242,30 @@ class FrameScene:
             self.greetings,
         )
 
-    def _join(self, group: frozenset[str]) -> JoinPose | None:
+    def _join(self, group: Group) -> JoinPose | None:
         """Where the robot should stand to join a group it is not in (None: it is in it,
         or the group has no room), from the last computation's people: everyone else but
         the robot is in the way. Worked out once per computation, when asked."""
         worked = self._worked
-        if ROBOT in group or worked is None:
+        if group.robot or worked is None:
             return None
-        if group not in self._joins:
+        if group.members not in self._joins:
             xy = worked.t[:, :2]
             index = {person: i for i, person in enumerate(worked.ids[:-1])}  # the robot last
-            inside = [index[m] for m in sorted(group) if m in index]
+            inside = [index[m] for m in sorted(group.members) if m in index]
             others = [i for i in index.values() if i not in inside]
-            self._joins[group] = None if len(inside) < 2 else self._place_in(
-                group, xy[inside], worked.heading[inside], xy[others]
+            self._joins[group.members] = None if len(inside) < 2 else self._place_in(
+                group.id, xy[inside], worked.heading[inside], xy[others]
             )  # fmt: skip
-        return self._joins[group]
+        return self._joins[group.members]
 
     def _place_in(
-        self,
-        group: frozenset[str],
-        inside: np.ndarray,
-        headings: np.ndarray,
-        others: np.ndarray,
+        self, gid: int, inside: np.ndarray, headings: np.ndarray, others: np.ndarray
     ) -> JoinPose | None:
-        """The place a member just left, while nobody takes it and the group stays; else
-        the place the group's ring offers (``join_pose``)."""
+        """The place a member of group ``gid`` just left, while nobody takes it and the
+        group stays; else the place the group's ring offers (``join_pose``)."""
         p = self.params.join
-        gid = next((g.id for g in self.tracker.groups.values() if g.members == group), None)
-        if gid is not None and gid in self._vacancies:  # (most groups have none: no cost)
+        if gid in self._vacancies:  # (most groups have none: no cost)
             clear_m = clearance(inside, p)
             left = self._vacancies.place(gid, inside, others, clear_m, p.min_clearance_m)
             if left is not None:
