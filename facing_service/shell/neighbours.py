@@ -5,10 +5,10 @@ Two services reading the same poses answer twice: every result arrives twice on
 fine when sharded by frame (``--base-frame map`` beside ``--base-frame camera_left``).
 Each service holds a liveliness token, so each learns when another appears (the newer one
 from the token's history): it then asks the statuses in the namespace and warns, once per
-other service, when that one reads frames this one reads too. Two on one host share the
-default ``--instance`` (the host's name), and so one token: the older one sees no new
-token then, so the statuses are also asked every ``PERIOD_S``; services are told apart by
-their zenoh id.
+other service, when that one reads frames this one reads too. Two given the same
+``--instance`` (two containers with one ``FACING_INSTANCE``; two in one process) share
+one token: the older one sees no new token then, so the statuses are also asked every
+``PERIOD_S``; services are told apart by their zenoh id.
 """
 
 from __future__ import annotations

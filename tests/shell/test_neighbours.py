@@ -22,8 +22,9 @@ def said(caplog: pytest.LogCaptureFixture) -> list[str]:
 
 @pytest.mark.slow
 def test_two_services_on_the_same_frames_each_say_the_other(net, caplog):
-    """Both of the host's name (the default --instance), so one token: the older one
-    learns of the newer by asking again (PERIOD_S)."""
+    """Both of one instance name (two services in one process: the default --instance is
+    the host's name and the process id), so one token: the older one learns of the newer
+    by asking again (PERIOD_S)."""
     caplog.set_level(logging.WARNING, logger="facing_service")
     _, ep = net.service(base_frame="*")
     net.service(base_frame="cam", connect=[ep])
