@@ -27,6 +27,10 @@ log = logging.getLogger("facing_service")
 ASK_S = 2.0
 #: How often they are asked all the same (a second service of the same instance name).
 PERIOD_S = 10.0
+#: The first asks come sooner: a service just started asks before its session has met the
+#: others (its own token's history wakes it at once), and would otherwise learn of them
+#: only a period later (seen in CI under load: not within 15 s).
+FIRST_WAITS_S = (1.0, 2.0)
 
 
 def overlapping(ours: str, theirs: str) -> bool:
@@ -61,8 +65,9 @@ class Neighbours:
             self._due.set()
 
     def _run(self) -> None:
+        waits = iter(FIRST_WAITS_S)
         while not self._closing.is_set():
-            self._due.wait(PERIOD_S)
+            self._due.wait(next(waits, PERIOD_S))
             self._due.clear()
             if self._closing.is_set():
                 return

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from facing_service.shell.neighbours import PERIOD_S, overlapping
+from facing_service.shell.neighbours import FIRST_WAITS_S, PERIOD_S, overlapping
 
 from loopback import wait_until
 
@@ -28,7 +28,8 @@ def test_two_services_on_the_same_frames_each_say_the_other(net, caplog):
     caplog.set_level(logging.WARNING, logger="facing_service")
     _, ep = net.service(base_frame="*")
     net.service(base_frame="cam", connect=[ep])
-    wait_until(lambda: len(said(caplog)) == 2, PERIOD_S + 5, "both services said the other")
+    asked = sum(FIRST_WAITS_S) + PERIOD_S  # the older's third ask, at the latest
+    wait_until(lambda: len(said(caplog)) == 2, asked + 5, "both services said the other")
     lines = said(caplog)
     assert any("base frame cam; this one's *" in line for line in lines), lines
     assert any("base frame *; this one's cam" in line for line in lines), lines
