@@ -57,11 +57,11 @@ def _pass_on(reader: int, target: int) -> None:
                     if not CHATTER.match(line):
                         _write_all(target, line)
             except Exception:
-                os.dup2(target, 2)  # writers go around the pipe from now on
                 with contextlib.suppress(OSError):  # nowhere left to say it
-                    while line:  # this line, and what the pipe still holds, as it is
+                    _write_all(target, line)  # this line first, then fd 2 around the pipe
+                    os.dup2(target, 2)
+                    while line := pipe.read1(65536):  # and what the pipe still holds
                         _write_all(target, line)
-                        line = pipe.read1(65536)
     finally:
         os.close(target)
 

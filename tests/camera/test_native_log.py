@@ -81,4 +81,6 @@ def test_a_passer_that_fails_gives_fd_2_back(monkeypatch, tmp_path: Path):
             os.dup2(saved, 2)
             os.close(saved)
     said = seen.read_bytes()
-    assert said.startswith(b"first\n") and len(said) == 6 + 200_000
+    # every byte, none blocked or lost; the order of what the pipe still held against
+    # what went around it after fd 2 came back is not kept (CI saw "first" after 100 x)
+    assert said.count(b"first\n") == 1 and said.count(b"x") == 200_000 and len(said) == 200_006
