@@ -9,7 +9,7 @@ import json
 
 import pytest
 
-from benchmarks.engagement import crossval, scoring
+from benchmarks.engagement import criteria, crossval, families, replayed, scoring
 from benchmarks.engagement.recordings import RESULTS
 from facing_service.config.settings import Settings
 
@@ -17,7 +17,7 @@ from facing_service.config.settings import Settings
 pytestmark = [pytest.mark.slow, pytest.mark.shared_data]
 
 PERSONS = ["aqfwx", "dndaq", "eloek", "ghfbv", "rorql"]
-#: The one row held out farther below the rule than crossval.BELOW_RULE (measured 14
+#: The one row held out farther below the rule than criteria.BELOW_RULE (measured 14
 #: points, the rule 100 %): aqfwx looks straight at the camera for the last 4.5 s of a
 #: recording labelled disengaged; no rule that engages within 2.6 s leaves that alone.
 GLANCE = ("1p_FV_dis_1", "aqfwx")
@@ -34,9 +34,9 @@ def test_offline_is_the_real_path():
     person-recording by person-recording: what cross-validation chooses among is what
     the service does."""
     real = json.loads(RESULTS.read_text())["service"]["rows"]
-    offline = crossval.shipped(crossval.load())
+    offline = crossval.shipped(replayed.load())
     assert offline["all"]["of"] == len(real) == 12
-    rows = [row for r in crossval.load() for row in crossval.rows(r, Settings(**crossval.BASE))]
+    rows = [row for r in replayed.load() for row in replayed.rows(r, Settings(**families.BASE))]
     for ours, theirs in zip(rows, real, strict=True):
         assert (ours.recording, ours.person) == (theirs["recording"], theirs["person"])
         assert ours.engaged_or_not == pytest.approx(theirs["engaged_or_not"], abs=0.05), ours
@@ -45,10 +45,10 @@ def test_offline_is_the_real_path():
 
 def test_the_shipped_defaults_are_what_cross_validation_prefers(results):
     preferred = results["preferred"]
-    defaults = Settings(**crossval.BASE)
+    defaults = Settings(**families.BASE)
     for name, value in preferred["in_sample_choice"].items():
-        if name in crossval.RESEARCH:  # not a flag: the product runs with it off
-            assert (value or crossval.RESEARCH[name][1]) == crossval.RESEARCH[name][1], name
+        if name in families.RESEARCH:  # not a flag: the product runs with it off
+            assert (value or families.RESEARCH[name][1]) == families.RESEARCH[name][1], name
         else:
             assert getattr(defaults, name) == value, (name, preferred)
 
@@ -71,7 +71,7 @@ def test_the_by_person_figures_hold_the_targets(results):
         key = (row["recording"], row["person"])
         if key == scoring.CEILING:
             continue
-        below = crossval.BELOW_RULE if key != GLANCE else 0.15
+        below = criteria.BELOW_RULE if key != GLANCE else 0.15
         assert row["engaged_or_not"] >= rule[key] - below, (row, rule[key])
     assert cv["first_engaged_s"] is not None, cv
     assert cv["first_engaged_s"] <= targets["first_engaged_s"], cv
@@ -164,10 +164,10 @@ def test_the_rules_mode_is_the_evaluations_rule_on_every_row():
     (offline) stays within 2 points of the evaluation's rule (hri_engagement as its node
     runs it: a timer over TF lookups of the gaze frame) on every row, ceiling included;
     the real path's committed run too (docs/engagement.md's table)."""
-    recordings = crossval.load()
+    recordings = replayed.load()
     rule = {(r.recording, r.person): r for r in crossval.rule_rows()}
-    mode = Settings(**crossval.BASE, engagement="rule")
-    rows = [row for r in recordings for row in crossval.rows(r, mode)]
+    mode = Settings(**families.BASE, engagement="rule")
+    rows = [row for r in recordings for row in replayed.rows(r, mode)]
     assert len(rows) == len(rule) == 12
     for row in rows:
         theirs = rule[row.recording, row.person]

@@ -121,6 +121,11 @@ def crossval_section(cv: dict[str, Any]) -> list[str]:
         for s in cv["steps"]
     ]
     out += ["", *_table(["challenger", "incumbent", "advantage [95 % interval]", ""], steps)]
+    return out + _held_out_rows(cv)
+
+
+def _held_out_rows(cv: dict[str, Any]) -> list[str]:
+    """The preferred idea's held-out rows, each beside hri_engagement's rule on it."""
     best = cv["preferred"]
     folds = {f["held_out"]: _choice(f["choice"]) for f in best["folds"]}
     rule = {(r["recording"], r["person"]): r["engaged_or_not"] for r in cv["rule"]}
@@ -148,7 +153,7 @@ def crossval_section(cv: dict[str, Any]) -> list[str]:
         "final", "1st ENGAGING", "1st ENGAGED", "changes/min", "rule: ENGAGED or not",
         "beside the rule (points)", "chosen without them",
     ]  # fmt: skip
-    out += ["", *_table(head, held)]
+    out = ["", *_table(head, held)]
     said = zip([*FIGURE_HEAD, "changes/min"], _figures(best["by_person"]["all"]), strict=True)
     out += ["", "With the ceiling row, by person: " + ", ".join(f"{k} {v}" for k, v in said) + "."]
     return out

@@ -45,7 +45,7 @@ CEILING = ("2p_AA_FV_eng_1", "ghfbv")
 #: The issue's targets (52), by-person cross-validated, without the ceiling row: the error
 #: a robot acts on (greeting someone who is not engaging) on average and for the worst
 #: DISENGAGED person-recording, the level, and the two speeds. ENGAGED-or-not is held to
-#: hri_engagement's rule: above its mean, and no row more than ``crossval.BELOW_RULE``
+#: hri_engagement's rule: above its mean, and no row more than ``criteria.BELOW_RULE``
 #: below the rule's figure on that row; the final level right on more rows than the rule.
 TARGETS = {
     "false_engaged": 0.05,
