@@ -160,6 +160,94 @@ def outages_said(log_text: str) -> tuple[int, int, list[float]]:
     return lost, len(back), back
 
 
+class Churn:
+    """One hour of a robot's life, a tick at a time: the router killed and back, a
+    consumer joining and leaving, people arriving and leaving, their poses sent, the
+    service's process sampled."""
+
+    def __init__(self, args: argparse.Namespace, router: RouterProcess, tracker: zenoh.Session,
+                 consumer: Consumer, service_pid: int, start: float) -> None:  # fmt: skip
+        self.args, self.router, self.tracker = args, router, tracker
+        self.consumer, self.service_pid, self.start = consumer, service_pid, start
+        self.rng = random.Random(11)
+        self.samples: list[dict[str, float]] = []
+        self.restarts: list[float] = []
+        self.outages: list[tuple[float, float]] = []  # (kill, return + SETTLE_S), from start
+        self.sent_total = self.sent_outside = 0
+        self.people: list[Visitor] = []
+        self.next_id = 0
+        self.next_sample = start
+        self.next_restart = start + args.restart_every_s
+        self.down_until: float | None = None
+
+    def tick(self, now: float, period: float) -> None:
+        self.router_turn(now)
+        minute_s = (now - self.start) % 60
+        if self.consumer.session is None and minute_s < 30 and self.down_until is None:
+            self.consumer.join()  # (a client with no router fails at once: not while down)
+        elif self.consumer.session is not None and minute_s >= 30:
+            self.consumer.leave()
+        self.arrivals(now, period)
+        self.send(now)
+        if now >= self.next_sample:
+            self.sample(now)
+
+    def router_turn(self, now: float) -> None:
+        """Killed every ``--restart-every-s``, back ``DOWN_S`` later."""
+        if self.down_until is None and now >= self.next_restart:
+            self.router.kill()
+            self.restarts.append(now - self.start)
+            self.down_until = now + DOWN_S
+        elif self.down_until is not None and now >= self.down_until:
+            self.router.start()  # back once it listens: its start-up is part of the outage
+            self.outages.append((self.restarts[-1], time.monotonic() - self.start + SETTLE_S))
+            self.down_until = None
+            self.next_restart = now + self.args.restart_every_s
+
+    def arrivals(self, now: float, period: float) -> None:
+        """Poisson arrivals keeping about --people present; each stays 10-90 s."""
+        rng = self.rng
+        if rng.random() < self.args.people / 50.0 * period:
+            self.people.append(
+                Visitor(f"p{self.next_id}", now + rng.uniform(10, 90), rng.uniform(1, 6),
+                        rng.uniform(-3, 3), rng.uniform(-180, 180), rng.random() < 0.5)
+            )  # fmt: skip
+            self.next_id += 1
+
+    def send(self, now: float) -> None:
+        """Everyone present's pose; those whose time is up leave (half DELETEd)."""
+        wall = time.time_ns()
+        since = now - self.start
+        in_outage = self.down_until is not None or any(a <= since <= b for a, b in self.outages)
+        for person in list(self.people):
+            key = keys.pose_key("hri", body_id=person.body, frame_id="map")
+            if now >= person.leaves_at:
+                self.people.remove(person)
+                if person.delete:
+                    self.tracker.delete(key)
+                continue
+            person.yaw += self.rng.uniform(-5, 5)
+            payload = pose_dict(
+                person.body, "map", Time(wall), (person.x, person.y, 0.0), yaw_rotation(person.yaw)
+            )
+            self.tracker.put(
+                key, json.dumps(payload).encode(), congestion_control=zenoh.CongestionControl.BLOCK
+            )
+            self.sent_total += 1
+            self.sent_outside += not in_outage
+
+    def sample(self, now: float) -> None:
+        rss, threads, fds = proc_counts(self.service_pid)
+        self.samples.append({"t_min": (now - self.start) / 60, "rss_mb": rss, "threads": threads,
+                             "fds": fds, "present": len(self.people)})  # fmt: skip
+        self.next_sample += SAMPLE_EVERY_S
+        print(
+            f"{self.samples[-1]['t_min']:6.1f} min  RSS {rss:6.1f} MB  threads {threads:3d}"
+            f"  fds {fds:3d}  present {len(self.people):3d}  ids {self.next_id}",
+            flush=True,
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--minutes", type=float, default=60.0)
@@ -170,25 +258,11 @@ def main() -> None:
     parser.add_argument("--figure", type=Path, default=Path("docs/figures/churn.svg"))
     args = parser.parse_args()
 
-    rng = random.Random(11)
     port = free_port()
     router = RouterProcess(port)
     router.start()
-    flags = (
-        "-m",
-        "client",
-        "-e",
-        endpoint(port),
-        *LOOPBACK_FLAGS,
-        "--base-frame",
-        "map",
-        "--log-level",
-        "INFO",
-    )
-    samples: list[dict[str, float]] = []
-    restarts: list[float] = []
-    outages: list[tuple[float, float]] = []  # (kill, return + SETTLE_S), seconds from start
-    sent_total = sent_outside = 0
+    flags = ("-m", "client", "-e", endpoint(port), *LOOPBACK_FLAGS,
+             "--base-frame", "map", "--log-level", "INFO")  # fmt: skip
     consumer = Consumer(port)
     with (
         tempfile.NamedTemporaryFile("w+", suffix=".log", prefix="churn-") as log_file,
@@ -197,105 +271,23 @@ def main() -> None:
     ):
         wait_for_status(tracker, timeout=30)
         start = time.monotonic()
-        end = start + args.minutes * 60
-        people: list[Visitor] = []
-        next_id = 0
-        next_sample = start
-        next_restart = start + args.restart_every_s
-        down_until: float | None = None
+        churn = Churn(args, router, tracker, consumer, service.pid, start)
         period = 1.0 / args.hz
         tick = start
-        while (now := time.monotonic()) < end:
-            if down_until is None and now >= next_restart:
-                router.kill()
-                restarts.append(now - start)
-                down_until = now + DOWN_S
-            elif down_until is not None and now >= down_until:
-                router.start()  # back once it listens: its start-up is part of the outage
-                outages.append((restarts[-1], time.monotonic() - start + SETTLE_S))
-                down_until = None
-                next_restart = now + args.restart_every_s
-            minute_s = (now - start) % 60
-            if consumer.session is None and minute_s < 30 and down_until is None:
-                consumer.join()  # (a client with no router fails at once: not while down)
-            elif consumer.session is not None and minute_s >= 30:
-                consumer.leave()
-            # Poisson arrivals keeping about --people present; each stays 10-90 s.
-            if rng.random() < args.people / 50.0 * period:
-                people.append(
-                    Visitor(
-                        f"p{next_id}",
-                        now + rng.uniform(10, 90),
-                        rng.uniform(1, 6),
-                        rng.uniform(-3, 3),
-                        rng.uniform(-180, 180),
-                        rng.random() < 0.5,
-                    )
-                )
-                next_id += 1
-            wall = time.time_ns()
-            in_outage = down_until is not None or any(a <= now - start <= b for a, b in outages)
-            for person in list(people):
-                key = keys.pose_key("hri", body_id=person.body, frame_id="map")
-                if now >= person.leaves_at:
-                    people.remove(person)
-                    if person.delete:
-                        tracker.delete(key)
-                    continue
-                person.yaw += rng.uniform(-5, 5)
-                payload = pose_dict(
-                    person.body,
-                    "map",
-                    Time(wall),
-                    (person.x, person.y, 0.0),
-                    yaw_rotation(person.yaw),
-                )
-                tracker.put(
-                    key,
-                    json.dumps(payload).encode(),
-                    congestion_control=zenoh.CongestionControl.BLOCK,
-                )
-                sent_total += 1
-                sent_outside += not in_outage
-            if now >= next_sample:
-                rss, threads, fds = proc_counts(service.pid)
-                samples.append(
-                    {
-                        "t_min": (now - start) / 60,
-                        "rss_mb": rss,
-                        "threads": threads,
-                        "fds": fds,
-                        "present": len(people),
-                    }
-                )
-                next_sample += SAMPLE_EVERY_S
-                print(
-                    f"{samples[-1]['t_min']:6.1f} min  RSS {rss:6.1f} MB  threads {threads:3d}"
-                    f"  fds {fds:3d}  present {len(people):3d}  ids {next_id}",
-                    flush=True,
-                )
+        while (now := time.monotonic()) < start + args.minutes * 60:
+            churn.tick(now, period)
             tick += period
             time.sleep(max(0.0, tick - time.monotonic()))
-        if down_until is not None:
+        if churn.down_until is not None:
             router.start()
         consumer.leave()
         time.sleep(2.0)
         final = status(tracker, timeout=5.0)
         log_file.seek(0)
-        lost_said, back_said, back_lengths = outages_said(log_file.read())
+        said = outages_said(log_file.read())
     router.kill()
     assert final is not None, "the service stopped answering its status query"
-    report(
-        args,
-        samples,
-        restarts,
-        final.counters,
-        sent_total,
-        sent_outside,
-        (lost_said, back_said, back_lengths),
-        consumer,
-        next_id,
-    )
+    report(args, churn, final.counters, said)
 
 
 def drift(samples: list[dict[str, float]], name: str) -> dict[str, float]:
@@ -319,16 +311,13 @@ def drift(samples: list[dict[str, float]], name: str) -> dict[str, float]:
 
 def report(
     args: argparse.Namespace,
-    samples: list[dict[str, float]],
-    restarts: list[float],
+    churn: Churn,
     counters: dict[str, int],
-    sent_total: int,
-    sent_outside: int,
     said: tuple[int, int, list[float]],
-    consumer: Consumer,
-    ids: int,
 ) -> None:
     lost_said, back_said, back_lengths = said
+    samples, restarts, consumer, ids = churn.samples, churn.restarts, churn.consumer, churn.next_id
+    sent_total, sent_outside = churn.sent_total, churn.sent_outside
     result = {
         "minutes": args.minutes,
         "people": args.people,
@@ -351,8 +340,30 @@ def report(
         "samples": samples,
     }
     results_file.write(args.out, result, "python -m benchmarks.perf.churn", vars(args), indent=1)
-    args.figure.parent.mkdir(parents=True, exist_ok=True)
-    args.figure.write_text(
+    figure(args.figure, samples, restarts)
+    said_back = ", ".join(f"{s:.1f}" for s in back_lengths)
+    for name, d in result["drift"].items():
+        print(
+            f"{name:8} first 10 min after the warm-up {d['first_window_mean']:.1f}, last 10 "
+            f"min {d['last_window_mean']:.1f} (x{d['last_over_first']:.3f}); range "
+            f"{d['min']:.0f}-{d['max']:.0f}"
+        )
+    print(
+        f"router restarts {len(restarts)}; the service said: lost {lost_said}, back {back_said}"
+        f" (lengths {said_back} s)"
+    )
+    print(
+        f"poses sent {sent_total}, outside outages {sent_outside}, accepted "
+        f"{counters['samples_accepted']}; consumer joined {consumer.joins} times, got "
+        f"{consumer.received} results, {consumer.out_of_order} out of order; {ids} people"
+    )
+    print(f"wrote {args.out} and {args.figure}")
+
+
+def figure(path: Path, samples: list[dict[str, float]], restarts: list[float]) -> None:
+    """The hour as an SVG: memory, threads, descriptors and people, restarts dashed."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(
         line_panels(
             [s["t_min"] for s in samples],
             [
@@ -365,22 +376,6 @@ def report(
             x_label="minutes (dashed: router killed, back 3 s later)",
         )
     )
-    for name, d in result["drift"].items():
-        print(
-            f"{name:8} first 10 min after the warm-up {d['first_window_mean']:.1f}, last 10 "
-            f"min {d['last_window_mean']:.1f} (x{d['last_over_first']:.3f}); range "
-            f"{d['min']:.0f}-{d['max']:.0f}"
-        )
-    print(
-        f"router restarts {len(restarts)}; the service said: lost {lost_said}, back {back_said}"
-        f" (lengths {', '.join(f'{s:.1f}' for s in back_lengths)} s)"
-    )
-    print(
-        f"poses sent {sent_total}, outside outages {sent_outside}, accepted "
-        f"{counters['samples_accepted']}; consumer joined {consumer.joins} times, got "
-        f"{consumer.received} results, {consumer.out_of_order} out of order; {ids} people"
-    )
-    print(f"wrote {args.out} and {args.figure}")
 
 
 if __name__ == "__main__":
