@@ -107,10 +107,17 @@ def test_the_rule_catches_a_climb(here, source, wrong):
 MAX_MODULE_LINES = 450
 
 
-@pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PACKAGE)))
+#: The benchmarks keep the package's caps (issue 70: modules of 604 and 606 lines, a
+#: ``main`` of 136 that did an hour's work inline).
+BENCHMARK_MODULES = sorted((PACKAGE.parent / "benchmarks").rglob("*.py"))
+
+
+@pytest.mark.parametrize(
+    "path", MODULES + BENCHMARK_MODULES, ids=lambda p: str(p.relative_to(PACKAGE.parent))
+)
 def test_no_module_is_over_450_lines(path: Path):
     lines = len(path.read_text().splitlines())
-    assert lines <= MAX_MODULE_LINES, f"{path.relative_to(PACKAGE)}: {lines} lines"
+    assert lines <= MAX_MODULE_LINES, f"{path.relative_to(PACKAGE.parent)}: {lines} lines"
 
 
 def module_graph() -> dict[tuple[str, ...], set[tuple[str, ...]]]:
@@ -310,13 +317,13 @@ MAX_FUNCTION_LINES = 60
 def test_no_function_is_over_60_lines():
     """Issue 63: a function a reader holds in their head at once."""
     long = []
-    for path in MODULES:
-        module = path.relative_to(PACKAGE).with_suffix("").parts[-1]
+    for path in MODULES + BENCHMARK_MODULES:
+        module = path.with_suffix("").name
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
                 lines = node.end_lineno - node.lineno + 1  # type: ignore[operator]
                 if lines > MAX_FUNCTION_LINES and (module, node.name) not in ARGUMENT_TABLES:
-                    long.append(f"{path.relative_to(PACKAGE)}: {node.name} ({lines})")
+                    long.append(f"{path.relative_to(PACKAGE.parent)}: {node.name} ({lines})")
     assert not long, long
 
 

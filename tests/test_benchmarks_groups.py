@@ -10,7 +10,9 @@ from dataclasses import asdict
 import numpy as np
 import pytest
 
-from benchmarks.groups.held_out import RESULTS, SHARED, evalgroups, f1, gcff_params, load, run
+from benchmarks.groups.held_out import RESULTS, gcff_params, run
+from benchmarks.groups.scoring import evalgroups, f1
+from benchmarks.groups.sequences import SHARED, load
 
 G = frozenset
 

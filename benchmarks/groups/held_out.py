@@ -2,7 +2,6 @@
 method's one default chosen so that it holds in rooms it was not chosen on.
 
     python -m benchmarks.groups.held_out          # choose, judge held out, print the tables
-    python -m benchmarks.groups.held_out --live   # ... and the default through the live service
     python -m benchmarks.groups.held_out --out F  # ... written as JSON (the page's source)
     python -m benchmarks.groups.held_out --page   # docs/groups.md's tables from groups.json
 
@@ -43,42 +42,16 @@ from facing_service.core.social.groups import GroupParams, RoomScale, ScaleParam
 
 from .. import paths, results_file
 from ..sections import generate
+from .held_out_page import INCUMBENT, RULES, held, tables, worst_held_out
 from .scenes import scenes
+from .scoring import difference, f1, f1_of, interval, scores
 from .sequence_frame import Frame
+from .sequences import GCFF_MEDIAN, GCFF_ONE_SET, GCFF_TUNED, SEQUENCES, SHARED, load
 
-SHARED = paths.SHARED_DATA / "fformations"
 RESULTS = paths.RESULTS / "groups.json"
 PAGE = paths.DOCS / "groups.md"
-#: Each shared sequence, and the dataset it comes from (held out together).
-SEQUENCES = {
-    "CoffeeBreak/Seq1": "CoffeeBreak",
-    "CoffeeBreak/Seq2": "CoffeeBreak",
-    "Synth": "Synth",
-    "GDet/S1": "GDet",
-    "GDet/S2": "GDet",
-    "SALSA/CocktailParty": "SALSA",
-}
-#: Every how many annotated frames a sequence is read (SALSA's 500, 3 s apart: every
-#: third, as GCFF's own figure for it was measured).
-STEP = {"SALSA/CocktailParty": 3}
-CM = 0.01
 FRAME_S = 1.0  # one annotated frame a second, as the live protocol holds them
 WIDER = 1.5  # the training's wider room: the same people this much farther apart
-BOOTSTRAP = 1000
-#: GCFF's own code, run unchanged and scored by its ff_evalgroups (issues 33 and 41):
-#: F1 at T = 2/3 tuned per scene, and with one set chosen without that dataset.
-#: SALSA's (issue 51, the data's README): tuned 0.82 (40 cm, 0.6 m²), one set chosen
-#: without SALSA 0.70 (70 cm, 2 m²).
-GCFF_TUNED = {
-    "CoffeeBreak/Seq1": 0.77, "CoffeeBreak/Seq2": 0.94, "Synth": 0.97,
-    "GDet/S1": 0.93, "GDet/S2": 0.94, "SALSA/CocktailParty": 0.82,
-}  # fmt: skip
-GCFF_ONE_SET = {
-    "CoffeeBreak/Seq1": 0.63, "CoffeeBreak/Seq2": 0.86, "Synth": 0.62,
-    "GDet/S1": 0.79, "GDet/S2": 0.88, "SALSA/CocktailParty": 0.70,
-}  # fmt: skip
-#: The median of GCFF's own tuned sets over its datasets (issue 41): 45 cm, 3 m².
-GCFF_MEDIAN = (0.45, 3.0)
 METRES = ScaleParams(min_m=1.0, max_m=1.0)  # lengths in metres: the room not learnt
 
 
@@ -94,64 +67,6 @@ class Candidate:
 def gcff_params(stride: float, mdl: float) -> GroupParams:
     """GCFF's own rule: one stride for everyone (lengths in the scale's unit)."""
     return GroupParams(0.0, stride, stride, 0.0, mdl)
-
-
-def load(sequence: str, root: Path = SHARED, every: int | None = None) -> list[Frame]:
-    """The annotated frames of a sequence, in metres: every ``every``-th (by default the
-    sequence's ``STEP``)."""
-    from scipy.io import loadmat  # MATLAB v5 cell arrays: scipy reads them, we would not
-
-    folder = root / sequence
-    features = loadmat(folder / "features.mat")
-    truth = loadmat(folder / "groundtruth.mat")
-    by_stamp = {
-        int(stamp): cell for stamp, cell in zip(
-            np.ravel(features["timestamp"]), np.ravel(features["features"]), strict=True)
-    }  # fmt: skip
-    frames = []
-    for stamp, cell in zip(
-        np.ravel(truth["GTtimestamp"]), np.ravel(truth["GTgroups"]), strict=True
-    ):
-        f = np.asarray(by_stamp[int(stamp)], dtype=np.float64).reshape(-1, 4)
-        true = tuple(
-            frozenset(int(x) for x in np.ravel(g)) for g in np.ravel(cell) if np.size(g) > 1
-        )
-        frames.append(Frame(tuple(int(i) for i in f[:, 0]), f[:, 1:3] * CM, f[:, 3], true))
-    return frames[:: every or STEP.get(sequence, 1)]
-
-
-def evalgroups(found: Sequence[frozenset[int]], truth: Sequence[frozenset[int]], th: float):
-    """GCFF's ff_evalgroups (cardinality mode off): precision, recall of one frame."""
-    if not found and not truth:
-        return 1.0, 1.0
-    if not found:
-        return 1.0, 0.0
-    if not truth:
-        return 0.0, 1.0
-    tp = 0
-    for t in truth:
-        for g in found:
-            if len(t & g) / max(len(t), len(g)) >= th:
-                tp += 1
-                break
-    return tp / len(found), tp / len(truth)
-
-
-def scores(
-    frames: Sequence[Frame], found: Sequence[Sequence[frozenset[int]]], th: float
-) -> np.ndarray:
-    """(frames, 2): each frame's precision and recall."""
-    return np.array([evalgroups(g, f.truth, th) for f, g in zip(frames, found, strict=True)])
-
-
-def f1_of(per_frame: np.ndarray) -> float:
-    """F1 from the mean precision and recall over frames (GCFF's way)."""
-    pr, re = per_frame.mean(axis=0)
-    return 0.0 if pr + re == 0 else float(2 * pr * re / (pr + re))
-
-
-def f1(frames: Sequence[Frame], found: Sequence[Sequence[frozenset[int]]], th: float) -> float:
-    return f1_of(scores(frames, found, th))
 
 
 def run(
@@ -203,18 +118,6 @@ def candidates() -> list[Candidate]:
     )
 
 
-#: The rules compared, from the simplest (fewest lengths searched and learnt) up.
-RULES = {
-    "gcff": "GCFF's rule (one stride), in metres",
-    "ring": "the ring's centre, in metres",
-    "metres": "each person's stride, in metres",
-    "room_gcff": "GCFF's rule, in the room's unit",
-    "room": "each person's stride, in the room's unit (the last default's rule)",
-}
-#: The baseline every rule is set beside: GCFF's fixed stride in metres.
-INCUMBENT = "gcff"
-
-
 Scores = dict[tuple[int, str], tuple[np.ndarray, np.ndarray]]  # (T = 2/3, T = 1) per frame
 
 
@@ -239,24 +142,6 @@ def choose(table: Scores, indices: Sequence[int], training: Sequence[str]) -> in
         return min(figures), statistics.mean(figures)
 
     return max(indices, key=worth)
-
-
-def interval(per_frame: np.ndarray, rng: random.Random) -> tuple[float, float]:
-    """95 % bootstrap interval of F1 over frames."""
-    n = len(per_frame)
-    draws = sorted(f1_of(per_frame[[rng.randrange(n) for _ in range(n)]]) for _ in range(BOOTSTRAP))
-    return draws[int(0.025 * BOOTSTRAP)], draws[int(0.975 * BOOTSTRAP) - 1]
-
-
-def difference(a: np.ndarray, b: np.ndarray, rng: random.Random) -> tuple[float, float, float]:
-    """F1(a) - F1(b) on the same frames, and its 95 % paired bootstrap interval."""
-    n = len(a)
-    draws = []
-    for _ in range(BOOTSTRAP):
-        pick = [rng.randrange(n) for _ in range(n)]
-        draws.append(f1_of(a[pick]) - f1_of(b[pick]))
-    draws.sort()
-    return f1_of(a) - f1_of(b), draws[int(0.025 * BOOTSTRAP)], draws[int(0.975 * BOOTSTRAP) - 1]
 
 
 def evaluate(root: Path = SHARED, progress: bool = False) -> dict[str, Any]:
@@ -321,11 +206,6 @@ def evaluate(root: Path = SHARED, progress: bool = False) -> dict[str, Any]:
     return out
 
 
-def worst_held_out(results: dict[str, Any], rule: str) -> float:
-    """A rule's worst sequence, each held out by dataset (F1, T = 2/3)."""
-    return min(held(results, s, rule)["f1_23"] for s in results["sequences"])
-
-
 def eligible(results: dict[str, Any]) -> list[str]:
     """The rules that fail no made scene another rule passes (above "no groups" where
     there are groups; no false group where there are none), simplest first."""
@@ -363,12 +243,6 @@ def steps(results: dict[str, Any], table: Scores, rng: random.Random) -> list[di
     return out
 
 
-def held(results: dict[str, Any], sequence: str, rule: str) -> dict[str, Any]:
-    """A rule's figures on a sequence, its set chosen without that sequence's dataset."""
-    figures: dict[str, Any] = results["sequences"][sequence][rule]["dataset"]
-    return figures
-
-
 def preferred(results: dict[str, Any]) -> str:
     """The rule that ships: the last incumbent of ``steps``."""
     taken = [s["challenger"] for s in results["steps"] if s["replaces"]]
@@ -401,160 +275,6 @@ def _figures(
     }
 
 
-def evaluate_live(hold_s: float, root: Path = SHARED) -> dict[str, Any]:
-    """The shipped defaults through the live service, beside the same through the core."""
-    from facing_service.config.profiles import scene_params
-    from facing_service.config.settings import Settings
-
-    from .live import live
-
-    shipped, out = scene_params(Settings()), {}
-    for s in SEQUENCES:
-        frames = load(s, root)
-        found = live(frames, hold_s)
-        core = run(frames, shipped.groups, shipped.scale)
-        out[s] = {
-            "live": {"f1_23": f1(frames, found, 2 / 3), "f1_1": f1(frames, found, 1.0)},
-            "core": {"f1_23": f1(frames, core, 2 / 3), "f1_1": f1(frames, core, 1.0)},
-            "hold_s": hold_s,
-        }
-    return out
-
-
-def _params(c: dict[str, Any]) -> str:
-    g, s = c["groups"], c["scale"]
-    unit = (
-        "m"
-        if s["min_m"] == s["max_m"]
-        else f"room ({s['window_s']:g} s, {s['min_m']:g} to {s['max_m']:g} m)"
-    )
-    if g["stride_min"] == g["stride_max"]:
-        stride = f"stride {g['stride_min']:g}"
-    elif g.get("ring"):
-        stride = f"the ring's centre, within [{g['stride_min']:g}, {g['stride_max']:g}]"
-    else:
-        stride = f"stride {g['stride_k']:g}x [{g['stride_min']:g}, {g['stride_max']:g}]"
-    return f"{stride}, MDL {g['mdl']:g}, unit {unit}"
-
-
-def tables(results: dict[str, Any]) -> list[str]:
-    """The Markdown tables docs/groups.md shows (and the command prints)."""
-    rows, best = results["sequences"], results["preferred"]
-    others = [r for r in RULES if r != best]
-    name = {r: RULES[r] for r in RULES}
-    lines = [
-        f"Held out by dataset (each dataset scored with the set chosen on the other three), F1 at"
-        f" T = 2/3; the shipped rule, {name[best]}, with its 95 % interval over frames, T = 1"
-        f" and the same people 1.5x farther apart beside it:",
-        "",
-        "| sequence | frames | no groups | **shipped**, T = 2/3 | T = 1 | 1.5x wider | "
-        + " | ".join(name[r] for r in others)
-        + " | GCFF one set | GCFF median set (port) | GCFF tuned |",
-        "| --- | ---: | ---: | --- | ---: | ---: |" + " ---: |" * (len(others) + 3),
-    ]
-    for s, r in rows.items():
-        ours = r[best]["dataset"]
-        lo, hi = ours["f1_23_interval"]
-        lines.append(
-            f"| {s} | {r['frames']} | {r['floor']:.2f} | **{ours['f1_23']:.2f}** [{lo:.2f},"
-            f" {hi:.2f}] | {ours['f1_1']:.2f} | {ours['wider_f1_23']:.2f} | "
-            + " | ".join(f"{r[o]['dataset']['f1_23']:.2f}" for o in others)
-            + f" | {r['gcff_one_set']:.2f} | {r['gcff_median_port']:.2f} | {r['gcff_tuned']:.2f} |"
-        )
-    lines.append(
-        "| **worst** | | | **"
-        + f"{worst_held_out(results, best):.2f}** | | | "
-        + " | ".join(f"{worst_held_out(results, o):.2f}" for o in others)
-        + " | "
-        + " | ".join(
-            f"{min(r[k] for r in rows.values()):.2f}"
-            for k in ("gcff_one_set", "gcff_median_port", "gcff_tuned")
-        )
-        + " |"
-    )
-    lines.append(
-        "| mean | | | "
-        + f"{statistics.mean(r[best]['dataset']['f1_23'] for r in rows.values()):.2f} | | | "
-        + " | ".join(
-            f"{statistics.mean(r[o]['dataset']['f1_23'] for r in rows.values()):.2f}"
-            for o in others
-        )
-        + " | "
-        + " | ".join(
-            f"{statistics.mean(r[k] for r in rows.values()):.2f}"
-            for k in ("gcff_one_set", "gcff_median_port", "gcff_tuned")
-        )
-        + " |"
-    )
-    base = RULES[INCUMBENT]
-    lines += [
-        "",
-        f"Held out by sequence (each scored with the set chosen on the other five), and the"
-        f" difference shipped - {base} (the baseline), both held out by dataset [paired 95 %"
-        f" interval over frames]:",
-        "",
-        "| sequence | shipped | baseline | difference, as recorded | 1.5x wider |"
-        " set chosen without its dataset |",
-        "| --- | ---: | ---: | --- | --- | --- |",
-    ]
-    for s, r in rows.items():
-        d, w = r["preferred_minus_baseline"]["recorded"], r["preferred_minus_baseline"]["wider"]
-        lines.append(
-            f"| {s} | {r[best]['sequence']['f1_23']:.2f} | {r[INCUMBENT]['sequence']['f1_23']:.2f}"
-            f" | {d[0]:+.2f} [{d[1]:+.2f}, {d[2]:+.2f}] | {w[0]:+.2f} [{w[1]:+.2f}, {w[2]:+.2f}]"
-            f" | {_params(r[best]['dataset'])} |"
-        )
-    lines += [
-        "",
-        "From the simplest rule that fails no made scene another passes, each richer one set"
-        " beside the incumbent on the incumbent's worst held-out sequence [paired 95 %"
-        " interval over frames]:",
-        "",
-        "| challenger | incumbent | on | difference | |",
-        "| --- | --- | --- | --- | --- |",
-    ]
-    for step in results["steps"]:
-        mean, lo, hi = step["difference"]
-        lines.append(
-            f"| {name[step['challenger']]} | {name[step['incumbent']]} | {step['sequence']}"
-            f" | {mean:+.2f} [{lo:+.2f}, {hi:+.2f}] |"
-            f" {'replaces it' if step['replaces'] else 'kept out'} |"
-        )
-    lines += ["", f"The shipped default (chosen on all six): {_params(results['default'][best])}."]
-    lines += [
-        "",
-        "On the made scenes (`benchmarks/groups/scenes.py`: not data; a rule failing one that"
-        " another passes is not shipped), each rule's set chosen on all six, F1 at T = 2/3"
-        " (T = 1):",
-        "",
-        "| scene | frames | no groups | " + " | ".join(name[r] for r in RULES) + " |",
-        "| --- | ---: | ---: |" + " ---: |" * len(RULES),
-    ]
-    for scene, r in results["scenes"].items():
-        lines.append(
-            f"| {scene} | {r['frames']} | {r['floor']:.2f} | "
-            + " | ".join(f"{r[k]:.2f} ({r[k + '_1']:.2f})" for k in RULES)
-            + " |"
-        )
-    if "live" in results:
-        lines += [
-            "",
-            "The shipped default through the live service (JSON poses at 30 Hz, each frame"
-            " held 1 s, `hri/groups/<frame>` queried at its end) beside the core on the same"
-            " people (in-sample: it shows the service says what the core decides):",
-            "",
-            "| sequence | live, T = 2/3 | T = 1 | core, T = 2/3 | T = 1 |",
-            "| --- | ---: | ---: | ---: | ---: |",
-        ]
-        for s, r in results["live"].items():
-            lv, core = r["live"], r["core"]
-            lines.append(
-                f"| {s} | {lv['f1_23']:.2f} | {lv['f1_1']:.2f} | {core['f1_23']:.2f}"
-                f" | {core['f1_1']:.2f} |"
-            )
-    return lines
-
-
 BEGIN = (
     "<!-- measured: generated by `python -m benchmarks.groups.held_out --page` from groups.json -->"
 )
@@ -572,28 +292,12 @@ def page(check: bool) -> int:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, help="write the results as JSON")
-    parser.add_argument(
-        "--live", action="store_true", help="also feed the live service (1 s per frame)"
-    )
-    parser.add_argument("--hold-s", type=float, default=1.0, help="--live: each frame held")
-    parser.add_argument(
-        "--add-live", action="store_true",
-        help=f"only the live figures, added to {RESULTS.name} (after a default changed)",
-    )  # fmt: skip
     parser.add_argument("--page", action="store_true", help="rewrite docs/groups.md's tables")
     parser.add_argument("--check", action="store_true", help="with --page: exit 1 if stale")
     args = parser.parse_args(argv)
-    if not 0.1 <= args.hold_s <= 10:
-        parser.error(f"--hold-s must be in [0.1, 10] s, got {args.hold_s}")
     if args.page:
         return page(args.check)
-    if args.add_live:
-        live = evaluate_live(args.hold_s)
-        results_file.add(RESULTS, "live", live, f"{COMMAND} --add-live", vars(args))
-        return page(False)
     results = evaluate(progress=True)
-    if args.live:
-        results["live"] = evaluate_live(args.hold_s)
     print("\n".join(tables(results)))
     if args.out is not None:
         results_file.write(args.out, results, COMMAND, vars(args))

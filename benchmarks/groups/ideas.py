@@ -30,9 +30,11 @@ from facing_service.core.social.groups import (
     votes,
 )
 
-from .held_out import FRAME_S, SEQUENCES, f1, load
+from .held_out import FRAME_S
 from .scenes import scenes
+from .scoring import f1
 from .sequence_frame import Frame
+from .sequences import SEQUENCES, load
 
 Filter = Callable[[list[int], np.ndarray, np.ndarray, np.ndarray], list[int]]
 
