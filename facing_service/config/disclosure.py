@@ -50,6 +50,8 @@ PUBLIC_FIELDS = frozenset(
         "head_vote_tau_s",
         "head_vote_share",
         "group_hold_s",
+        "group_heading_s",
+        "group_memory_s",
         "group_rate_hz",
         "group_max_people",
         "input",

@@ -14,6 +14,7 @@ from ..core.mutual_gaze import GazeParams
 from ..core.records import Profile
 from ..core.rule import RuleParams
 from ..core.social.groups import GroupParams, ScaleParams
+from ..core.social.memory import MemoryParams
 from ..core.social.scene import SceneParams
 from ..core.tracker import Tracker
 from ..ros2.wire import Wire
@@ -73,7 +74,8 @@ def head_profile(settings: Settings) -> Profile:
 def scene_params(settings: Settings) -> SceneParams:
     """Who faces whom is the facing rule (body cone and hysteresis) between people; the
     groups' method keeps its one default set, lengths in metres and each o-space a ring
-    of its people's own size (chosen by leave-one-dataset-out, docs/groups.md)."""
+    of its people's own size (chosen by leave-one-dataset-out, docs/groups.md), and the
+    groups are what the last seconds say (the memory's two lengths, chosen likewise)."""
     s = settings
     return SceneParams(
         GroupParams(),
@@ -83,6 +85,7 @@ def scene_params(settings: Settings) -> SceneParams:
         hold_s=s.group_hold_s,
         period_s=1.0 / s.group_rate_hz,
         max_people=s.group_max_people,
+        memory=MemoryParams(s.group_heading_s, s.group_memory_s),
     )
 
 

@@ -265,6 +265,22 @@ class Settings(SessionChecks):
         GROUPS,
         ge=0.0,
     )
+    group_heading_s: float = flag(
+        0.5,
+        "a person's heading in groups: the mean of their recent readings, fading with this"
+        " time constant (0: the newest reading alone)",
+        GROUPS,
+        ge=0.0,
+        le=60.0,
+    )
+    group_memory_s: float = flag(
+        4.0,
+        "a pair is said together once the last seconds show them together for half of this"
+        " longer than apart, and apart likewise (0: the newest frame alone)",
+        GROUPS,
+        ge=0.0,
+        le=60.0,
+    )
     group_rate_hz: float = flag(
         10.0,
         "groups and who faces whom are worked out at most this often per frame",

@@ -10,8 +10,11 @@ import pytest
 
 from facing_service.contract.stamps import ZERO, Time
 from facing_service.core.social.groups import GroupParams, ScaleParams
+from facing_service.core.social.memory import MemoryParams
 from facing_service.core.social.scene import ROBOT, FrameScene, Person, SceneParams, Scenes
 
+#: The memory off: what is said, and when, from each reading (the memory's own tests:
+#: test_memory.py, and the stream ones at the end of this file).
 PARAMS = SceneParams(
     GroupParams(),
     ScaleParams(),
@@ -20,7 +23,9 @@ PARAMS = SceneParams(
     hold_s=0.3,
     period_s=0.1,
     max_people=4,
+    memory=MemoryParams(0.0, 0.0),
 )
+STREAM = replace(PARAMS, memory=MemoryParams(heading_s=0.5, together_s=4.0))
 
 
 def person(name: str, x: float, y: float, heading_deg: float) -> Person:
@@ -235,3 +240,44 @@ def test_a_member_who_walks_away_leaves_the_place_the_robot_should_take():
     scene.update(taken, Time.of(5), 1.0)
     (pair,) = [g for g in scene.snapshot().groups if {"a", "b"} <= g.members]
     assert pair.join is None or math.hypot(pair.join.x - 4.0, pair.join.y) > 0.3
+
+
+def test_with_the_memory_a_pair_is_said_once_the_last_seconds_show_it():
+    """Back to back for 5 s, then face to face: their headings turn (0.35 s to cross),
+    half the memory (2 s) of being together, the hold (0.3 s). They stand still after
+    the turn, and the scene is looked at again until its memory settles."""
+    scenes = Scenes(STREAM)
+    apart = [person("a", 3.0, 2.0, 180), person("b", 4.2, 2.0, 0)]
+    facing = [person("a", 3.0, 2.0, 0), person("b", 4.2, 2.0, 180)]
+    now = 0.0
+
+    class Snapshot:
+        def people(self, frame_id):
+            return (apart if now < 5.0 else facing), Time.of(1)
+
+    formed_at, calls = None, []
+    for k in range(150):
+        now = k * 0.1
+        if k in (0, 50):
+            scenes.touch({"map"})  # the tracker's news: a pose changed
+        if scenes.next_due() is not None:
+            calls.append(now)
+        for update in scenes.tick(now, Snapshot()):
+            if update.groups and formed_at is None:
+                formed_at = now
+    assert formed_at is not None and formed_at - 5.0 == pytest.approx(2.65, abs=0.25)
+    assert sum(c >= 5.0 for c in calls) > 20  # still people, looked at while settling
+    assert scenes.next_due() is None  # ... and no more once it has
+
+
+def test_with_the_memory_a_heading_flickering_for_one_reading_moves_no_group():
+    scene = FrameScene("map", STREAM)
+    pair = [person("a", 3.0, 2.0, 0), person("b", 4.2, 2.0, 180)]
+    said = None
+    for k in range(100):
+        turned = k == 60  # one reading: a looks away
+        people = [person("a", 3.0, 2.0, 90 if turned else 0), pair[1]]
+        said = scene.update(people, Time.of(1 + k), k * 0.1) or said
+        if k > 40:
+            assert [sorted(g.members) for g in scene.tracker.groups.values()] == [["a", "b"]]
+    assert said is not None

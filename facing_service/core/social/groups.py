@@ -228,6 +228,15 @@ def detect_centres(
     return ordered, centres(points, ordered) * scale_m
 
 
+def vote_centres(
+    positions: FloatArray, headings: FloatArray, labels: IntArray, p: GroupParams, scale_m: float
+) -> FloatArray:
+    """Each label's o-space centre ((G, 2) metres, by label): the mean of its members'
+    votes (a label given from elsewhere than ``detect``: the scene's memory)."""
+    result: FloatArray = centres(votes(positions / scale_m, headings, p), labels) * scale_m
+    return result
+
+
 def _in_order(labels: IntArray) -> IntArray:
     """Labels renumbered in order of their first member (stable for equal inputs)."""
     first: dict[int, int] = {}

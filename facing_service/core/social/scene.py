@@ -33,11 +33,13 @@ from .groups import (
     GroupTracker,
     RoomScale,
     ScaleParams,
-    detect_centres,
+    detect,
     members,
     on_the_ring,
+    vote_centres,
 )
 from .join import JoinParams, JoinPose, clearance, join_pose, o_space
+from .memory import MemoryParams, SceneMemory
 from .vacancy import Vacancies
 
 ROBOT = GroupTracker.ROBOT
@@ -55,6 +57,8 @@ class SceneParams:
     max_people: int  # the people of one frame considered (nearest the robot first)
     join: JoinParams = field(default_factory=JoinParams)  # where to stand to join a group
     greet_m: float = 1.2  # how far in front of a person the robot stands to greet them
+    # What the last seconds say (issue 70): headings and pairs as evidence over time.
+    memory: MemoryParams = field(default_factory=MemoryParams)
 
 
 @dataclass(frozen=True, slots=True)
@@ -142,15 +146,19 @@ class FrameScene:
     # group is said or read (most computations are neither), then kept until the next.
     _joins: dict[frozenset[str], JoinPose | None] = field(default_factory=dict)
     _vacancies: Vacancies = field(default_factory=Vacancies)  # places members just left
+    memory: SceneMemory = field(init=False)
 
     def __post_init__(self) -> None:
         self.tracker = GroupTracker(self.params.hold_s)
         self.room = RoomScale(self.params.scale)
+        self.memory = SceneMemory(self.params.memory)
 
     @property
     def pending(self) -> bool:
-        """A grouping waits to be said (it must be looked at again once it has held)."""
-        return self.tracker.pending
+        """A grouping waits to be said (it must be looked at again once it has held), or
+        the memory is still settling (time alone changes the groups: people standing still
+        are looked at again)."""
+        return self.tracker.pending or not self.memory.settled
 
     def update(self, people: Sequence[Person], stamp: Time, now: float) -> SceneUpdate | None:
         """The scene of ``people`` now; an update when anything said changed."""
@@ -161,18 +169,18 @@ class FrameScene:
         q = np.array([person.rotation for person in people] + [_ROBOT_POSE[1]])
         engaging = [person.engaging for person in people]
         moved = self._worked is None or not self._worked.still(ids, t, q, engaging)
-        if self._worked is not None and not moved:
-            gazing, found = self.gazing, self._worked.found  # nobody moved: nothing to redo
+        if self._worked is not None and not moved and self.memory.settled:
+            gazing, found = self.gazing, self._worked.found  # nothing to redo
             greetings = self._worked.greetings
         else:
             gazing = self._who_faces_whom(ids, t, q)
             scale = self.room.observe(t[:-1, :2], now)  # the people's spacing, not the robot's
-            heading = detector.headings(q)
-            labels, centre = detect_centres(t[:, :2], heading, p.groups, scale)
+            heading = self.memory.headings(ids, detector.headings(q), now)
+            now_labels = detect(t[:, :2], heading, p.groups, scale)
             robot = len(ids) - 1
-            ringed = on_the_ring(labels, t[:, :2], heading, p.groups, scale, robot)
-            if not np.array_equal(ringed, labels):  # the robot left: its centre is its own
-                labels, centre = ringed, np.vstack([centre, t[robot, :2]])
+            ringed = on_the_ring(now_labels, t[:, :2], heading, p.groups, scale, robot)
+            labels = self.memory.groups(ringed)  # what the last seconds say
+            centre = vote_centres(t[:, :2], heading, labels, p.groups, scale)
             found = [
                 (frozenset(ids[i] for i in m), (x, y))
                 for m, (x, y) in zip(members(labels), centre.tolist(), strict=True)

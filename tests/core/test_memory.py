@@ -1,0 +1,118 @@
+"""What the last seconds say about a frame's people (core.social.memory, issue 70): a
+heading is the fading mean of its readings, a pair's being together accumulates and
+decays, and the groups are the people whose pairs are on average together."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from facing_service.core.social.memory import MemoryParams, SceneMemory, linked
+
+DT = 0.1
+
+
+def feed(memory: SceneMemory, ids, headings, labels, start: float, seconds: float) -> np.ndarray:
+    """The groups after ``seconds`` of the same reading, one every ``DT`` from ``start``."""
+    out = np.asarray(labels)
+    for k in range(round(seconds / DT)):
+        memory.headings(list(ids), np.radians(headings), start + k * DT)
+        out = memory.groups(np.asarray(labels, dtype=np.int64))
+    return out
+
+
+def test_a_heading_flickering_between_two_steps_is_read_between_them():
+    memory = SceneMemory(MemoryParams(heading_s=1.0, together_s=4.0))
+    read = []
+    for k in range(100):
+        heading = 0.0 if k % 3 else 90.0  # one reading in three the other step
+        read.append(memory.headings(["a"], np.radians([heading]), k * DT)[0])
+    assert math.degrees(np.mean(read[50:])) == pytest.approx(30.0, abs=8.0)
+    assert max(abs(math.degrees(r) - 30.0) for r in read[50:]) < 45.0  # never the 90 step
+
+
+def test_a_newcomer_is_read_as_their_reading_and_a_turn_is_followed():
+    memory = SceneMemory(MemoryParams(heading_s=1.0, together_s=4.0))
+    assert memory.headings(["a"], np.radians([0.0]), 0.0)[0] == pytest.approx(0.0)
+    assert memory.headings(["a", "b"], np.radians([0.0, 120.0]), 0.1)[1] == pytest.approx(
+        math.radians(120.0)
+    )
+    for k in range(2, 60):
+        turned = memory.headings(["a", "b"], np.radians([90.0, 120.0]), k * DT)
+    assert math.degrees(turned[0]) == pytest.approx(90.0, abs=1.0)  # 5.8 s: followed
+
+
+def test_newcomers_are_read_as_their_first_frame_says():
+    """No history: undecided, so the first frame decides (as frame by frame would)."""
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
+    assert feed(memory, "ab", [0, 180], [0, 0], 0.0, 0.1).tolist() == [0, 0]
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
+    assert feed(memory, "ab", [0, 180], [0, 1], 0.0, 0.1).tolist() == [0, 1]
+
+
+def test_a_pair_is_said_together_after_half_the_memory_and_a_glance_is_forgotten():
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
+    feed(memory, "ab", [0, 180], [0, 1], 0.0, 5.0)  # long apart: no evidence
+    glance = feed(memory, "ab", [0, 180], [0, 0], 5.0, 1.0)
+    assert glance.tolist() == [0, 1]  # a second together: a quarter of the way
+    assert feed(memory, "ab", [0, 180], [0, 1], 6.0, 2.0).tolist() == [0, 1]
+    assert feed(memory, "ab", [0, 180], [0, 0], 8.0, 1.9).tolist() == [0, 1]
+    assert feed(memory, "ab", [0, 180], [0, 0], 9.9, 0.3).tolist() == [0, 0]  # 2.1 s of 4
+
+
+def test_a_pair_long_together_survives_contrary_frames_for_half_the_memory_and_no_more():
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
+    feed(memory, "ab", [0, 180], [0, 0], 0.0, 30.0)
+    assert feed(memory, "ab", [0, 180], [0, 1], 30.0, 1.9).tolist() == [0, 0]
+    assert feed(memory, "ab", [0, 180], [0, 1], 31.9, 0.3).tolist() == [0, 1]
+
+
+def test_flickering_frames_keep_a_group_whole():
+    """A ring of four whose frames split it in two pairs one frame in three: said whole."""
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
+    for k in range(100):
+        labels = [0, 0, 1, 1] if k % 3 == 0 else [0, 0, 0, 0]
+        said = memory.headings(list("abcd"), np.zeros(4), k * DT) is not None and memory.groups(
+            np.array(labels)
+        )
+    assert said.tolist() == [0, 0, 0, 0]
+
+
+def test_what_is_known_of_a_person_follows_them_when_others_come_and_go():
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
+    feed(memory, "ab", [0, 180], [0, 0], 0.0, 10.0)
+    # c arrives first in the order, apart: a and b are still a pair, c alone
+    now = feed(memory, "cab", [90, 0, 180], [0, 1, 1], 10.0, 3.0)
+    assert now.tolist() == [0, 1, 1]
+    # a leaves, and b's frame puts them with c for a glance: c's 3 s apart weigh more
+    assert feed(memory, "cb", [90, 180], [0, 0], 13.0, 0.5).tolist() == [0, 1]
+
+
+def test_the_memory_off_says_each_frame_as_it_is():
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=0.0))
+    read = memory.headings(list("abc"), np.radians([37.0, 0.0, 0.0]), 0.0)
+    assert read[0] == pytest.approx(math.radians(37))
+    assert memory.groups(np.array([0, 1, 1])).tolist() == [0, 1, 1]
+    assert memory.settled
+
+
+def test_the_memory_settles_once_time_alone_would_change_nothing():
+    memory = SceneMemory(MemoryParams(heading_s=1.0, together_s=4.0))
+    feed(memory, "ab", [0, 180], [0, 0], 0.0, 0.5)
+    assert not memory.settled  # the pair's evidence still rising (from undecided)
+    feed(memory, "ab", [0, 180], [0, 0], 0.5, 4.0)
+    assert memory.settled
+    memory.headings(["a", "b"], np.radians([90.0, 180.0]), 4.6)
+    assert not memory.settled  # a's heading still turning
+
+
+def test_average_linkage_joins_a_group_whole_and_does_not_chain():
+    ring = np.full((4, 4), 0.8)
+    ring[0, 2] = ring[2, 0] = 0.3  # one weak pair inside a strong group
+    assert linked(ring, 0.5).tolist() == [0, 0, 0, 0]
+    chain = np.eye(3)
+    chain[0, 1] = chain[1, 0] = chain[1, 2] = chain[2, 1] = 0.6  # a-b and b-c, never a-c
+    assert sorted(np.bincount(linked(chain, 0.5)).tolist()) == [1, 2]
+    assert linked(np.zeros((0, 0)), 0.5).tolist() == []
