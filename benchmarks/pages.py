@@ -5,7 +5,7 @@
 
 Each section is written from a committed results file (benchmarks/results/), never typed
 in: docs/performance.md (latest.json), docs/engagement.md and docs/ros2.md
-(recordings.json, engagement.json), docs/groups.md (groups.json, join.json),
+(recordings.json, engagement.json), docs/groups.md (groups.json, groups_stream.json, join.json),
 docs/operations.md (churn.json), docs/camera.md (camera.json). The table in
 benchmarks/README.md says which command makes each results file.
 """
@@ -18,7 +18,7 @@ from collections.abc import Callable
 
 from . import camera_page
 from .engagement import report as engagement_report
-from .groups import held_out, join
+from .groups import held_out, join, stream
 from .perf import churn_page, report
 
 #: (what, how it is regenerated or checked)
@@ -26,6 +26,7 @@ PAGES: list[tuple[str, Callable[[bool], int]]] = [
     ("docs/performance.md", report.page),
     ("docs/engagement.md, docs/ros2.md", engagement_report.page),
     ("docs/groups.md: groups", held_out.page),
+    ("docs/groups.md: from the stream", stream.page),
     ("docs/groups.md: where to stand", join.page),
     ("docs/operations.md: an hour of churn", churn_page.page),
     ("docs/camera.md", camera_page.page),
