@@ -164,6 +164,29 @@ def evaluate(workers: int = 2) -> dict[str, Any]:
         "f1_23": {s: f1_of(table[best, s][0]) for s in SEQUENCES},
     }
     out["scenes"] = {"stream": made[best], "frame_by_frame": made[plain]}
+    out["spacing"] = spacing_figures(options[best])
+    return out
+
+
+#: The spacings stated, not recorded (SALSA's 3 s is recorded): each judged again at
+#: half and twice its stated spacing with the shipped memory.
+STATED = ("CoffeeBreak/Seq1", "CoffeeBreak/Seq2", "GDet/S1", "GDet/S2")
+FACTORS = (0.5, 2.0)
+
+
+def spacing_figures(memory: MemoryParams) -> dict[str, dict[str, float]]:
+    """F1 (T = 2/3) of each sequence whose spacing is stated, at other spacings: how much
+    the figures rest on a number the data does not give."""
+    out = {}
+    for s in STATED:
+        frames = streamed(s)
+        truth = frames[:: STEP.get(s, 1)]
+        out[s] = {
+            f"{factor:g}": f1(
+                truth, judged(s, replay(frames, factor * SPACING_S[s], shipped(memory))), 2 / 3
+            )
+            for factor in FACTORS
+        }
     return out
 
 

@@ -46,6 +46,7 @@ IntArray = NDArray[np.int64]
 #: A pair is together when its share of the full evidence is above this (more often
 #: together than not, over the memory).
 TOGETHER = 0.5
+#: How far the newest frame tips an exact tie (newcomers start undecided, at one half).
 TIE = 1e-9
 #: The memory has settled when no heading is farther than this from its reading (the
 #: vectors' distance, about radians) and every pair's evidence is at a bound.
