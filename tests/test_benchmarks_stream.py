@@ -4,6 +4,7 @@ claim and the memory passes them, and a stream with the memory off is frame by f
 
 from __future__ import annotations
 
+import itertools
 import json
 from dataclasses import asdict
 
@@ -61,7 +62,7 @@ def test_the_made_streams_are_what_they_say():
     for frame in flicker:  # every heading on a 90-degree step
         steps = frame.headings / quarter
         assert np.allclose(steps, np.round(steps))
-    changed = np.mean([(a.headings != b.headings).any() for a, b in zip(flicker, flicker[1:])])
+    changed = np.mean([(a.headings != b.headings).any() for a, b in itertools.pairwise(flicker)])
     assert changed > 0.5  # with seven people flipping one time in three, most frames change
     walk = made["walking through"]
     walker = np.array([f.positions[3] for f in walk.frames])
@@ -103,8 +104,9 @@ def test_synth_is_ten_situations_of_ten_frames():
 
     frames = load("Synth", every=1)
     size = SITUATION_FRAMES["Synth"]
-    for k, (a, b) in enumerate(zip(frames, frames[1:]), start=1):
+    for k, (a, b) in enumerate(itertools.pairwise(frames), start=1):
         common = sorted(set(a.ids) & set(b.ids))
-        pa, pb = dict(zip(a.ids, a.positions)), dict(zip(b.ids, b.positions))
+        pa = dict(zip(a.ids, a.positions, strict=True))
+        pb = dict(zip(b.ids, b.positions, strict=True))
         moved = max(float(np.hypot(*(pa[i] - pb[i]))) for i in common)
         assert (moved > 1.0) if k % size == 0 else (moved < 0.05), k
