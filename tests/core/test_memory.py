@@ -116,3 +116,17 @@ def test_average_linkage_joins_a_group_whole_and_does_not_chain():
     chain[0, 1] = chain[1, 0] = chain[1, 2] = chain[2, 1] = 0.6  # a-b and b-c, never a-c
     assert sorted(np.bincount(linked(chain, 0.5)).tolist()) == [1, 2]
     assert linked(np.zeros((0, 0)), 0.5).tolist() == []
+
+
+def test_the_groups_said_do_not_depend_on_the_order_people_are_listed_in():
+    rng = np.random.default_rng(70)
+    ids = [f"p{i}" for i in range(8)]
+    frames = [rng.integers(0, 3, 8) for _ in range(60)]  # each reading's grouping
+    said = []
+    for order in (np.arange(8), rng.permutation(8)):
+        memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
+        for k, labels in enumerate(frames):
+            memory.headings([ids[i] for i in order], np.zeros(8), k * DT)
+            out = memory.groups(labels[order])
+        said.append({frozenset(ids[order[i]] for i in np.flatnonzero(out == g)) for g in set(out)})
+    assert said[0] == said[1]

@@ -224,7 +224,7 @@ def detect_centres(
         if np.array_equal(new, labels):
             break
         labels = new
-    ordered = _in_order(labels)
+    ordered = in_order(labels)
     return ordered, centres(points, ordered) * scale_m
 
 
@@ -237,7 +237,7 @@ def vote_centres(
     return result
 
 
-def _in_order(labels: IntArray) -> IntArray:
+def in_order(labels: IntArray) -> IntArray:
     """Labels renumbered in order of their first member (stable for equal inputs)."""
     first: dict[int, int] = {}
     return np.array([first.setdefault(int(x), len(first)) for x in labels], dtype=np.int64)
@@ -274,7 +274,7 @@ def on_the_ring(
         return labels
     apart = labels.copy()
     apart[who] = labels.max() + 1
-    return _in_order(apart)
+    return in_order(apart)
 
 
 def members(labels: IntArray) -> list[list[int]]:

@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..evidence import MAX_GAP_S
+from .groups import in_order
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -106,8 +107,13 @@ class SceneMemory:
         self._was = np.where(together, 1.0, -1.0)
         if span <= 0:
             return labels
-        # An exact tie (newcomers, undecided) goes the newest frame's way.
-        return linked(self._together / span + self._was * TIE, TOGETHER)
+        # An exact tie (newcomers, undecided) goes the newest frame's way; the linkage's
+        # own ties go by id, whatever order the people are listed in.
+        share = self._together / span + self._was * TIE
+        order = np.argsort(np.array(self._ids))
+        out = np.empty(len(order), dtype=np.int64)
+        out[order] = linked(share[np.ix_(order, order)], TOGETHER)
+        return in_order(out)
 
     @property
     def settled(self) -> bool:
@@ -155,8 +161,7 @@ def linked(share: FloatArray, above: float) -> IntArray:
     can = np.flatnonzero((off > above).any(axis=1))
     if len(can) > 1:
         labels[can] = can[_linkage(off[np.ix_(can, can)], above)]
-    first: dict[int, int] = {}
-    return np.array([first.setdefault(int(x), len(first)) for x in labels], dtype=np.int64)
+    return in_order(labels)
 
 
 def _linkage(sums: FloatArray, above: float) -> IntArray:
