@@ -30,7 +30,6 @@ from __future__ import annotations
 import argparse
 import itertools
 import random
-import statistics
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -44,7 +43,7 @@ from .. import paths, results_file
 from ..sections import generate
 from .held_out_page import INCUMBENT, RULES, held, tables, worst_held_out
 from .scenes import scenes
-from .scoring import difference, f1, f1_of, interval, scores
+from .scoring import Scores, choose, difference, f1, f1_of, interval, scores
 from .sequence_frame import Frame
 from .sequences import GCFF_MEDIAN, GCFF_ONE_SET, GCFF_TUNED, SEQUENCES, SHARED, load
 
@@ -118,9 +117,6 @@ def candidates() -> list[Candidate]:
     )
 
 
-Scores = dict[tuple[int, str], tuple[np.ndarray, np.ndarray]]  # (T = 2/3, T = 1) per frame
-
-
 def score_all(
     data: dict[str, list[Frame]], options: Sequence[Candidate], on: Callable[[int], None]
 ) -> Scores:
@@ -132,16 +128,6 @@ def score_all(
             table[i, s] = (scores(frames, found, 2 / 3), scores(frames, found, 1.0))
         on(i)
     return table
-
-
-def choose(table: Scores, indices: Sequence[int], training: Sequence[str]) -> int:
-    """The candidate whose worst training sequence scores best (F1, T = 2/3); ties by mean."""
-
-    def worth(i: int) -> tuple[float, float]:
-        figures = [f1_of(table[i, s][0]) for s in training]
-        return min(figures), statistics.mean(figures)
-
-    return max(indices, key=worth)
 
 
 def evaluate(root: Path = SHARED, progress: bool = False) -> dict[str, Any]:

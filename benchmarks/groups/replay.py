@@ -14,6 +14,7 @@ from dataclasses import replace
 
 from facing_service.config.profiles import scene_params
 from facing_service.config.settings import Settings
+from facing_service.contract.poses import yaw_rotation
 from facing_service.contract.stamps import Time
 from facing_service.core.social.memory import MemoryParams
 from facing_service.core.social.scene import ROBOT, FrameScene, Person, SceneParams
@@ -32,7 +33,7 @@ def shipped(memory: MemoryParams | None = None) -> SceneParams:
 def people(frame: Frame) -> list[Person]:
     """A frame's people as the service has them: ``p<id>``, the heading as the body's yaw."""
     return [
-        Person(f"p{i}", (x, y, 0.0), (0.0, 0.0, math.sin(h / 2), math.cos(h / 2)))
+        Person(f"p{i}", (x, y, 0.0), yaw_rotation(math.degrees(h)))
         for i, (x, y), h in zip(frame.ids, frame.positions.tolist(), frame.headings.tolist(),
                                 strict=True)
     ]  # fmt: skip

@@ -4,6 +4,7 @@ with 95 % bootstrap intervals over a sequence's frames."""
 from __future__ import annotations
 
 import random
+import statistics
 from collections.abc import Sequence
 
 import numpy as np
@@ -63,3 +64,18 @@ def difference(a: np.ndarray, b: np.ndarray, rng: random.Random) -> tuple[float,
         draws.append(f1_of(a[pick]) - f1_of(b[pick]))
     draws.sort()
     return f1_of(a) - f1_of(b), draws[int(0.025 * BOOTSTRAP)], draws[int(0.975 * BOOTSTRAP) - 1]
+
+
+#: Each candidate's per-frame precision and recall on each sequence, keyed (candidate's
+#: index, sequence): (T = 2/3, T = 1).
+Scores = dict[tuple[int, str], tuple[np.ndarray, np.ndarray]]
+
+
+def choose(table: Scores, indices: Sequence[int], training: Sequence[str]) -> int:
+    """The candidate whose worst training sequence scores best (F1, T = 2/3); ties by mean."""
+
+    def worth(i: int) -> tuple[float, float]:
+        figures = [f1_of(table[i, s][0]) for s in training]
+        return min(figures), statistics.mean(figures)
+
+    return max(indices, key=worth)

@@ -25,7 +25,6 @@ import argparse
 import itertools
 import multiprocessing
 import random
-import statistics
 from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
@@ -38,7 +37,7 @@ from facing_service.core.social.memory import MemoryParams
 from .. import paths, results_file
 from ..sections import generate
 from .replay import Said, replay, shipped
-from .scoring import difference, f1, f1_of, interval, scores
+from .scoring import Scores, choose, difference, f1, f1_of, interval, scores
 from .sequence_frame import Frame
 from .sequences import GCFF_ONE_SET, SEQUENCES, SPACING_S, STEP, load, situations
 from .stream_page import tables
@@ -80,7 +79,7 @@ def _replayed(job: tuple[str, MemoryParams]) -> PerFrame:
     return scores(truth, said, 2 / 3), scores(truth, said, 1.0)
 
 
-def score_all(options: Sequence[MemoryParams], workers: int) -> dict[tuple[int, str], PerFrame]:
+def score_all(options: Sequence[MemoryParams], workers: int) -> Scores:
     """Every memory on every sequence, SALSA's long stream first (the pool's longest jobs)."""
     jobs = [(s, m) for s in sorted(SEQUENCES, key=lambda s: "SALSA" not in s) for m in options]
     with multiprocessing.get_context("spawn").Pool(workers) as pool:
@@ -119,16 +118,6 @@ def in_time(figures: dict[str, Any]) -> bool:
     return all(
         s is not None and s <= SAY_WITHIN_S for f in figures.values() for s in f["said_after_s"]
     )
-
-
-def choose(table: dict[tuple[int, str], PerFrame], indices: Sequence[int], training: list[str]):
-    """The memory whose worst training sequence scores best (F1, T = 2/3); ties by mean."""
-
-    def worth(i: int) -> tuple[float, float]:
-        figures = [f1_of(table[i, s][0]) for s in training]
-        return min(figures), statistics.mean(figures)
-
-    return max(indices, key=worth)
 
 
 def evaluate(workers: int = 2) -> dict[str, Any]:

@@ -90,11 +90,12 @@ class SceneMemory:
         self._dt = 0.0 if self._last is None else min(max(now - self._last, 0.0), MAX_GAP_S)
         self._last = now
         tau = self.params.heading_s
-        keep = math.exp(-self._dt / tau) if tau > 0 else 0.0
-        self._facing = keep * self._facing + (1 - keep) * self._readings
-        self._readings = reading
-        if tau <= 0:
+        if tau > 0:
+            keep = math.exp(-self._dt / tau)
+            self._facing = keep * self._facing + (1 - keep) * self._readings
+        else:  # no memory: the newest reading
             self._facing = reading
+        self._readings = reading
         still: FloatArray = np.arctan2(self._facing[:, 1], self._facing[:, 0])
         return still
 
