@@ -230,7 +230,6 @@ def _watch(args: argparse.Namespace) -> int:
         if args.svg is not None:
             watcher.save_svg(args.svg)
     finally:
-        watcher.close()
         client.close()
     return 0
 

@@ -20,7 +20,6 @@ says which services answer, and how they are.
 from __future__ import annotations
 
 import logging
-import queue
 import threading
 import time
 from collections.abc import Callable, Iterable
@@ -44,8 +43,8 @@ from ..contract.schemas import (
 )
 from .bodies import BodyCache
 from .health import ask, no_service_seen, wait_for_service
+from .inbox import Handle, Inbox, Serial, close_at_exit, opened_no_more
 from .options import ClientOptionFields, client_options
-from .pulling import Pulled, close_at_exit, opened_no_more
 from .replies import engagement_states, facing_states, waited
 from .scene import ClientEvent, Event, SceneListener
 
@@ -58,8 +57,9 @@ LostCallback = Callable[[BodyRef], object]
 GroupCallback = Callable[[str, GroupState], object]
 GroupChangeCallback = Callable[[str, GroupState, GroupState], object]
 
-#: A callback and its arguments, queued for the dispatcher.
-_Call = tuple[Callable[..., object], tuple[object, ...]]
+#: Calls waiting for the dispatcher: past this, a behaviour slower than the results
+#: loses calls (counted, said), not memory.
+CALLS_DEPTH = 10_000
 
 C = TypeVar("C", bound=Callable[..., object])
 
@@ -93,10 +93,9 @@ class FacingClient:
         self._bodies = BodyCache()  # under the lock
         self._on: dict[ClientEvent, list[Callable[..., object]]] = {}
         self._scene = SceneListener(self.namespace, self.frame, self._is_live, self._emit)
-        self._events: queue.SimpleQueue[_Call | None] = queue.SimpleQueue()  # None: stop
         self._session: zenoh.Session | None = None
-        self._subscriptions = Pulled("facing-client-intake")
-        self._dispatcher: threading.Thread | None = None
+        self._inbox: Inbox | None = None  # what zenoh says, in order, on one thread
+        self._calls: Serial | None = None  # the callbacks, on another (the dispatcher)
         #: Why no service was seen when the client opened (one line), None when one was.
         self.absence: str | None = None
         # Under the lock: whether open() has begun its own seeding (a service appearing
@@ -127,23 +126,24 @@ class FacingClient:
         return self
 
     def _start(self, session: zenoh.Session, log_absence: bool) -> None:
-        self._dispatcher = threading.Thread(
-            target=self._dispatch, name="facing-client", daemon=True
-        )
-        self._dispatcher.start()
+        self._calls = Serial("facing-client", CALLS_DEPTH, "callbacks fall behind the results")
+        self._inbox = Inbox("facing-client-inbox")
         # Liveliness first (with the tokens already there), so results are judged by
         # who is alive; then subscribe, then seed: a result arriving meanwhile is newer
         # than the query's answer and is kept (states only move forward in stamp order).
         tokens = keys.service_token(self.namespace, "*")
-        subscribe = self._subscriptions.subscribe
+        subscribe = self._inbox.subscribe
         subscribe(session, tokens, self._on_token, tokens=True)
         facing = keys.facing_key(self.namespace, body_id=keys.ALL_FRAMES, frame_id=self.frame)
         subscribe(session, facing, self._on_sample)
         subscribe(session, keys.event_key(self.namespace, self.frame), self._on_event)
-        self._scene.open(session)
+        self._scene.open(session, self._inbox)
         found = wait_for_service(session, self.namespace, self.timeout_s, self._seen_alive)
         with self._lock:
+            # A token heard after the wait's last look, before this, asked no re-seed
+            # (issue 74): the seed below is its, as for one the wait found.
             self._seeding = True
+            found = found or bool(self._bodies.live)
         if found:
             self.absence = None
             self._reseed()
@@ -158,13 +158,12 @@ class FacingClient:
         """Undeclare everything, stop the dispatcher, close the session. Safe to call
         twice, and from one of the client's own callbacks (its thread is not waited for:
         it ends when the callback returns)."""
-        self._subscriptions.close()
-        self._scene.close()
-        if self._dispatcher is not None:
-            self._events.put(None)
-            if self._dispatcher is not threading.current_thread():
-                self._dispatcher.join(timeout=2.0)
-            self._dispatcher = None
+        if self._inbox is not None:
+            self._inbox.close()
+            self._inbox = None
+        if self._calls is not None:
+            self._calls.stop()
+            self._calls = None
         if self._session is not None:
             self._session.close()
             self._session = None
@@ -241,6 +240,22 @@ class FacingClient:
             return set(self._bodies.live)
 
     @property
+    def dropped_unheard(self) -> int:
+        """Samples heard while the client's inbox was full, never filed (a starved client)."""
+        return 0 if self._inbox is None else self._inbox.dropped
+
+    @property
+    def dropped_callbacks(self) -> int:
+        """Calls not made: the callbacks were ``CALLS_DEPTH`` behind (the cache was not)."""
+        return 0 if self._calls is None else self._calls.dropped
+
+    def hear(self, key: str, handle: Handle) -> None:
+        """``handle`` each sample on ``key`` on the client's thread, in order with the rest."""
+        session = self._open_session()
+        assert self._inbox is not None  # open
+        self._inbox.subscribe(session, key, handle)
+
+    @property
     def dropped_from_dead(self) -> int:
         """Results, levels and scenes said by an instance with no live token, refused."""
         with self._lock:
@@ -311,7 +326,7 @@ class FacingClient:
         self._open_session()
         self._on.setdefault(name, []).append(callback)
         for fact in current:
-            self._events.put((callback, (fact,)))
+            self._call(callback, fact)
         return callback
 
     # -- asking the service ----------------------------------------------------------
@@ -358,7 +373,7 @@ class FacingClient:
                 new = instance not in self._bodies.live and self._seeding
                 self._bodies.live.add(instance)
             if new:  # re-seed from the dispatcher: never query from the intake
-                self._events.put((self._reseed, ()))
+                self._call(self._reseed)
             return
         with self._lock:
             self._emit(self._bodies.instance_gone(instance))
@@ -375,19 +390,17 @@ class FacingClient:
         """Queue each event's callbacks, in order (under the lock, or from the scene's)."""
         for name, args in events:
             for callback in self._on.get(name, ()):
-                self._events.put((callback, args))
+                self._call(callback, *args)
 
     def _reseed(self) -> None:
         """The cache from queries: at start, and when a service (re)appears. A service
-        with nobody in this client's frame yet is normal, not an error (it answers
-        ``unknown_frame`` until someone is tracked there)."""
+        with nobody in this client's frame yet is normal, not an error."""
         try:
             try:
                 states = self._ask(self.frame, None)
-            except UnknownFrame as error:  # nobody there yet, or a misspelt frame
-                with self._lock:  # others are known: said once
-                    say = not error.nothing_tracked and not self._said_unknown
-                    self._said_unknown = self._said_unknown or say
+            except UnknownFrame as error:  # others are tracked: a misspelt frame, said once
+                with self._lock:
+                    say, self._said_unknown = not self._said_unknown, True
                 if say:
                     log.warning(
                         "facing client: no service knows frame %r yet (%s); a misspelt "
@@ -434,10 +447,6 @@ class FacingClient:
         with self._lock:
             self._emit(self._bodies.take_level(event))
 
-    def _dispatch(self) -> None:
-        while (call := self._events.get()) is not None:
-            callback, args = call
-            try:
-                callback(*args)
-            except Exception:
-                log.exception("facing client: a callback raised")
+    def _call(self, callback: Callable[..., object], *args: object) -> None:
+        if (calls := self._calls) is not None:  # closed: nobody to call any more
+            calls.offer(callback, *args)

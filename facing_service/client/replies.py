@@ -20,7 +20,9 @@ def facing_states(
     replies: Iterable[zenoh.Reply], selector: str, service_seen: bool, timeout_s: float
 ) -> list[FacingState]:
     """Every answering service's results. A frame is unknown only when no answer knew it
-    (one service's refusal does not hide another's results); no answer at all, with no
+    (one service's refusal does not hide another's results), and a service that tracks
+    nobody anywhere yet knows no frame, the right one no more than a typo: that is an
+    empty answer, not ``UnknownFrame``. No answer at all, with no
     service seen alive (its liveliness token), is ``NoService``: with one alive, a
     wildcard frame that matches nobody gets no reply, and that is an empty answer."""
     states, unknown, answers = [], [], 0
@@ -36,9 +38,12 @@ def facing_states(
             continue
         if error.error != "unknown_frame":
             raise QueryRefused(error.error, error.detail)
-        unknown.append(error)
+        refusal = UnknownFrame(error.error, error.detail)
+        if refusal.nothing_tracked:  # an empty service reading any frame: nobody there yet
+            continue  # (issue 74: a robot app that starts before its tracker)
+        unknown.append(refusal)
     if unknown and len(unknown) == answers:
-        raise UnknownFrame(unknown[0].error, unknown[0].detail)
+        raise unknown[0]
     if not answers and not service_seen:
         raise NoService(
             f"no facing service answered {selector!r} {waited(started, timeout_s)}; none is "

@@ -21,7 +21,7 @@ import zenoh
 from ..contract import keys
 from ..contract.schemas import FrameGazing, FrameGroups, GazePair, Greeting, GroupState
 from ..contract.stamps import Time
-from .pulling import Pulled
+from .inbox import Inbox
 
 log = logging.getLogger("facing_service.client")
 
@@ -114,15 +114,12 @@ class SceneListener:
         self._is_live, self._emit = is_live, emit
         self._lock = threading.Lock()
         self._cache = SceneCache()
-        self._subscriptions = Pulled("facing-client-scene")
         self.dropped_from_dead = 0
 
-    def open(self, session: zenoh.Session) -> None:
+    def open(self, session: zenoh.Session, inbox: Inbox) -> None:
+        """Hear the groups and pairs on the client's ``inbox`` (it closes them)."""
         for key in self._keys:  # one by one: a Ctrl-C meanwhile closes those declared
-            self._subscriptions.subscribe(session, key, self._on_sample)
-
-    def close(self) -> None:
-        self._subscriptions.close()
+            inbox.subscribe(session, key, self._on_sample)
 
     def seed(self, session: zenoh.Session, timeout_s: float) -> None:
         """What the services say now (at start, and when one appears)."""

@@ -35,7 +35,6 @@ from ..contract.errors import FacingError
 from ..contract.schemas import FacingState, GroupState
 from ..contract.stamps import Time
 from .client import FacingClient
-from .pulling import Pulled
 
 #: Arrows for a heading in the map (base x is up, base y is left), every 45 degrees.
 _ARROWS = "↑↖←↙↓↘→↗"
@@ -264,17 +263,12 @@ class Watcher:
         # Already tracked when the view opened: their decision began before it, so held
         # is "at least"; anyone else's first result is when their decision began.
         self._there_before = set(client.bodies(frame)) if frame != keys.ALL_FRAMES else set()
-        session = client.session
         aggregates = keys.frame_key(client.namespace, keys.ALL_FRAMES)
         levels = keys.engagement_key(client.namespace, body_id=keys.ALL_FRAMES, frame_id=frame)
-        self._subscriptions = Pulled("facing-watch")
         for key, handle in ((aggregates, self._on_frame), (levels, self._on_engagement)):
-            self._subscriptions.subscribe(session, key, handle)
+            client.hear(key, handle)  # closed with the client
         client.on_change(self._on_result)
         client.on_lost(self._on_lost)
-
-    def close(self) -> None:
-        self._subscriptions.close()
 
     def _on_frame(self, sample: zenoh.Sample) -> None:
         """Every frame's aggregate: which frames have people (said when this one has none)."""

@@ -69,5 +69,7 @@ def robot_reading(settings: Settings) -> RobotReading:
 
 
 def answers_for(settings: Settings, ledger: Ledger) -> Answers:
-    """The queries' answerer: this service's namespace and instance."""
-    return Answers(settings.namespace, settings.instance, ledger)
+    """The queries' answerer: this service's namespace, instance and the frame it serves
+    (a robot's base frame; the one --base-frame, or any)."""
+    served = settings.ros_base_frame if settings.input == "ros2" else settings.base_frame
+    return Answers(settings.namespace, settings.instance, ledger, served)

@@ -35,17 +35,21 @@ class QueryItem:
 
 class Answers:
     """Answers the worker's queries as this service (``namespace``, ``instance``), counted
-    in ``ledger``."""
+    in ``ledger``; ``served``: the one base frame it reads, known before anyone is in it
+    (``*``: any)."""
 
-    def __init__(self, namespace: str, instance: str, ledger: Ledger) -> None:
+    def __init__(self, namespace: str, instance: str, ledger: Ledger, served: str) -> None:
         self.us = Speaker(namespace, instance)
         self._ledger = ledger
+        self._served = served
 
     def __call__(self, item: QueryItem, snapshot: TurnSnapshot) -> None:
-        answer(item, snapshot, self._ledger, self.us)
+        answer(item, snapshot, self._ledger, self.us, self._served)
 
 
-def answer(item: QueryItem, snapshot: TurnSnapshot, ledger: Ledger, us: Speaker) -> None:
+def answer(
+    item: QueryItem, snapshot: TurnSnapshot, ledger: Ledger, us: Speaker, served: str
+) -> None:
     """Reply with the current state of every matching key, one reply per key."""
     query = item.query
     try:
@@ -73,7 +77,8 @@ def answer(item: QueryItem, snapshot: TurnSnapshot, ledger: Ledger, us: Speaker)
         if query.key_expr.intersects(zenoh.KeyExpr(key))
     ]
     if not replies:
-        replies, refusal = _nothing_matched(item.space, str(query.key_expr), snapshot, us)
+        selector = str(query.key_expr)
+        replies, refusal = _nothing_matched(item.space, selector, snapshot, us, served)
     else:
         refusal = None
     ledger.count("queries_answered")  # before the replies: a status read after them agrees
@@ -85,11 +90,11 @@ def answer(item: QueryItem, snapshot: TurnSnapshot, ledger: Ledger, us: Speaker)
 
 
 def _nothing_matched(
-    space: QuerySpace, selector: str, snapshot: TurnSnapshot, us: Speaker
+    space: QuerySpace, selector: str, snapshot: TurnSnapshot, us: Speaker, served: str
 ) -> tuple[list[tuple[str, bytes]], QueryError | None]:
     """A query that names one frame (its last chunk) and matched nothing still gets an
     answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
-    knows answers with its empty list (groups, who faces whom, the frame's facing list) or,
+    knows (has seen, or reads alone: ``served``, before anyone is there, issue 74) answers with its empty list (groups, who faces whom, the frame's facing list) or,
     on per-body keys, ``empty_frame`` (nobody there) or ``not_tracked`` (others are); any
     other ``unknown_frame``, naming the frames tracked.
     A wildcard frame that matches nothing stays unanswered (a ``**`` query reaches every
@@ -99,7 +104,7 @@ def _nothing_matched(
         return [], None
     ns, instance = us
     empty = snapshot.empty_scene(frame)
-    if empty is None and frame not in snapshot.tracked:
+    if empty is None and frame not in snapshot.tracked and frame != served:
         detail = unknown_frame_detail(frame, snapshot.tracked)
         return [], QueryError(error="unknown_frame", detail=detail)
     scene = empty or nobody(frame, ZERO)

@@ -77,7 +77,6 @@ def run_demo(
             feeder.join(timeout=2.0)
             if page is not None:
                 page.join(timeout=2.0)
-            watcher.close()
     return seen_facing
 
 

@@ -191,18 +191,13 @@ def test_watch_lists_what_the_service_says_on_ros2_input(net):
     try:
         with FacingClient("hri", "base_link", session_config=config) as client:
             watcher = Watcher(client, "base_link")
-            try:
-                for i in range(45):
-                    robot.publish("/humans/bodies/tracked", "hri_msgs/msg/IdsList", ids_list(["a"]))
-                    body = transform(
-                        "base_link", "body_a", S + i * S // 30, (2.0, 0, 0), yaw_q(180)
-                    )
-                    robot.publish("/tf", "tf2_msgs/msg/TFMessage", tf_message(body))
-                    time.sleep(1 / 30)
-                time.sleep(0.3)
-                text = text_of(watcher.view())
-            finally:
-                watcher.close()
+            for i in range(45):
+                robot.publish("/humans/bodies/tracked", "hri_msgs/msg/IdsList", ids_list(["a"]))
+                body = transform("base_link", "body_a", S + i * S // 30, (2.0, 0, 0), yaw_q(180))
+                robot.publish("/tf", "tf2_msgs/msg/TFMessage", tf_message(body))
+                time.sleep(1 / 30)
+            time.sleep(0.3)
+            text = text_of(watcher.view())
     finally:
         robot.close()
     assert "1 of 1 facing the robot" in text and "not drawn" not in text
@@ -226,17 +221,14 @@ def test_held_is_at_least_only_for_people_there_before_the_view(net):
     wait_until_answered(tracker, "hri/bodies/early/facing/base_link")
     with FacingClient("hri", "base_link", session_config=loopback_config(connect=[ep])) as c:
         watcher = Watcher(c, "base_link")
-        try:
-            for sec in (2, 3, 4):
-                for who in ("early", "late"):
-                    send(tracker, key.format(who), pose_json(who, "base_link", off_deg=5.0,
-                                                             sec=sec))  # fmt: skip
-            deadline = time.monotonic() + 5
-            while not re.search(r"late\s*│.*│\s*2\.0\s*│", text := text_of(watcher.view())):
-                assert time.monotonic() < deadline, text
-                time.sleep(0.05)
-        finally:
-            watcher.close()
+        for sec in (2, 3, 4):
+            for who in ("early", "late"):
+                send(tracker, key.format(who), pose_json(who, "base_link", off_deg=5.0,
+                                                         sec=sec))  # fmt: skip
+        deadline = time.monotonic() + 5
+        while not re.search(r"late\s*│.*│\s*2\.0\s*│", text := text_of(watcher.view())):
+            assert time.monotonic() < deadline, text
+            time.sleep(0.05)
     assert re.search(r"early\s*│\s*yes\s*│.*│\s*≥2\.0\s*│", text), text
     assert re.search(r"late\s*│\s*yes\s*│.*│\s*2\.0\s*│", text), text
 
@@ -362,9 +354,6 @@ def test_the_legend_explains_the_engagement_mode_the_service_runs(net, mode: str
     _, ep = net.service(base_frame="base_link", engagement=mode)
     with FacingClient("hri", "base_link", session_config=loopback_config(connect=[ep])) as c:
         watcher = Watcher(c, "base_link")
-        try:
-            watcher.ask_frames()
-            text = " ".join(text_of(watcher.view()).split())
-        finally:
-            watcher.close()
+        watcher.ask_frames()
+        text = " ".join(text_of(watcher.view()).split())
     assert said in text, text

@@ -35,7 +35,4 @@ def run_view(
             client.greetings(frame),
         )
 
-    try:
-        serve(model, host, port, stopping, started)
-    finally:
-        watcher.close()
+    serve(model, host, port, stopping, started)
