@@ -17,6 +17,7 @@ from typing import Any
 import zenoh
 
 from ..config.disclosure import public_endpoints, zenoh_failure
+from ..config.patience import open_interruptibly
 from ..config.session import probe_config, probe_endpoints
 from ..config.settings import Settings
 from ..config.sources import env_name, load_settings
@@ -223,7 +224,7 @@ def check(
         return 2
     deadline = time.monotonic() + timeout  # the whole check, the session's opening too
     try:
-        with zenoh.open(config) as session:
+        with open_interruptibly(lambda: zenoh.open(config)) as session:
             left = max(deadline - time.monotonic(), 0.1)
             answers, alive = statuses(session, settings.namespace, instance, left)
             others = [] if answers or alive else instances_seen(session, settings.namespace)

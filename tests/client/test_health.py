@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import signal
 import subprocess
 import sys
 import threading
@@ -198,3 +199,23 @@ def test_health_through_a_router_with_no_service_names_the_endpoint_and_the_flag
     )
     assert proc.returncode == 1 and len(proc.stderr.splitlines()) == 1
     assert f"at {endpoint(router.port)} in 2 s" in proc.stderr and "--namespace" in proc.stderr
+
+
+def test_ctrl_c_ends_health_while_its_session_still_connects():
+    """Issue 74: health ignored Ctrl-C while zenoh.open waited for an endpoint that is not
+    there (15.6 s of a --timeout 15, nothing printed); every other command stops at once.
+    Interrupted after a second, it ends as a shell reports Ctrl-C, long before its timeout."""
+    args = ["health", "--timeout", "30", "-m", "client", "-e", endpoint(free_port())]
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "facing_service", *args, "--no-multicast-scouting"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    time.sleep(1.5)  # inside zenoh.open by now (the interpreter starts in well under that)
+    proc.send_signal(signal.SIGINT)
+    try:
+        out, err = proc.communicate(timeout=15)  # half its own timeout
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        pytest.fail("health went on connecting after Ctrl-C")
+    assert proc.returncode == 130 and "Traceback" not in out + err, err
