@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any, Literal, NoReturn, get_args, get_origin
 
+from .camera.intrinsics import FIELD_OF_VIEW_DEG
 from .config.settings import SERVICE, ZENOH, Settings
 from .config.sources import env_help, env_name, flag_info, flag_name, shown_default
 from .config.version import VERSION
@@ -166,10 +167,15 @@ def _finite(text: str) -> float:
 
 
 def _field_of_view(text: str) -> float:
-    """An argparse type: a field of view in (0, 180) degrees."""
+    """An argparse type: a field of view a camera can have (what a face's distance is
+    worked out from: 179° read every face 9 cm away, issue 74)."""
     value = _number(0, strict=True)(text)
-    if value >= 180:
-        raise argparse.ArgumentTypeError(f"must be below 180 degrees, got {text}")
+    low, high = FIELD_OF_VIEW_DEG
+    if not low <= value <= high:
+        raise argparse.ArgumentTypeError(
+            f"must be from {low:g} to {high:g} degrees (a camera's horizontal field of view), "
+            f"got {text}"
+        )
     return value
 
 
@@ -184,7 +190,7 @@ def _id_prefix(text: str) -> str:
 #: flags given otherwise, as it would ignore them.
 CAMERA_DEFAULTS: dict[str, object] = {
     "calibration": None, "fov_deg": 65.0, "camera_pose": None, "max_faces": 5, "id_prefix": "f",
-    "reach_m": 5.0,
+    "reach_m": None,
 }  # fmt: skip
 
 
@@ -245,10 +251,16 @@ def _add_camera_command(commands: Any) -> None:
     )
     camera.add_argument("--images-fps", type=POSITIVE, default=5.0,
                         help="with --images: images a second (default 5)")  # fmt: skip
-    camera.add_argument("--width", type=_number(1, strict=False, integer=True), default=640,
-                        help="frame width asked of a camera (default 640)")  # fmt: skip
-    camera.add_argument("--height", type=_number(1, strict=False, integer=True), default=480,
-                        help="frame height asked of a camera (default 480)")  # fmt: skip
+    camera.add_argument(
+        "--width", type=_number(1, strict=False, integer=True),
+        help="frame width asked of a camera (default 640); with --images, the frames' "
+        "(default: the first image's own)",
+    )  # fmt: skip
+    camera.add_argument(
+        "--height", type=_number(1, strict=False, integer=True),
+        help="frame height asked of a camera (default 480); with --images, the frames' "
+        "(default: the first image's own)",
+    )  # fmt: skip
     camera.add_argument(
         "--base-frame", default="base_link",
         help="the frame of the poses (default base_link, as run, watch and view: the camera "

@@ -17,7 +17,7 @@ from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
 from ..contract.words import counted
-from .frames import Source, SourceError, source_of
+from .frames import NoSuchPath, Source, SourceError, source_of
 from .frontend import CameraFeed, CameraOptions, CameraStats
 from .head_pose import Mount
 from .intrinsics import CalibrationError
@@ -57,15 +57,20 @@ def demo_source(text: str) -> Source:
 
 
 def open_feed(options: CameraOptions, command: str) -> CameraFeed | int:
-    """The opened front end, or the exit code after one line saying why not."""
+    """The opened front end, or the exit code after one line saying why not: 2 for what
+    the command line got wrong (a calibration, a path that does not exist), whichever
+    command was given it; 1 for a source that fails (a camera, a file that is no video)."""
     try:
-        return CameraFeed(options)
+        feed = CameraFeed(options)
     except CalibrationError as error:
         print(f"facing-service {command}: --calibration: {error}", file=sys.stderr)
         return 2
     except SourceError as error:
         print(f"facing-service {command}: {error}", file=sys.stderr)
-        return 1
+        return 2 if isinstance(error, NoSuchPath) else 1
+    if feed.reach_note is not None:
+        print(f"facing-service {command}: {feed.reach_note}", file=sys.stderr, flush=True)
+    return feed
 
 
 def run_camera_command(args: argparse.Namespace, settings: Settings, stop: threading.Event) -> int:

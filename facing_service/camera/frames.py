@@ -22,10 +22,17 @@ Image = NDArray[Any]
 IMAGE_SUFFIXES = (".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff", ".webp")
 #: When a video does not say its rate.
 FALLBACK_FPS = 30.0
+#: What a camera is asked for when no size is given (width, height).
+CAMERA_SIZE = (640, 480)
 
 
 class SourceError(RuntimeError):
     """A source of frames that cannot be used, said in one line."""
+
+
+class NoSuchPath(SourceError):
+    """A video or folder named that does not exist: a mistake in the command line (exit 2,
+    as for any flag), where a camera that fails or a file that is no video is not."""
 
 
 @dataclass(frozen=True)
@@ -37,9 +44,10 @@ class Source:
     images: Path | None = None
     loop: bool = False
     images_fps: float = 5.0
-    #: A camera is asked for frames of this size; images are put on frames of it.
-    width: int = 640
-    height: int = 480
+    #: A camera is asked for frames of this size (None: 640x480); a folder's images are
+    #: put on frames of it (None: the first image's own size, as its camera took it).
+    width: int | None = None
+    height: int | None = None
 
     @property
     def live(self) -> bool:
@@ -83,8 +91,8 @@ def _open_camera(source: Source) -> cv2.VideoCapture:
     capture = cv2.VideoCapture(index)
     if not capture.isOpened():
         raise SourceError(f"camera {index} could not be opened (busy in another program?)")
-    capture.set(cv2.CAP_PROP_FRAME_WIDTH, source.width)
-    capture.set(cv2.CAP_PROP_FRAME_HEIGHT, source.height)
+    capture.set(cv2.CAP_PROP_FRAME_WIDTH, source.width or CAMERA_SIZE[0])
+    capture.set(cv2.CAP_PROP_FRAME_HEIGHT, source.height or CAMERA_SIZE[1])
     return capture
 
 
@@ -92,7 +100,7 @@ def _open_video(source: Source) -> cv2.VideoCapture:
     path = source.video
     assert path is not None
     if not path.is_file():
-        raise SourceError(f"{path}: no such file")
+        raise NoSuchPath(f"{path}: no such file")
     capture = cv2.VideoCapture(str(path))
     if not capture.isOpened():
         raise SourceError(f"{path}: cannot be read as a video")
@@ -131,20 +139,18 @@ def _images(source: Source, sleep: Callable[[float], None]) -> Generator[Image, 
     folder = source.images
     assert folder is not None
     if not folder.is_dir():
-        raise SourceError(f"{folder}: no such folder")
+        raise NoSuchPath(f"{folder}: no such folder")
     paths = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES)
     loaded = [(p, cv2.imread(str(p), cv2.IMREAD_COLOR)) for p in paths]
-    readable = [
-        on_frame(cv2.cvtColor(image, cv2.COLOR_BGR2RGB), source.width, source.height)
-        for _, image in loaded
-        if image is not None
-    ]
-    if not readable:
+    images = [image for _, image in loaded if image is not None]
+    if not images:
         unread = f" ({len(paths)} could not be read)" if paths else ""
         raise SourceError(f"{folder}: no image to read{unread} ({', '.join(IMAGE_SUFFIXES)})")
     for path, image in loaded:
         if image is None:
             print(f"camera: skipped {path}: cannot be read as an image", file=sys.stderr)
+    width, height = frame_size(source, images)
+    readable = [on_frame(cv2.cvtColor(image, cv2.COLOR_BGR2RGB), width, height) for image in images]
 
     def cycle() -> Iterator[Image]:
         yield from readable
@@ -152,6 +158,23 @@ def _images(source: Source, sleep: Callable[[float], None]) -> Generator[Image, 
             yield from readable
 
     return _paced(cycle(), 1.0 / source.images_fps, sleep)
+
+
+def frame_size(source: Source, images: list[Image]) -> tuple[int, int]:
+    """The size of a folder's frames: the one asked for, else the first image's (a
+    calibration is then judged against the images as they are, issue 74). Images of
+    another size are fitted onto it, said once: a calibration holds for one size."""
+    first = images[0].shape[1], images[0].shape[0]
+    width, height = source.width or first[0], source.height or first[1]
+    other = sum((image.shape[1], image.shape[0]) != (width, height) for image in images)
+    if other:
+        print(
+            f"camera: {other} of {len(images)} images in {source.images} are not {width}x"
+            f"{height}: each is fitted onto a {width}x{height} frame (what the intrinsics "
+            "describe)",
+            file=sys.stderr,
+        )
+    return width, height
 
 
 def on_frame(image: Image, width: int, height: int, scale: float | None = None) -> Image:

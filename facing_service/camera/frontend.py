@@ -39,6 +39,13 @@ DEFAULT_REACH_M = 5.0
 FACE_WIDTH_M = 0.15
 
 
+def farthest_reach_m(camera: Intrinsics) -> float:
+    """How far a face can be and still be found: at the detector's smallest tile (its
+    own input, ``DETECTOR_PX``), ``DETECTOR_FACE_PX`` wide in the frame. A longer
+    ``--reach-m`` would ask for tiles smaller than the detector takes (issue 74)."""
+    return FACE_WIDTH_M * camera.fx / DETECTOR_FACE_PX
+
+
 def tile_for(camera: Intrinsics, reach_m: float) -> int | None:
     """The tiles' side that shows the detector a face ``reach_m`` away as wide as it
     finds them (``DETECTOR_FACE_PX``); None when the whole frame already does."""
@@ -60,7 +67,9 @@ class CameraOptions:
     fov_deg: float = DEFAULT_FOV_DEG
     calibration: Path | None = None
     mount: Mount | None = None
-    reach_m: float = DEFAULT_REACH_M
+    #: How far faces are looked for; None: ``DEFAULT_REACH_M``, or as far as the frame
+    #: shows, unsaid (only a reach asked for is said when the frame cannot give it).
+    reach_m: float | None = None
 
 
 @dataclass
@@ -75,6 +84,17 @@ class CameraStats:
     busy_s: float = 0.0
     faces_seen: int = 0
     slowest_first_ms: float | None = None
+
+
+def _short_reach(camera: Intrinsics, reach_m: float) -> str | None:
+    farthest = farthest_reach_m(camera)
+    if reach_m <= farthest:
+        return None
+    return (
+        f"--reach-m {reach_m:g} is past what {camera.width}x{camera.height} frames show: a "
+        f"face beyond {farthest:.1f} m is under {DETECTOR_FACE_PX:g} px, too small for the "
+        f"detector; faces are looked for to {farthest:.1f} m (a larger frame sees further)"
+    )
 
 
 class CameraFeed:
@@ -93,7 +113,12 @@ class CameraFeed:
             self._camera = None if self._first is None else _intrinsics(
                 self._first, calibration, options.fov_deg
             )  # fmt: skip
-            tile = None if self._camera is None else tile_for(self._camera, options.reach_m)
+            #: Why faces are looked for less far than asked, in one line (None: as asked).
+            reach_m = options.reach_m or DEFAULT_REACH_M
+            self.reach_note = None if self._camera is None or options.reach_m is None else (
+                _short_reach(self._camera, reach_m)
+            )  # fmt: skip
+            tile = None if self._camera is None else tile_for(self._camera, reach_m)
             self._mesh = FaceMesh(options.max_faces, tile)
         except BaseException as error:  # the capture released now, not by the collector
             self._frames.close()

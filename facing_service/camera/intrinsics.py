@@ -23,6 +23,14 @@ DEFAULT_FOV_DEG = 65.0
 PINHOLE_MODELS = ("plumb_bob", "rational_polynomial")
 #: How many distortion coefficients OpenCV's solvePnP takes (none, or one of these).
 DISTORTION_COUNTS = (4, 5, 8, 12, 14)
+#: The horizontal (and vertical) fields of view a pinhole camera can have (degrees): a
+#: telephoto's few degrees to a wide lens's; past 170° a lens is a fisheye, which the
+#: pinhole model does not describe (fx = 5 px at 640 wide is 178°: every face read 9 cm
+#: away, issue 74).
+FIELD_OF_VIEW_DEG = (10.0, 170.0)
+#: How far apart fx and fy may be (their ratio): a camera's pixels are square or nearly
+#: (anamorphic lenses squeeze 1.33 to 2, and are not what faces are filmed with).
+MOST_PIXEL_ASPECT = 1.5
 
 
 class CalibrationError(ValueError):
@@ -116,7 +124,31 @@ def parse_calibration(text: str, name: str) -> Intrinsics:
             f"{name}: camera_matrix needs fx, fy > 0 and the principal point inside the "
             f"{width}x{height} image (fx {fx:g}, fy {fy:g}, cx {cx:g}, cy {cy:g})"
         )
+    if (no_camera := impossible(fx, fy, width, height)) is not None:
+        raise CalibrationError(f"{name}: {no_camera}")
     return Intrinsics(fx, fy, cx, cy, width, height, tuple(distortion))
+
+
+def field_of_view_deg(focal_px: float, side_px: int) -> float:
+    """The angle a side of ``side_px`` pixels spans at focal length ``focal_px``."""
+    return math.degrees(2.0 * math.atan(side_px / (2.0 * focal_px)))
+
+
+def impossible(fx: float, fy: float, width: int, height: int) -> str | None:
+    """Why focal lengths no pinhole camera has are refused, in words; None when possible."""
+    low, high = FIELD_OF_VIEW_DEG
+    across, down = field_of_view_deg(fx, width), field_of_view_deg(fy, height)
+    if not (low <= across <= high and low <= down <= high):
+        return (
+            f"fx {fx:g}, fy {fy:g} make a {across:.0f}° x {down:.0f}° field of view at "
+            f"{width}x{height}: no camera this model describes ({low:g}° to {high:g}°)"
+        )
+    if max(fx / fy, fy / fx) > MOST_PIXEL_ASPECT:
+        return (
+            f"fx {fx:g} and fy {fy:g} are {max(fx / fy, fy / fx):.1f} times apart: pixels "
+            f"that far from square (at most {MOST_PIXEL_ASPECT:g}) are a wrong calibration"
+        )
+    return None
 
 
 def _positive_int(data: dict[str, Any], key: str) -> int:

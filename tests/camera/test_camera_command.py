@@ -17,6 +17,7 @@ pytest.importorskip(
     "mediapipe", reason="the camera extra is not installed: its tests run in .venv-camera (README)"
 )
 import cv2
+import numpy as np
 import skimage.data
 
 from facing_service.testing import LOOPBACK_FLAGS, running_cli
@@ -80,7 +81,8 @@ def test_a_mounted_camera_says_facing_the_camera_by_the_camera(net, photos: Path
     proc = run("camera", "--images", str(photos), "--base-frame", "cam", *mount, "-e", ep,
                *LOOPBACK_FLAGS)  # fmt: skip
     assert proc.returncode == 0, proc.stderr
-    assert "f1 facing the camera (0°, 0.85 m)" in proc.stdout, proc.stdout
+    # the photograph's own 512 px frame at 65° (issue 74; on a 640x480 frame it read 0.85 m)
+    assert "f1 facing the camera (1°, 0.65 m)" in proc.stdout, proc.stdout
     (result,) = recorder.wait_for(lambda r: r.kind == "put", timeout=10)
     assert result.value["facing"] is False  # toward the robot's origin: 28° off
     assert result.value["angle_deg"] > 20
@@ -90,11 +92,13 @@ def test_a_mounted_camera_says_facing_the_camera_by_the_camera(net, photos: Path
     ("args", "code", "said"),
     [
         (["--device", "57"], 1, "no camera 57: /dev/video57 does not exist"),
-        (["--video", "/nonexistent/talk.mp4"], 1, "/nonexistent/talk.mp4: no such file"),
+        (["--video", "/nonexistent/talk.mp4"], 2, "/nonexistent/talk.mp4: no such file"),
         (["--video", __file__], 1, "cannot be read as a video"),
-        (["--images", "/nonexistent"], 1, "/nonexistent: no such folder"),
+        (["--images", "/nonexistent"], 2, "/nonexistent: no such folder"),
         (["--calibration", "/nonexistent.yaml"], 2, "--calibration: /nonexistent.yaml: No such"),
-        (["--fov-deg", "190"], 2, "--fov-deg: must be below 180 degrees"),
+        (["--fov-deg", "190"], 2, "--fov-deg: must be from 10 to 170 degrees"),
+        (["--fov-deg", "179"], 2, "--fov-deg: must be from 10 to 170 degrees"),
+        (["--fov-deg", "5"], 2, "--fov-deg: must be from 10 to 170 degrees"),
         (["--camera-pose", "0", "0", "1", "nan", "0", "0"], 2, "must be a finite number"),
     ],
 )
@@ -193,3 +197,59 @@ def test_demo_with_a_camera_it_cannot_have_says_so_and_ends(args: list[str], cod
     assert proc.returncode == code, proc.stderr
     assert said in proc.stderr and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
     assert "faced the robot during the demo" not in proc.stdout
+
+
+def _folder_of(tmp_path: Path, name: str, width: int, height: int) -> Path:
+    """A folder of one photograph on a frame of ``width`` x ``height`` (as a camera of that
+    size would take it)."""
+    folder = tmp_path / name
+    folder.mkdir()
+    face = cv2.cvtColor(skimage.data.astronaut(), cv2.COLOR_RGB2BGR)
+    side = min(width, height, face.shape[0])
+    frame = np.full((height, width, 3), 110, np.uint8)
+    top, left = (height - side) // 2, (width - side) // 2
+    frame[top : top + side, left : left + side] = cv2.resize(face, (side, side))
+    cv2.imwrite(str(folder / "1.png"), frame)
+    return folder
+
+
+#: A valid camera_info of a 640x480 camera (4:3).
+CAMERA_INFO_640X480 = """image_width: 640
+image_height: 480
+camera_matrix: {rows: 3, cols: 3, data: [500.0, 0.0, 320.0, 0.0, 500.0, 240.0, 0.0, 0.0, 1.0]}
+distortion_model: plumb_bob
+distortion_coefficients: {rows: 1, cols: 5, data: [0.0, 0.0, 0.0, 0.0, 0.0]}
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("size", "calibrated", "said"),
+    [
+        ((1280, 720), CAMERA_INFO_1280X720, None),  # refused before: "frames are 640x480"
+        ((1280, 720), CAMERA_INFO_640X480, "calibrated for 640x480, frames are 1280x720"),
+        ((450, 450), CAMERA_INFO_640X480, "calibrated for 640x480, frames are 450x450"),
+    ],
+)
+def test_a_folders_calibration_is_judged_against_its_images(
+    tmp_path: Path, size: tuple[int, int], calibrated: str, said: str | None
+):
+    """Issue 74: a folder's images were put on 640x480 frames (--width/--height) and the
+    calibration judged against those: the images' own 1280x720 calibration was refused,
+    a 640x480 one taken silently for 1280x720 or 450x450 images. Both commands."""
+    folder = _folder_of(tmp_path, "images", *size)
+    calibration = tmp_path / "camera.yaml"
+    calibration.write_text(calibrated)
+    nowhere = ("-e", endpoint(free_port()), *LOOPBACK_FLAGS)
+    for command in (
+        ["camera", "--images", str(folder), *nowhere],
+        ["demo", "--camera", str(folder), "--duration-s", "3", "--view-port", "0"],
+    ):
+        proc = run(*command, "--calibration", str(calibration), timeout=60)
+        if said is None:
+            assert "--calibration" not in proc.stderr, (command, proc.stderr)
+            assert "Traceback" not in proc.stdout + proc.stderr
+            assert proc.returncode == (1 if command[0] == "camera" else 0), proc.stderr
+        else:
+            assert proc.returncode == 2, (command, proc.stdout, proc.stderr)
+            assert said in proc.stderr and len(proc.stderr.strip().splitlines()) == 1

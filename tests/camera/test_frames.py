@@ -22,11 +22,15 @@ def test_a_folders_images_of_any_size_become_frames_of_one_size(tmp_path: Path, 
     (tmp_path / "c.png").write_bytes(b"not an image")
     (tmp_path / "notes.txt").write_text("ignored: not an image's suffix")
     images = list(frames(Source(images=tmp_path), sleep=lambda _: None))
-    assert [image.shape for image in images] == [(480, 640, 3)] * 2
-    assert (
-        capsys.readouterr().err.strip()
-        == f"camera: skipped {tmp_path / 'c.png'}: cannot be read as an image"
-    )
+    # the first image's own size (issue 74: not 640x480, what a calibration is judged by)
+    assert [image.shape for image in images] == [(512, 512, 3)] * 2
+    assert capsys.readouterr().err.strip().splitlines() == [
+        f"camera: skipped {tmp_path / 'c.png'}: cannot be read as an image",
+        f"camera: 1 of 2 images in {tmp_path} are not 512x512: each is fitted onto a 512x512 "
+        "frame (what the intrinsics describe)",
+    ]
+    asked = list(frames(Source(images=tmp_path, width=640, height=480), sleep=lambda _: None))
+    assert [image.shape for image in asked] == [(480, 640, 3)] * 2
 
 
 def test_a_video_plays_at_its_rate_and_loops_when_asked(tmp_path: Path):

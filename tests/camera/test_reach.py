@@ -100,4 +100,23 @@ def test_the_command_line_reaches_as_far_as_the_front_end_by_default():
     from facing_service.camera.frames import Source
     from facing_service.camera.frontend import DEFAULT_REACH_M, CameraOptions
 
-    assert CAMERA_DEFAULTS["reach_m"] == DEFAULT_REACH_M == CameraOptions(Source()).reach_m
+    # None: the front end's default, unsaid where the frame cannot give it (issue 74)
+    assert CAMERA_DEFAULTS["reach_m"] is None is CameraOptions(Source()).reach_m
+    assert DEFAULT_REACH_M == 5.0
+
+
+def test_a_reach_past_what_the_frame_shows_is_said_with_the_frames_limit():
+    """Issue 74: beyond about 5 m at 640x480 the tiles are the detector's own 192 px, so a
+    longer --reach-m changed nothing and said nothing. The limit is where a face is the
+    detector's smallest at that tile; asked past it, the front end says so, once."""
+    from facing_service.camera.frontend import _short_reach, farthest_reach_m
+    from facing_service.camera.intrinsics import from_field_of_view
+
+    vga, hd = from_field_of_view(640, 480), from_field_of_view(1280, 720)
+    assert farthest_reach_m(vga) == pytest.approx(5.02, abs=0.01)
+    assert farthest_reach_m(hd) == pytest.approx(10.04, abs=0.01)
+    assert tile_for(vga, farthest_reach_m(vga)) == 192  # exactly the detector's own side
+    assert _short_reach(vga, 5.0) is None and _short_reach(hd, 8.0) is None
+    said = _short_reach(vga, 8.0)
+    assert said is not None and said.startswith("--reach-m 8 is past what 640x480 frames")
+    assert "faces are looked for to 5.0 m" in said
