@@ -1,6 +1,7 @@
-"""What makes a test of the shared data fail instead of skipping: the project's own
-variable, set by .ci/run, never the ``CI=true`` hosted CIs set for every fork (issue 67:
-a user's fork on GitHub Actions failed on data it cannot have)."""
+"""What makes a test fail in the project's CI where a contributor's clone skips it (the shared
+data, a system package): the project's own variables, set by .ci/run, never the ``CI=true``
+hosted CIs set for every fork (issue 67: a user's fork on GitHub Actions failed on data it
+cannot have)."""
 
 from __future__ import annotations
 
@@ -33,3 +34,31 @@ def test_the_variable_is_no_setting_a_command_would_say_is_misspelt():
 
     assert unknown_variables({REQUIRE_SHARED_DATA: "1"}) == []
     assert unknown_variables({"FACING_REQUIRE_SHARED_DATA": "1"}) != []  # what it was
+
+
+def test_every_system_package_a_test_needs_is_in_the_readme_and_installed_by_ci():
+    """Issue 74: the packages were listed only inside .ci/run, and a fresh clone's test
+    command failed on them. The README's install line, CI's installs and the tests' list
+    are one set; CI makes a missing one fail, a contributor's clone skips its tests."""
+    from system_packages import PACKAGES, REQUIRE_SYSTEM_PACKAGES
+
+    readme = (CI_RUN.parents[1] / "README.md").read_text()
+    line = readme.split("<!-- system-packages -->", 1)[1].split("```bash\n", 1)[1]
+    assert line.split("\n", 1)[0].split()[3:] == list(PACKAGES)
+    ci = CI_RUN.read_text()
+    assert all(f"need+=({package})" in ci for package in PACKAGES)
+    assert f"export {REQUIRE_SYSTEM_PACKAGES}=1\n" in ci
+
+
+def test_a_missing_system_package_skips_its_test_on_a_clone_and_fails_it_in_ci(
+    monkeypatch: pytest.MonkeyPatch,
+):
+    import system_packages
+
+    monkeypatch.setattr(system_packages, "present", lambda package: False)
+    monkeypatch.delenv(system_packages.REQUIRE_SYSTEM_PACKAGES, raising=False)
+    with pytest.raises(pytest.skip.Exception, match="apt-get install chromium"):
+        system_packages.require("chromium")
+    monkeypatch.setenv(system_packages.REQUIRE_SYSTEM_PACKAGES, "1")
+    with pytest.raises(pytest.fail.Exception, match="CI runs every test"):
+        system_packages.require("chromium")

@@ -19,6 +19,8 @@ from facing_service.arguments import build_parser
 from facing_service.config.sources import load_settings
 from facing_service.testing import endpoint, running_cli
 
+from system_packages import require
+
 ROOT = Path(__file__).resolve().parent.parent
 DEPLOY = ROOT / "deploy"
 UNITS = sorted((DEPLOY / "systemd").glob("facing-service*"))
@@ -89,8 +91,7 @@ def test_the_service_unit_restarts_on_failure_and_runs_a_command_the_cli_accepts
 
 def test_systemd_accepts_the_units(tmp_path):
     """systemd's own verifier, on copies whose binary and settings file exist here."""
-    if shutil.which("systemd-analyze") is None:
-        pytest.fail("systemd-analyze (Debian's systemd) is the verifier: see .ci/run")
+    require("systemd")
     env = tmp_path / "facing-service.env"
     env.write_text((DEPLOY / "facing-service.env").read_text())
     for path in UNITS:

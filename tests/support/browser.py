@@ -9,7 +9,6 @@ import base64
 import itertools
 import json
 import re
-import shutil
 import subprocess
 import tempfile
 import threading
@@ -19,17 +18,19 @@ from typing import Any
 
 import aiohttp
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+from system_packages import browser, require
 
 
 class Browser:
     """One headless chromium with one page."""
 
     def __init__(self, width: int = 1200, height: int = 700) -> None:
-        assert CHROMIUM, "chromium is not installed (.ci/run installs Debian's package)"
+        require("chromium")
+        chromium = browser()
+        assert chromium is not None
         self._profile = tempfile.TemporaryDirectory()
         self._process = subprocess.Popen(
-            [CHROMIUM, "--headless=new", "--no-sandbox", "--disable-gpu",
+            [chromium, "--headless=new", "--no-sandbox", "--disable-gpu",
              "--remote-debugging-port=0", "--remote-debugging-address=127.0.0.1",
              f"--user-data-dir={self._profile.name}", f"--window-size={width},{height}",
              "--no-first-run", "--no-default-browser-check", "about:blank"],

@@ -17,7 +17,6 @@ from __future__ import annotations
 import os
 import random
 import re
-import shutil
 import socket
 import subprocess
 import threading
@@ -25,6 +24,7 @@ import time
 from collections import deque
 
 from proxy import Proxy
+from system_packages import require
 
 NFT_LOSS = """table inet lossy {{
   chain input {{ type filter hook input priority 0;
@@ -42,9 +42,8 @@ def unavailable() -> str | None:
     """Why this machine cannot make the link (None: it can)."""
     if os.geteuid() != 0:
         return "making a network namespace needs root"
-    missing = [tool for tool in ("ip", "tc", "nft") if shutil.which(tool) is None]
-    if missing:
-        return f"missing {', '.join(missing)} (apt-get install iproute2 nftables)"
+    require("iproute2")
+    require("nftables")
     return None
 
 

@@ -28,6 +28,7 @@ from facing_service.testing import free_port, running_cli
 from loopback import Recorder, get, results, send, send_delete, wait_until_answered
 from poses import pose_json
 from routers import wait_for_port
+from system_packages import require
 
 pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
@@ -606,8 +607,7 @@ def _recipe() -> str:
 def test_the_recipe_runs_in_sh_and_makes_a_working_deployment(tmp_path):
     """From examples/secure, in POSIX sh: the certificates it makes work with the shipped
     configs and the router command, for the service, a tracker, a consumer and health."""
-    if shutil.which("openssl") is None:
-        pytest.fail("openssl is needed for the recipe test (apt-get install openssl)")
+    require("openssl")
     folder = tmp_path / "secure"
     shutil.copytree(EXAMPLE, folder, ignore=shutil.ignore_patterns("certs"))
     made = subprocess.run(

@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 import re
 import shlex
-import shutil
 import subprocess
 import sys
 import time
@@ -27,6 +26,7 @@ from facing_service.testing import LOOPBACK_FLAGS, running_cli
 
 from loopback import endpoint, free_port, send, wait_until_answered
 from poses import pose_json
+from system_packages import require
 
 pytestmark = pytest.mark.slow  # processes, recordings or seconds-long scenarios
 
@@ -297,8 +297,7 @@ def test_where_to_stand_prints_the_places_to_join_and_to_greet(net):
 def test_the_demo_fits_an_80x24_terminal_as_a_person_sees_it(tmp_path):
     """Issue 67: on 80x24 the demo showed the radar and only the table's header, then
     "...". Run in a real terminal (tmux) of that size: every person's row is on screen."""
-    if shutil.which("tmux") is None:
-        pytest.fail("tmux is the terminal here (Debian's tmux)")
+    require("tmux")
     session = f"facing-demo-{os.getpid()}"
     command = shlex.join([sys.executable, "-m", "facing_service", "demo", "--duration-s", "20",
                           "--view-port", "0"])  # fmt: skip
