@@ -12,9 +12,11 @@ import signal
 # Ctrl-C a KeyboardInterrupt again, which closes sessions.
 signal.signal(signal.SIGINT, lambda *_: os._exit(0))
 
+import _thread  # noqa: E402
 import argparse  # noqa: E402
 import json  # noqa: E402
 import sys  # noqa: E402
+import threading  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from typing import NoReturn  # noqa: E402
 
@@ -34,7 +36,11 @@ def arguments(
     )  # fmt: skip
     if frame:
         parser.add_argument(
-            "--frame", default="base_link", help="the base frame (default base_link)"
+            "--base-frame",
+            "--frame",
+            dest="frame",
+            default="base_link",
+            help="the base frame (default base_link); --frame is its older name",
         )
     parser.add_argument("--duration-s", type=float, help="stop after this long")
     if extra is not None:
@@ -52,12 +58,39 @@ def session_config(args: argparse.Namespace) -> zenoh.Config:
     return config
 
 
+def say(line: str) -> None:
+    """Print ``line`` now, from any thread (a callback's too). When the reader has gone
+    (``examples/subscribe.py | head`` once head has its lines), the example ends quietly,
+    as on Ctrl-C, instead of a BrokenPipeError traceback from every callback after."""
+    try:
+        print(line, flush=True)
+    except BrokenPipeError:
+        _reader_gone()
+
+
+def _reader_gone() -> None:
+    _stdout_to_devnull()
+    if threading.current_thread() is threading.main_thread():
+        raise KeyboardInterrupt
+    _thread.interrupt_main()  # a callback's thread: the main one ends the example
+
+
 def run(main: Callable[[], int | None]) -> NoReturn:
-    """Run an example's ``main`` and exit with its status; Ctrl-C ends it quietly (each
-    ``with`` block has closed its session by then), not with a traceback."""
+    """Run an example's ``main`` and exit with its status; Ctrl-C, or a reader that has
+    gone, ends it quietly (each ``with`` block has closed its session by then), not with
+    a traceback."""
     signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         code = main()
     except KeyboardInterrupt:
         code = 0
+    except BrokenPipeError:  # a line printed otherwise than by say()
+        _stdout_to_devnull()
+        code = 0
     sys.exit(code or 0)
+
+
+def _stdout_to_devnull() -> None:
+    """Python's own advice (the signal module's docs): nothing fails again when stdout is
+    flushed at exit."""
+    os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

@@ -1,7 +1,7 @@
 """A behaviour: greet people once when they start facing the robot, say goodbye when
 they turn away for good or leave.
 
-    .venv/bin/python examples/greeter.py [-e tcp/<host>:7447] [--frame base_link]
+    .venv/bin/python examples/greeter.py [-e tcp/<host>:7447] [--base-frame base_link]
 
 Transitions, not samples: on_facing fires once when someone turns toward the robot, not
 30 times a second. A short grace period keeps a glance away from ending the conversation.
@@ -12,7 +12,7 @@ from __future__ import annotations
 import threading
 import time
 
-from common import arguments, run
+from common import arguments, run, say
 
 from facing_service import BodyRef, FacingClient, FacingState
 
@@ -28,7 +28,7 @@ class Greeter:
         with self.lock:
             if state.body_id not in self.talking:
                 at = "" if state.distance_m is None else f" (at {state.distance_m:.1f} m)"
-                print(f"hello {state.body_id}!{at}", flush=True)
+                say(f"hello {state.body_id}!{at}")
             self.talking[state.body_id] = None
 
     def turned_away(self, state: FacingState) -> None:
@@ -39,7 +39,7 @@ class Greeter:
     def lost(self, body: BodyRef) -> None:
         with self.lock:
             if self.talking.pop(body.body_id, "absent") != "absent":
-                print(f"goodbye {body.body_id}", flush=True)
+                say(f"goodbye {body.body_id}")
 
     def tick(self) -> None:
         """Say goodbye to whoever has looked away for longer than the grace period."""
@@ -48,7 +48,7 @@ class Greeter:
             for body_id, since in list(self.talking.items()):
                 if since is not None and now - since > GRACE_S:
                     del self.talking[body_id]
-                    print(f"goodbye {body_id}", flush=True)
+                    say(f"goodbye {body_id}")
 
 
 def main() -> None:

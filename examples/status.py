@@ -13,7 +13,7 @@ import sys
 import time
 
 import zenoh
-from common import arguments, run, session_config
+from common import arguments, run, say, session_config
 
 
 def main() -> int:
@@ -26,9 +26,9 @@ def main() -> int:
                 answered += 1
                 status = json.loads(reply.ok.payload.to_bytes())
                 counters = status["counters"]
-                print(f"{status['instance']}: {status['status']}, facing-service "
-                      f"{status['version']}, {status['bodies_tracked_total']} bodies, "
-                      f"{counters['samples_accepted']} poses accepted", flush=True)  # fmt: skip
+                say(f"{status['instance']}: {status['status']}, facing-service "
+                    f"{status['version']}, {status['bodies_tracked_total']} bodies, "
+                    f"{counters['samples_accepted']} poses accepted")  # fmt: skip
     if not answered:
         print("no facing service answered its status within 2 s", file=sys.stderr)
         return 1

@@ -1,6 +1,6 @@
 """Every result as it is published, in plain zenoh: who faces the robot, pose by pose.
 
-    .venv/bin/python examples/subscribe.py [-e tcp/<host>:7447] [--frame base_link]
+    .venv/bin/python examples/subscribe.py [-e tcp/<host>:7447] [--base-frame base_link]
 
 A result (docs/contract.md, FacingState) goes out on NS/bodies/<id>/facing/<frame> for
 every pose while anyone subscribes to results; a DELETE there says the body was lost.
@@ -13,7 +13,7 @@ import sys
 import time
 
 import zenoh
-from common import arguments, run, session_config
+from common import arguments, run, say, session_config
 
 
 def main() -> int:
@@ -24,13 +24,13 @@ def main() -> int:
     def show(sample: zenoh.Sample) -> None:
         heard.append(sample.kind)
         if sample.kind == zenoh.SampleKind.DELETE:
-            print(f"{sample.key_expr}: lost", flush=True)
+            say(f"{sample.key_expr}: lost")
             return
         result = json.loads(sample.payload.to_bytes())
         said = "faces the robot" if result["facing"] else "looks elsewhere"
         far = result["distance_m"]  # null when the robot is straight above the body
         at = "" if far is None else f" ({far:.1f} m)"
-        print(f"{result['body_id']} {said}{at}", flush=True)
+        say(f"{result['body_id']} {said}{at}")
 
     with zenoh.open(session_config(args)) as session:
         subscriber = session.declare_subscriber(f"hri/bodies/*/facing/{args.frame}", show)

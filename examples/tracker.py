@@ -2,7 +2,7 @@
 as any body tracker would (docs/contract.md), one walking past the robot while turning
 toward it, one standing still facing away.
 
-    .venv/bin/python examples/tracker.py [-e tcp/<host>:7447] [--frame base_link]
+    .venv/bin/python examples/tracker.py [-e tcp/<host>:7447] [--base-frame base_link]
 
 Each pose is a TransformStamped as JSON on NS/bodies/<id>/pose/<frame>: the body's
 position and orientation in the base frame. A DELETE on that key says the person left.

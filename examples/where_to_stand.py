@@ -2,7 +2,7 @@
 in, and to greet each person engaging with it in no group (x, y in metres and the way to
 face in degrees, in the base frame): what a navigation goal is made of.
 
-    .venv/bin/python examples/where_to_stand.py [-e tcp/<host>:7447] [--frame base_link]
+    .venv/bin/python examples/where_to_stand.py [-e tcp/<host>:7447] [--base-frame base_link]
 
 The service works the places out from the people it sees (docs/groups.md, "Where to
 stand"); a robot sends the one it chooses to its navigation as a goal.
@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import time
 
-from common import arguments, run
+from common import arguments, run, say
 
 from facing_service import FacingClient, Place
 
@@ -39,7 +39,7 @@ def main() -> None:
                     lines.append(f"to join {who}: stand at {said(group.join)}")
             for greeting in hri.greetings():
                 lines.append(f"to greet {greeting.body_id}: stand at {said(greeting.place)}")
-            print("; ".join(lines) or "nobody to join or greet", flush=True)
+            say("; ".join(lines) or "nobody to join or greet")
             time.sleep(1.0)
 
 

@@ -5,13 +5,14 @@ service. The FacingClient examples run in test_watch_demo."""
 from __future__ import annotations
 
 import re
+import shlex
 import signal
 import subprocess
 import sys
 import time
 from pathlib import Path
 
-from loopback import endpoint, free_port, send, wait_until_answered
+from loopback import endpoint, free_port, get, results, send, wait_until, wait_until_answered
 from poses import pose_json
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -140,3 +141,46 @@ def test_the_subscriber_prints_a_body_straight_below_the_robot(net):
             subscriber.kill()
     assert "Traceback" not in heard, heard
     assert re.search(r"^under looks elsewhere$", heard, re.M), heard
+
+
+def test_a_subscriber_piped_into_head_ends_quietly_when_head_has_its_lines(net):
+    """Issue 74: ``examples/subscribe.py | head`` flooded the terminal with BrokenPipeError
+    tracebacks, one from each result's callback after head ended."""
+    port = free_port()
+    net.service(listen=[endpoint(port)], base_frame="base_link")
+    pipeline = (
+        f"{shlex.quote(sys.executable)} {shlex.quote(str(EXAMPLES / 'subscribe.py'))} "
+        f"-e {endpoint(port)} --duration-s 20 | head -n 3"
+    )
+    shell = subprocess.Popen(
+        ["bash", "-o", "pipefail", "-c", pipeline],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    tracker = example("tracker.py", port, "--duration-s", "20")
+    try:
+        out, err = shell.communicate(timeout=60)
+    finally:
+        tracker.kill()
+        tracker.communicate()
+    assert len(out.splitlines()) == 3, out
+    assert "Traceback" not in err and "BrokenPipeError" not in err, err
+    assert shell.returncode == 0, err  # the subscriber itself ended with 0, well before 20 s
+
+
+def test_a_get_before_any_pose_says_nobody_is_there_and_succeeds(net):
+    """Issue 74: two services in a namespace, neither with a pose yet: query.py printed
+    "refused: empty_frame" and "refused: unknown_frame" and exited 0. A room with nobody
+    in it yet is no refusal; a frame no service knows while others are tracked still is."""
+    port = free_port()
+    net.service(listen=[endpoint(port)], base_frame="base_link", instance="fixed")
+    _, other = net.service(base_frame="*", instance="any", connect=[endpoint(port)])
+    empty = example("query.py", port)
+    said, _ = empty.communicate(timeout=30)
+    assert empty.returncode == 0 and said == "nobody in frame base_link now\n", said
+    tracker = net.client(other)
+    wait_until_answered(tracker, "hri/services/facing/any/status")
+    send(tracker, "hri/bodies/ann/pose/cam", pose_json("ann", "cam"))
+    wait_until(lambda: results(get(tracker, "hri/bodies/ann/facing/cam")), 10, "ann tracked")
+    typo = example("query.py", port, "--base-frame", "cma")
+    said, _ = typo.communicate(timeout=30)
+    assert typo.returncode == 1 and said.count("refused: unknown_frame") == 2, said
