@@ -267,7 +267,7 @@ def _add_camera_command(commands: Any) -> None:
         "at the robot's origin, looking along x, unless --camera-pose places it)",
     )  # fmt: skip
     _add_camera_arguments(camera)
-    add_settings_arguments(camera, ["namespace", "threshold_deg"])
+    add_settings_arguments(camera, ["namespace", "threshold_deg", "hysteresis_deg"])
     add_zenoh_arguments(camera)
 
 

@@ -33,6 +33,7 @@ def options_of(args: argparse.Namespace, settings: Settings, source: Source) -> 
         max_faces=args.max_faces,
         id_prefix=args.id_prefix,
         threshold_deg=settings.threshold_deg,
+        hysteresis_deg=settings.hysteresis_deg,
         fov_deg=args.fov_deg,
         calibration=args.calibration,
         mount=Mount.of(*args.camera_pose) if args.camera_pose else None,

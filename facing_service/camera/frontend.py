@@ -64,6 +64,7 @@ class CameraOptions:
     max_faces: int = 5
     id_prefix: str = "f"
     threshold_deg: float = 20.0
+    hysteresis_deg: float = 5.0  # a face already facing stays so to threshold + this
     fov_deg: float = DEFAULT_FOV_DEG
     calibration: Path | None = None
     mount: Mount | None = None
@@ -137,7 +138,7 @@ class CameraFeed:
         face lost (and, at the end, each still held) DELETEd."""
         options, model = self.options, face_model()
         stats, ids = CameraStats(), FaceIds(prefix=options.id_prefix)
-        lines = _FacingLines(options.threshold_deg, say)
+        lines = _FacingLines(options.threshold_deg, options.hysteresis_deg, say)
         started = time.monotonic()
         first, self._first = self._first, None
         camera, mount = self._camera, options.mount  # frames share the first one's size
@@ -214,15 +215,19 @@ def _payload(face_id: str, frame: str, stamp: Time, head: HeadPose) -> bytes:
 @dataclass
 class _FacingLines:
     """One line when a face appears, turns toward the camera or away, or leaves: the
-    service's own rule (``classify_one``, the angle in the ground plane) at its threshold."""
+    service's own rule (``classify_one``, the angle in the ground plane) at its threshold,
+    with its hysteresis (issue 74: a face at the threshold flickered 19° facing, 20° not,
+    20° facing, where the service said facing throughout)."""
 
     threshold_deg: float
+    hysteresis_deg: float
     say: Callable[[str], None]
     _facing: dict[str, bool] = field(default_factory=dict)
 
     def said(self, face_id: str, head: HeadPose, at_s: float) -> None:
+        held = self.hysteresis_deg if self._facing.get(face_id) else 0.0
         _, angle, distance, facing = classify_one(
-            head.translation, head.rotation, self.threshold_deg
+            head.translation, head.rotation, self.threshold_deg + held
         )
         if self._facing.get(face_id) == facing:
             return

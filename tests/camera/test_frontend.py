@@ -76,3 +76,19 @@ def test_the_first_frame_read_to_check_the_calibration_is_not_lost(capture: Capt
     feed = CameraFeed(options())
     stats = feed.run(lambda key, payload: seen.append(key), say=lambda line: None)
     assert stats.frames == 3 and stats.faces_seen == 1
+
+
+def test_the_facing_lines_keep_the_services_hysteresis():
+    """Issue 74: a face at the threshold flickered "facing (19°)", "not facing (20°)",
+    "facing (20°)" where the service, with its 5° of hysteresis, said facing throughout."""
+    from facing_service.camera.head_pose import HeadPose
+    from facing_service.contract.poses import yaw_rotation
+
+    said: list[str] = []
+    lines = frontend._FacingLines(20.0, 5.0, said.append)
+    for t, off in enumerate([19.0, 20.5, 19.5, 24.0, 26.0, 22.0, 19.0]):
+        # 1 m in front of the camera, looking back at it turned ``off`` degrees
+        lines.said("f1", HeadPose((1.0, 0.0, 0.0), yaw_rotation(180.0 + off)), float(t))
+    verdicts = [line.split("f1 ")[1].split(" (")[0] for line in said]
+    assert verdicts == ["facing the camera", "not facing the camera", "facing the camera"]
+    assert [round(float(line.split("(")[1].split("°")[0])) for line in said] == [19, 26, 19]
