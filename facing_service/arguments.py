@@ -391,7 +391,7 @@ def build_parser() -> _Parser:
         "robot (R; x up, y left; 1 m rings) with each person as an arrow along their "
         "heading, people facing the robot highlighted and named, and a table of id, facing, "
         "angle, distance and for how long. Redraws 10 times a second; --once prints one "
-        "frame.",
+        "frame; with its output redirected (a file, a pipe), it writes a frame a second.",
     )
     _add_view_arguments(watch)
     watch.add_argument("--once", action="store_true", help="print one frame and exit")

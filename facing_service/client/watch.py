@@ -99,6 +99,8 @@ ENGAGEMENT_LEGENDS = {
 }
 #: The lines the map needs at the least, and at the most (its width follows).
 MAP_ROWS = (7, 19)
+#: How often a frame is written when the output is no terminal (a file, a pipe, a log).
+FRAME_S = 1.0
 
 
 def render(
@@ -377,8 +379,13 @@ class Watcher:
 
     def live(self, keep_going: Callable[[], bool], period_s: float = 0.1) -> None:
         """Redraw in the terminal every ``period_s`` while ``keep_going()``, fitted to its
-        size (read each time: a resized window refits); the last frame stays on screen."""
+        size (read each time: a resized window refits); the last frame stays on screen.
+        Not a terminal (a file, a pipe): a whole frame every ``FRAME_S`` as it goes, where
+        rich's live display wrote nothing until the end (issue 74)."""
         console = Console()
+        if not console.is_terminal:
+            self._write_frames(console, keep_going, period_s)
+            return
         with Live(self.view(console.size), console=console,
                   refresh_per_second=1 / period_s) as screen:  # fmt: skip
             while keep_going():
@@ -387,6 +394,22 @@ class Watcher:
             screen.update(self.view(console.size))
         if not screen.console.is_terminal:  # (a terminal gets its line break from Live)
             screen.console.line()
+
+    def _write_frames(
+        self, console: Console, keep_going: Callable[[], bool], period_s: float
+    ) -> None:
+        """A frame now, one every ``FRAME_S`` while ``keep_going()``, and the last one."""
+        due = 0.0
+        while True:
+            going = keep_going()
+            if not going or time.monotonic() >= due:
+                console.print(self.view(console.size))
+                console.line()
+                console.file.flush()
+                due = time.monotonic() + FRAME_S
+            if not going:
+                return
+            time.sleep(period_s)
 
     def save_svg(self, path: Path) -> None:
         """The current frame as an SVG image (rich's export), e.g. for documentation."""

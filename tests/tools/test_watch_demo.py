@@ -99,6 +99,26 @@ def test_watch_once_shows_a_known_scene(net):
     assert re.search(r"ben\s*│\s*no", out), out
 
 
+def test_watch_into_a_pipe_writes_frames_as_it_goes(net):
+    """Issue 74: ``watch > file`` (rich's live display, no terminal) wrote nothing until it
+    exited. Into a pipe, its frames come while it runs, each whole."""
+    port = free_port()
+    net.service(listen=[endpoint(port)], base_frame="base_link")
+    tracker = net.client(endpoint(port))
+    wait_until_answered(tracker, "hri/facing/base_link")
+    with running_cli("watch", "-e", endpoint(port), *LOOPBACK_FLAGS) as watcher:
+        assert watcher.stdout is not None
+        lines: list[str] = []
+        sec = 0
+        while not any("1 of 1 facing the robot" in line for line in lines):
+            sec += 1
+            send(tracker, "hri/bodies/ann/pose/base_link",
+                 pose_json("ann", "base_link", x=2.0, sec=sec))  # fmt: skip
+            lines.append(watcher.stdout.readline())
+            assert lines[-1] and sec < 600, "".join(lines)
+        assert watcher.poll() is None  # still running: written as it goes
+
+
 def test_demo_runs_alone_and_shows_someone_facing_the_robot():
     proc = subprocess.run(
         [sys.executable, "-m", "facing_service", "demo", "--duration-s", "3"],
