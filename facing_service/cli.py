@@ -13,6 +13,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from types import FrameType
@@ -31,7 +32,7 @@ from .config.disclosure import zenoh_failure
 from .config.patience import open_patiently
 from .config.session import waiting_for_router, zenoh_config
 from .config.settings import Settings
-from .config.sources import load_settings
+from .config.sources import load_settings, source_of
 from .contract import keys
 from .contract.errors import SettingsError
 from .contract.schemas import json_schemas
@@ -74,7 +75,7 @@ def _session_settings(args: argparse.Namespace) -> Settings | None:
     accepts, or None after printing why not (one line, naming the flag or variable)."""
     try:
         settings = load_settings(vars(args), os.environ)
-        zenoh_config(settings)
+        zenoh_config(settings, lambda field: source_of(field, vars(args), os.environ))
     except SettingsError as error:
         print(f"facing-service {args.command}: invalid setting: {error}", file=sys.stderr)
         return None
@@ -140,6 +141,13 @@ def _inspect(args: argparse.Namespace) -> int:
     return inspect_robot(settings, args.seconds, args.base_frame)
 
 
+def _crowd(args: argparse.Namespace) -> Crowd:
+    """The simulated people, stamped from now on: a second run against a long-lived
+    service continues its clock (issue 74: every run started at 1700000000 s, and the
+    next was refused as out_of_order, said as a tracker's clock started over)."""
+    return Crowd(people=args.people, seed=args.seed, start_s=time.time())
+
+
 def _simulate(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
@@ -159,7 +167,7 @@ def _simulate(args: argparse.Namespace) -> int:
         try:
             ticks = simulate(
                 publish,
-                Crowd(people=args.people, seed=args.seed),
+                _crowd(args),
                 args.base_frame,
                 settings.namespace,
                 args.rate_hz,
@@ -275,7 +283,7 @@ def _demo(args: argparse.Namespace) -> int:
     if settings is None:
         return 2
     logging.basicConfig(level=logging.WARNING)
-    crowd = Crowd(people=args.people, seed=args.seed)
+    crowd = _crowd(args)
 
     def simulated(
         publish: Callable[[str, bytes | None], None], should_stop: Callable[[], bool]
@@ -361,11 +369,17 @@ def _export_schemas(args: argparse.Namespace) -> int:
 
 def _with_suggestions(unknown: Sequence[str], flags: Sequence[str]) -> str:
     """The words a command did not take, each misspelt flag with the nearest it takes (as
-    a misspelt FACING_ variable gets one)."""
-    said = []
+    a misspelt FACING_ variable gets one) after the values that followed it (``--threshold
+    30 (did you mean --threshold-deg?)``, not before the 30: issue 74)."""
+    said: list[str] = []
+    hint = ""
     for word in unknown:
-        near = difflib.get_close_matches(word.split("=")[0], flags, n=1)
-        said.append(f"{word} (did you mean {near[0]}?)" if word.startswith("-") and near else word)
+        if word.startswith("-"):  # a flag: the previous one's words end here
+            said[-1:] = [said[-1] + hint] if said else []
+            near = difflib.get_close_matches(word.split("=")[0], flags, n=1)
+            hint = f" (did you mean {near[0]}?)" if near else ""
+        said.append(word)
+    said[-1:] = [said[-1] + hint] if said else []
     return " ".join(said)
 
 

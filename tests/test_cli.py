@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import signal
 import socket
 import subprocess
@@ -64,19 +65,22 @@ def test_signal_stops_the_real_process_cleanly(net, signum):
 
 
 @pytest.mark.parametrize(
-    ("flags", "code", "message"),
+    ("flags", "env", "code", "message"),
     [
-        (["--threshold-deg", "500"], 2, "--threshold-deg=500.0: "),  # our settings
-        (["--cfg", "no/such/key:1"], 2, "--cfg no/such/key:<redacted>: unknown zenoh config"),
+        (["--threshold-deg", "500"], {}, 2, "--threshold-deg=500.0: "),  # our settings
+        (["--cfg", "no/such/key:1"], {}, 2, "--cfg no/such/key:<redacted>: unknown zenoh config"),
+        # issue 74: named --cfg though no flag was given
+        ([], {"FACING_CFG": "no/such/key:1"}, 2, "FACING_CFG no/such/key:<redacted>: unknown"),
     ],
-    ids=["invalid-setting", "bad-zenoh-config"],
+    ids=["invalid-setting", "bad-zenoh-config", "bad-zenoh-config-variable"],
 )
-def test_refused_configuration_exits_with_a_message(flags, code, message):
+def test_refused_configuration_exits_with_a_message(flags, env, code, message):
     proc = subprocess.run(
         [sys.executable, "-m", "facing_service", "run", *flags],
         capture_output=True,
         text=True,
         timeout=30,
+        env={**os.environ, **env},
     )
     assert proc.returncode == code
     assert message in proc.stderr
@@ -169,7 +173,14 @@ def test_every_number_path_and_endpoint_is_checked_in_one_line(args, message):
 
 @pytest.mark.slow
 def test_simulate_says_what_it_publishes(net):
-    _, ep = net.service()
+    service, ep = net.service()
+    for _ in range(2):  # issue 74: a second run was refused as out_of_order (a fixed clock)
+        _simulate_once(ep)
+    assert service.status().rejected["out_of_order"] == 0
+    assert service.status().counters["clock_restarts"] == 0
+
+
+def _simulate_once(ep: str) -> None:
     proc = subprocess.run(
         [
             sys.executable,
@@ -401,6 +412,12 @@ def test_a_bad_flag_is_said_by_its_command_with_its_usage(capsys):
         err = capsys.readouterr().err.strip()
         assert err.startswith(f"facing-service {command}: unrecognized arguments: ")
         assert err.endswith(f"(see facing-service {command} --help)")
+    # issue 74: the hint came between the flag and its value ("--threshold (did you mean
+    # --threshold-deg?) 30")
+    with pytest.raises(SystemExit):
+        main(["run", "--threshold", "30", "--bogus-flag", "--verbos", "x", "y"])
+    err = capsys.readouterr().err
+    assert "--threshold 30 (did you mean --threshold-deg?) --bogus-flag --verbos x y" in err, err
 
 
 def test_every_command_describes_itself():

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any, Literal, TypedDict
 
 import zenoh
-from pydantic import ConfigDict, Field, ValidationError
+from pydantic import ConfigDict, Field, ValidationError, field_validator
 
 from ..config.session import insert, readable_file, zenoh_config
 from ..config.settings import SessionChecks, Settings
@@ -32,10 +32,10 @@ class ClientOptionFields(TypedDict, total=False):
     validates them and holds their defaults)."""
 
     mode: Literal["peer", "client"] | None
-    connect: list[str]
-    listen: list[str]
+    connect: list[str] | str
+    listen: list[str] | str
     config: Path | str | None
-    cfg: list[str]
+    cfg: list[str] | str
     no_multicast_scouting: bool
     reconnect_s: list[float]
     timeout_s: float
@@ -67,6 +67,13 @@ class ClientOptions(SessionChecks):
     tls_root_ca: Path | None = None
     tls_certificate: Path | None = None
     tls_private_key: Path | None = None
+
+    @field_validator("connect", "listen", "cfg", mode="before")
+    @classmethod
+    def _one_is_a_list_of_one(cls, value: Any) -> Any:
+        """``connect="tcp/host:7447"`` as ``connect=["tcp/host:7447"]`` (issue 74: "Input
+        should be a valid list"; a string is never a list of its characters here)."""
+        return [value] if isinstance(value, str) else value
 
     def zenoh_config(self) -> zenoh.Config:
         """The session's config: as the service's is made (``config/session.py``), then

@@ -97,7 +97,7 @@ def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Setti
     sources: dict[str, str] = {}
     for name in Settings.model_fields:
         flag = flags.get(name)
-        if flag is not None and flag != [] and flag is not False:
+        if _given(flag):
             values[name], sources[name] = flag, flag_name(name)
         elif (raw := environ.get(env_name(name))) is not None and raw != "":
             separator = _LIST_SEPARATORS.get(name)
@@ -113,6 +113,18 @@ def load_settings(flags: Mapping[str, Any], environ: Mapping[str, str]) -> Setti
         return Settings(**values)
     except ValidationError as error:
         raise SettingsError(_describe(error, values, sources)) from None
+
+
+def _given(flag: Any) -> bool:
+    return flag is not None and flag != [] and flag is not False
+
+
+def source_of(field: str, flags: Mapping[str, Any], environ: Mapping[str, str]) -> str:
+    """What set ``field``, as ``load_settings`` chose: its flag, else its variable when
+    set (an error about the value names it: issue 74, FACING_CFG's were said as --cfg)."""
+    if not _given(flags.get(field)) and environ.get(env_name(field)):
+        return env_name(field)
+    return flag_name(field)
 
 
 def unknown_variables(environ: Mapping[str, str]) -> list[str]:

@@ -72,6 +72,14 @@ class Time(int):
     def __repr__(self) -> str:
         return f"Time.of({self.sec}, {self.nanosec})"
 
+    def __str__(self) -> str:
+        """As a person reads a stamp, in a log line or an error: seconds, to the
+        nanosecond (issue 74: ``Time.of(1700000000, 33333248)``, the repr, was said)."""
+        return f"{self.sec}.{self.nanosec:09d} s"
+
+    def __format__(self, spec: str) -> str:
+        return str(self) if not spec else int.__format__(self, spec)
+
 
 #: No stamp yet (an empty frame, a scene before anyone was seen).
 ZERO = Time(0)

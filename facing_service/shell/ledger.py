@@ -22,6 +22,7 @@ from typing import Any
 from ..contract.keys import cut
 from ..contract.poses import Rejection
 from ..contract.schemas import ServiceStatus
+from ..contract.words import counted
 from .outbox import Kind, Outbox, Publication
 
 log = logging.getLogger("facing_service")
@@ -84,8 +85,11 @@ class RejectionLog:
         self._since_summary: Counter[Rejection] = Counter()
         self._first: dict[Rejection, str] = {}
         self._last_summary = clock()
+        self._first_at = self._last_summary  # when the first rejection of a summary came
 
     def add(self, reason: Rejection, key: str, detail: str) -> None:
+        if not self._since_summary:
+            self._first_at = self._clock()
         self._since_summary[reason] += 1
         if reason not in self._first:
             self._first[reason] = cut(f"{key}: {detail}", FIRST_SAID)
@@ -104,10 +108,10 @@ class RejectionLog:
             for reason, n in sorted(self._since_summary.items(), key=lambda kv: kv[0].value)
         )
         log.warning(
-            "rejected %d samples in the last %.0f s: %s",
-            sum(self._since_summary.values()),
-            now - self._last_summary,
-            parts,
+            "rejected %s in the last %.0f s: %s",
+            counted(sum(self._since_summary.values()), "sample", "samples"),
+            max(now - self._first_at, 1.0),  # since the first of them (issue 74: since the
+            parts,  # last summary, minutes before the first, was said)
         )
         self._since_summary.clear()
         self._first.clear()

@@ -58,6 +58,18 @@ def test_each_bad_option_is_one_facing_error_naming_it(given, said):
     assert isinstance(refused.value, FacingError) and "\n" not in str(refused.value)
 
 
+def test_one_endpoint_or_entry_may_be_given_as_a_string():
+    """Issue 74: ``FacingClient(connect="tcp/…")`` was refused ("Input should be a valid
+    list"); one string is a list of one, never a list of its characters."""
+    one = FacingClient(
+        connect="tcp/127.0.0.1:7447", listen="tcp/127.0.0.1:0", cfg="scouting/delay:0"
+    )
+    assert one.options.connect == ["tcp/127.0.0.1:7447"]
+    assert one.options.listen == ["tcp/127.0.0.1:0"] and one.options.cfg == ["scouting/delay:0"]
+    with pytest.raises(SettingsError, match=r"connect=: 127\.0\.0\.1:7447: not <protocol>/"):
+        FacingClient(connect="127.0.0.1:7447")
+
+
 def test_the_typed_options_and_the_model_name_the_same_things():
     """The keywords a type checker sees are the options the model checks."""
     assert set(typing.get_type_hints(ClientOptionFields)) | {"namespace", "frame"} == set(

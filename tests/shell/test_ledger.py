@@ -106,8 +106,15 @@ def test_rejections_are_summarized_at_most_once_per_period(caplog):
     assert len(caplog.records) == 1
     ledger.rejection_log.maybe_log(force=True)
     assert caplog.records[-1].getMessage() == (
-        "rejected 1 samples in the last 1 s: capacity=1 (first: hri/bodies/z/pose/cam: full)"
+        "rejected 1 sample in the last 1 s: capacity=1 (first: hri/bodies/z/pose/cam: full)"
     )
+    # issue 74: "in the last 255 s" was the time since the last summary, not since the
+    # first rejection it counts
+    clock.now += 250.0
+    ledger.reject(Rejection.CAPACITY, "hri/bodies/z/pose/cam", "full")
+    clock.now += REJECTION_LOG_PERIOD_S
+    ledger.rejection_log.maybe_log()
+    assert caplog.records[-1].getMessage().startswith("rejected 1 sample in the last 5 s: ")
     # the counters keep every rejection whatever the log said
     assert ledger.status(Outbox(), **IDENTITY).rejected["schema"] == 1000
 
