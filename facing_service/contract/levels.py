@@ -8,6 +8,13 @@ number, prints as its name (an IntEnum's ``str()`` is the number from Python 3.1
 made from either (``Level("ENGAGED") is Level(3) is Level.ENGAGED``), and still equals its
 name, so code written when ``event.level`` was a string keeps its meaning instead of
 silently comparing False. On the wire it is the name.
+
+Equal to both its number and its name, it can hash as only one: it hashes as its name
+(issue 74: ``level in {"ENGAGED", "ENGAGING"}`` was False and ``{"ENGAGED": ...}.get(level)``
+None, where the string code it promises to keep meant True), so a set or dict keyed by
+names finds it, as one keyed by levels does; one keyed by bare numbers does not (compare
+with ``int(level)`` there). Formatted with a number's spec (``{level:d}``) it is its
+number, else its name.
 """
 
 from __future__ import annotations
@@ -29,6 +36,8 @@ class Level(IntEnum):
         return self.name
 
     def __format__(self, spec: str) -> str:
+        if spec and spec[-1] in "bcdoxXn":  # a number's format: hri_msgs' number
+            return int.__format__(self, spec)
         return format(self.name, spec)
 
     def __eq__(self, other: object) -> bool:
@@ -37,7 +46,8 @@ class Level(IntEnum):
     def __ne__(self, other: object) -> bool:
         return not self == other
 
-    __hash__ = IntEnum.__hash__  # as the number's: a dict keyed by levels finds 3
+    def __hash__(self) -> int:
+        return hash(self.name)
 
     @classmethod
     def _missing_(cls, value: object) -> Level | None:

@@ -39,7 +39,11 @@ def test_a_level_compares_as_its_number_and_still_equals_its_name():
     assert "ENGAGED" == Level.ENGAGED  # noqa: SIM300 (the string on the left, on purpose)
     assert Level.ENGAGED != "DISENGAGED" and Level.ENGAGED != 1
     assert Level.DISENGAGED < Level.ENGAGED
-    assert {Level.ENGAGED: "x"}[3] == "x"
+    # issue 74: it hashed as its number, so the string code it keeps the meaning of failed
+    assert Level.ENGAGED in {"ENGAGED", "ENGAGING"} and Level.ENGAGED not in {"DISENGAGED"}
+    assert {"ENGAGED": "x"}.get(Level.ENGAGED) == "x" and {Level.ENGAGED: "x"}["ENGAGED"] == "x"
+    assert {Level.ENGAGED: "x"}[Level(3)] == "x" and {3: "x"}[int(Level.ENGAGED)] == "x"
+    assert f"{Level.ENGAGED:d}" == "3" and f"{Level.ENGAGED:02d}" == "03"
 
 
 def test_a_wire_model_reads_the_name_and_hands_out_a_level():

@@ -130,3 +130,38 @@ def test_the_groups_said_do_not_depend_on_the_order_people_are_listed_in():
             out = memory.groups(labels[order])
         said.append({frozenset(ids[order[i]] for i in np.flatnonzero(out == g)) for g in set(out)})
     assert said[0] == said[1]
+
+
+@pytest.mark.parametrize("rate_hz", [10.0, 2.0, 1.0, 0.25])
+def test_a_pair_is_said_after_half_the_memory_at_any_rate_the_scene_is_worked_out(rate_hz):
+    """Issue 74: each step was capped at 0.5 s, so below 2 Hz the memory ran slow: a 4 s
+    memory said a pair after 2 s at 10 or 2 Hz, 4 s at 1 Hz, 16 s at 0.25 Hz. Now within
+    one period of half the memory (the first reading counts from the next computation)."""
+    period = 1.0 / rate_hz
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0), period_s=period)
+    apart = np.asarray([0, 1], dtype=np.int64)
+    together = np.asarray([0, 0], dtype=np.int64)
+    t = 0.0
+    while t < 10.0:  # long apart: no evidence
+        memory.headings(["a", "b"], np.radians([0.0, 180.0]), t)
+        memory.groups(apart)
+        t += period
+    started = t
+    while True:
+        memory.headings(["a", "b"], np.radians([0.0, 180.0]), t)
+        if memory.groups(together).tolist() == [0, 0]:
+            break
+        t += period
+        assert t - started < 20.0, "never said"
+    assert 2.0 - 1e-9 <= t - started <= 2.0 + period + 1e-9, (rate_hz, t - started)
+
+
+def test_a_stall_longer_than_the_period_is_no_evidence():
+    """What the cap is for: a service that computed nothing for 30 s (a pause) counts
+    half again a period of it, not 30 s."""
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0), period_s=0.1)
+    feed(memory, "ab", [0, 180], [0, 1], 0.0, 5.0)  # long apart: no evidence
+    memory.headings(["a", "b"], np.radians([0.0, 180.0]), 5.0)
+    memory.groups(np.asarray([0, 0], dtype=np.int64))  # together, then a 30 s stall
+    memory.headings(["a", "b"], np.radians([0.0, 180.0]), 35.0)
+    assert memory.groups(np.asarray([0, 0], dtype=np.int64)).tolist() == [0, 1]

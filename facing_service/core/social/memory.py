@@ -72,8 +72,14 @@ class SceneMemory:
     nobody moved, has seen that long of them), then takes the new reading: it weighs
     from the next computation on, a period later while the memory settles."""
 
-    def __init__(self, params: MemoryParams) -> None:
+    def __init__(self, params: MemoryParams, period_s: float = 0.0) -> None:
+        """``period_s``: how often the scene is worked out while the memory settles. A
+        step counts at most ``MAX_GAP_S`` (a stall is no evidence) or half again the
+        period, whichever is longer: capped at 0.5 s, a scene worked out once a second
+        (``--group-rate-hz 1``) said a pair after 4 s of a 4 s memory, at 0.25 Hz 16 s
+        (issue 74), where half the memory is promised."""
         self.params = params
+        self._longest_step = max(MAX_GAP_S, 1.5 * period_s)
         self._ids: list[str] = []
         self._facing = np.zeros((0, 2))  # (n, 2): the faded mean of heading unit vectors
         self._readings = np.zeros((0, 2))  # (n, 2): the newest reading's unit vector
@@ -87,7 +93,8 @@ class SceneMemory:
         given their reading ``headings`` at ``now``."""
         reading = np.column_stack([np.cos(headings), np.sin(headings)])
         self._align(ids, reading)
-        self._dt = 0.0 if self._last is None else min(max(now - self._last, 0.0), MAX_GAP_S)
+        step = 0.0 if self._last is None else max(now - self._last, 0.0)
+        self._dt = min(step, self._longest_step)
         self._last = now
         tau = self.params.heading_s
         if tau > 0:

@@ -151,7 +151,7 @@ class FrameScene:
     def __post_init__(self) -> None:
         self.tracker = GroupTracker(self.params.hold_s)
         self.room = RoomScale(self.params.scale)
-        self.memory = SceneMemory(self.params.memory)
+        self.memory = SceneMemory(self.params.memory, self.params.period_s)
 
     @property
     def pending(self) -> bool:
