@@ -48,20 +48,25 @@ def without_native_chatter() -> Iterator[None]:
 
 def _pass_on(reader: int, target: int) -> None:
     """Each line read from ``reader`` but the chatter, to ``target``; both closed at the
-    end. On a failure, fd 2 is ``target`` again and the rest is passed as it comes."""
-    line = b""
+    end. On a failure, fd 2 is ``target`` again and the rest is passed as it comes: the
+    unwritten part of the line at hand first, once (issue 74: a whole line after a
+    partial write said its start twice, and the last line again after a failed read)."""
+    owed = b""  # read and to be passed, not yet written
     try:
         with os.fdopen(reader, "rb") as pipe:
             try:
                 for line in pipe:
-                    if not CHATTER.match(line):
-                        _write_all(target, line)
+                    owed = line
+                    if CHATTER.match(line):
+                        owed = b""
+                    while owed:
+                        owed = owed[os.write(target, owed) :]
             except Exception:
                 with contextlib.suppress(OSError):  # nowhere left to say it
-                    _write_all(target, line)  # this line first, then fd 2 around the pipe
+                    _write_all(target, owed)  # this line's rest, then fd 2 around the pipe
                     os.dup2(target, 2)
-                    while line := pipe.read1(65536):  # and what the pipe still holds
-                        _write_all(target, line)
+                    while rest := pipe.read1(65536):  # and what the pipe still holds
+                        _write_all(target, rest)
     finally:
         os.close(target)
 

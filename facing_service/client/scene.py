@@ -156,10 +156,12 @@ class SceneListener:
         self._take(said)
 
     def _take(self, said: FrameGroups | FrameGazing) -> None:
-        if said.instance is not None and not self._is_live(said.instance):
-            self.dropped_from_dead += 1
-            return
+        """From the inbox's thread and the seeding one: the count under the lock too
+        (issue 74: ``+= 1`` outside it, from three threads, could lose counts)."""
         with self._lock:
+            if said.instance is not None and not self._is_live(said.instance):
+                self.dropped_from_dead += 1
+                return
             if isinstance(said, FrameGazing):
                 self._cache.apply_gazing(said)
                 return

@@ -40,7 +40,8 @@ def overlapping(ours: str, theirs: str) -> bool:
 
 class Neighbours:
     """Watches the namespace's service tokens on ``session`` and says each other service
-    whose frames overlap ``base_frame`` (once per zenoh id)."""
+    whose frames overlap ``base_frame`` (once per zenoh id; one that reads other frames
+    at info level, once: that the question was asked and answered)."""
 
     def __init__(self, session: zenoh.Session, namespace: str, base_frame: str) -> None:
         self._session, self._namespace, self._base_frame = session, namespace, base_frame
@@ -88,9 +89,14 @@ class Neighbours:
             except ValueError:
                 continue
             theirs = str(other.config.get("base_frame", keys.ALL_FRAMES))
-            if not overlapping(self._base_frame, theirs):
-                continue
             self._said.add(str(replier.zid))
+            if not overlapping(self._base_frame, theirs):  # sharded by frame: fine, said once
+                log.info(
+                    "another facing service in namespace %r reads other frames: instance "
+                    "%s (base frame %s; this one's %s)",
+                    self._namespace, other.instance, theirs, self._base_frame,
+                )  # fmt: skip
+                continue
             log.warning(
                 "another facing service reads the same poses in namespace %r: instance %s "
                 "(zenoh id %s, base frame %s; this one's %s): consumers get every result "

@@ -84,3 +84,63 @@ def test_a_passer_that_fails_gives_fd_2_back(monkeypatch, tmp_path: Path):
     # every byte, none blocked or lost; the order of what the pipe still held against
     # what went around it after fd 2 came back is not kept (CI saw "first" after 100 x)
     assert said.count(b"first\n") == 1 and said.count(b"x") == 200_000 and len(said) == 200_006
+
+
+def _pass(lines: list[bytes], write, monkeypatch, tmp_path: Path) -> bytes:
+    """``_pass_on`` run here over a pipe holding ``lines``, into a file, with ``write``
+    as its os.write (fd 2 untouched: its dup2 is recorded, not done)."""
+    reader, writer = os.pipe()
+    os.write(writer, b"".join(lines))
+    os.close(writer)
+    out = tmp_path / "passed.txt"
+    target = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
+    monkeypatch.setattr(native_log.os, "dup2", lambda fd, to: None)
+    monkeypatch.setattr(native_log.os, "write", write)
+    native_log._pass_on(reader, target)
+    monkeypatch.undo()
+    return out.read_bytes()
+
+
+def test_a_write_that_fails_half_way_passes_the_rest_of_its_line_once(monkeypatch, tmp_path):
+    """Issue 74, by reading: after a partial write failed, the whole line was written
+    again (its start twice)."""
+    real, calls = os.write, [0]
+
+    def partial_then_fails(fd: int, data: bytes) -> int:
+        calls[0] += 1
+        if calls[0] == 2:  # the second line: half of it, then a failure
+            return real(fd, data[:4])
+        if calls[0] == 3:
+            raise OSError("a full disk, for a moment")
+        return real(fd, data)
+
+    said = _pass([b"one\n", b"two-two\n", b"three\n"], partial_then_fails, monkeypatch, tmp_path)
+    assert said == b"one\ntwo-two\nthree\n"
+
+
+def test_a_read_that_fails_writes_no_line_twice(monkeypatch, tmp_path):
+    """Issue 74, by reading: after the read itself failed, the previous line, already
+    written, was written again."""
+
+    class FailsAfterOne:
+        """The pipe as a file: one line, then a read that fails; the rest read raw."""
+
+        def __init__(self, reader: int, _mode: str) -> None:
+            self._reader = reader
+
+        def __enter__(self) -> FailsAfterOne:
+            return self
+
+        def __exit__(self, *_: object) -> None:
+            os.close(self._reader)
+
+        def __iter__(self):
+            yield os.read(self._reader, 4)  # "one\n"
+            raise OSError("a read that fails")
+
+        def read1(self, size: int) -> bytes:
+            return os.read(self._reader, size)
+
+    monkeypatch.setattr(native_log.os, "fdopen", FailsAfterOne)
+    said = _pass([b"one\n", b"two\n"], os.write, monkeypatch, tmp_path)
+    assert said == b"one\ntwo\n"

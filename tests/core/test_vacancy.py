@@ -51,3 +51,18 @@ def test_a_group_gone_takes_its_places_with_it():
     v.seen({}, {1: PAIR}, set(), WHERE)
     pair = np.array([WHERE["a"], WHERE["b"]])
     assert v.place(1, pair, NOBODY, clear_m=0.7, body_m=0.3) is None
+
+
+def test_two_leaving_at_once_leave_the_place_nearest_the_robot_whatever_their_names():
+    """Issue 74, by reading: the largest id was taken as "the last to leave" when several
+    left in one update: the place kept depended on what people were called."""
+    places = {}
+    for near, far in (("x", "y"), ("y", "x")):
+        quartet = Group(1, frozenset({"a", "b", near, far}), False, (3.0, 0.0))
+        where = {"a": (3.0, 0.6), "b": (3.0, -0.6), near: (2.4, 0.0), far: (3.6, 0.0)}
+        v = Vacancies()
+        v.seen({1: quartet}, {}, {quartet.members}, where)
+        v.seen({1: PAIR}, {1: quartet}, {PAIR.members}, {**where, near: (9, 9), far: (8, 8)})
+        pair = np.array([where["a"], where["b"]])
+        places[near] = v.place(1, pair, NOBODY, clear_m=0.5, body_m=0.3)
+    assert places == {"x": (2.4, 0.0), "y": (2.4, 0.0)}

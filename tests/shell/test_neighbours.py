@@ -45,11 +45,19 @@ def test_a_second_service_of_another_instance_name_is_said_at_once(net, caplog):
     wait_until(lambda: len(said(caplog)) == 2, 5.0, "both services said the other at once")
 
 
-def test_services_sharded_by_frame_say_nothing(net, caplog):
-    caplog.set_level(logging.WARNING, logger="facing_service")
+def test_services_sharded_by_frame_judge_each_other_and_warn_of_nothing(net, caplog):
+    """Each judged the other (issue 74: the test passed had no question ever been asked),
+    and neither warned."""
+    caplog.set_level(logging.INFO, logger="facing_service")
     _, ep = net.service(base_frame="map")
     net.service(base_frame="camera_left", connect=[ep])
-    time.sleep(3.0)  # both asked the other's status (ASK_S) by now
+
+    def judged() -> list[str]:
+        return [r.getMessage() for r in caplog.records if "reads other frames" in r.getMessage()]
+
+    wait_until(lambda: len(judged()) == 2, 15.0, "each service judged the other")
+    assert any("base frame camera_left; this one's map" in line for line in judged())
+    assert any("base frame map; this one's camera_left" in line for line in judged())
     assert said(caplog) == []
 
 

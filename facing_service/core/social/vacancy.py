@@ -46,17 +46,19 @@ class Vacancies:
     ) -> None:
         """The groups as said now (and as said ``before`` this update), the memberships the
         computation ``found``, and where everyone stands (``where``): a group that kept its
-        id but lost members (others may have joined it) leaves the place the last of them
-        stood in."""
+        id but lost members (others may have joined it) leaves the place the member stood
+        in; several leaving in one update leave the one nearest the robot (the frame's
+        origin: the least way to go), whatever they are called (issue 74: the largest id
+        was taken for "the last")."""
         for gid, group in groups.items():
             old = before.get(gid)
             if old is not None and old.members - group.members and gid in self._seats:
                 seats = self._seats[gid]
-                gone = [m for m in sorted(old.members - group.members) if m in seats]
+                gone = [seats[m] for m in old.members - group.members if m in seats]
                 stayed = [where[m] for m in group.members if m in where]
                 if gone and stayed:
                     x, y = np.mean(stayed, axis=0).tolist()
-                    self._left[gid] = (seats[gone[-1]], (x, y))
+                    self._left[gid] = (min(gone, key=lambda s: (math.hypot(*s), s)), (x, y))
             if group.members in found:  # seen together now: where they stand
                 self._seats[gid] = {m: where[m] for m in group.members if m in where}
         for gid in set(self._seats) - set(groups):
