@@ -167,14 +167,13 @@ def _finite(text: str) -> float:
 
 
 def _field_of_view(text: str) -> float:
-    """An argparse type: a field of view a camera can have (what a face's distance is
-    worked out from: 179° read every face 9 cm away, issue 74)."""
-    value = _number(0, strict=True)(text)
-    low, high = FIELD_OF_VIEW_DEG
+    """An argparse type: a field of view a camera can have (179° read every face 9 cm away,
+    issue 74)."""
+    value, (low, high) = _number(0, strict=True)(text), FIELD_OF_VIEW_DEG
     if not low <= value <= high:
         raise argparse.ArgumentTypeError(
-            f"must be from {low:g} to {high:g} degrees (a camera's horizontal field of view), "
-            f"got {text}"
+            f"must be from {low:g} to {high:g} degrees (a "
+            f"camera's horizontal field of view), got {text}"
         )
     return value
 
@@ -251,16 +250,10 @@ def _add_camera_command(commands: Any) -> None:
     )
     camera.add_argument("--images-fps", type=POSITIVE, default=5.0,
                         help="with --images: images a second (default 5)")  # fmt: skip
-    camera.add_argument(
-        "--width", type=_number(1, strict=False, integer=True),
-        help="frame width asked of a camera (default 640); with --images, the frames' "
-        "(default: the first image's own)",
-    )  # fmt: skip
-    camera.add_argument(
-        "--height", type=_number(1, strict=False, integer=True),
-        help="frame height asked of a camera (default 480); with --images, the frames' "
-        "(default: the first image's own)",
-    )  # fmt: skip
+    for side, asked in (("width", 640), ("height", 480)):
+        camera.add_argument(f"--{side}", type=_number(1, strict=False, integer=True),
+                            help=f"frame {side} asked of a camera (default {asked}); with "
+                            "--images, the frames' (default: the first image's own)")  # fmt: skip
     camera.add_argument(
         "--base-frame", default="base_link",
         help="the frame of the poses (default base_link, as run, watch and view: the camera "

@@ -106,9 +106,14 @@ class Serial:
             call, args = item
             try:
                 call(*args)
-            except Exception:  # one bug must never end the thread
-                log.exception("facing client: %s raised", getattr(call, "__name__", call))
+            except Exception:  # one bug, or one bad sample, must never end the thread
+                about = next((f" on {a.key_expr}" for a in args if isinstance(a, zenoh.Sample)), "")
+                log.exception("facing client: could not handle %s%s", _name(call), about)
             self.overflow.had_room()
+
+
+def _name(call: Callable[..., object]) -> str:
+    return str(getattr(call, "__name__", call))
 
 
 class Inbox(Serial):

@@ -18,7 +18,7 @@ import json
 import math
 import threading
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -53,31 +53,6 @@ class PersonView:
     since_s: float | None  # how long the facing decision has held, in pose time
     engagement: str | None = None  # the engagement level, when known
     since_seen: bool = True  # False: held since before the view started (at least since_s)
-    also: tuple[str, ...] = ()  # the same human's other frames (a person's face, body)
-
-    @property
-    def label(self) -> str:
-        """How the person is named: ``person_rorql = face_959e0`` for one human."""
-        return " = ".join((self.body_id, *self.also))
-
-
-def same_humans(states: Mapping[str, FacingState]) -> dict[str, tuple[str, ...]]:
-    """The REP 155 person whose pose is one of its face's or body's (ROS 2 input: the
-    service looks ``person_<id>`` up in the frame ``/humans/persons/<id>/face_id`` names),
-    with those: one human, said once. Found as results of one lookup: the same stamp,
-    position and heading to the bit; a person with no such twin stands alone."""
-    by_pose: dict[tuple[object, ...], list[str]] = {}
-    for body_id, s in states.items():
-        p = s.position
-        key = (s.stamp.sec, s.stamp.nanosec, p.x, p.y, p.z, s.heading_deg)
-        by_pose.setdefault(key, []).append(body_id)
-    out = {}
-    for ids in by_pose.values():
-        persons = [i for i in ids if i.startswith("person_")]
-        parts = [i for i in ids if i.startswith(("face_", "body_"))]
-        if len(persons) == 1 and parts:
-            out[persons[0]] = tuple(sorted(parts))
-    return out
 
 
 def arrow(yaw_deg: float) -> str:
@@ -177,7 +152,7 @@ def _map(
         grid[row][col] = arrow(person.yaw_deg)
         styles[(row, col)] = style
         room = width - col - 1  # the columns right of the arrow, up to the map's edge
-        for i, char in enumerate(person.label[:room]):  # every arrow named, as far as fits
+        for i, char in enumerate(person.body_id[:room]):  # every arrow named, as far as fits
             grid[row][col + 1 + i] = char
             styles[(row, col + 1 + i)] = "green" if person.facing else "yellow"
     canvas = Text()
@@ -229,7 +204,7 @@ def _table(
         table.add_column(name, justify="left" if name == "id" else "right")
     for person in sorted(people, key=lambda p: keys.natural_order(p.body_id)):
         table.add_row(
-            person.label,
+            person.body_id,
             "yes" if person.facing else "no",
             _number(person.angle_deg, 1),
             _number(person.distance_m, 2),
@@ -342,12 +317,8 @@ class Watcher:
         with self._lock:
             since = dict(self._since)
             levels = dict(self._levels)
-        humans = same_humans(states)
-        merged = {part for parts in humans.values() for part in parts}
-        people = []
-        for body_id, state in states.items():
-            if body_id in merged:  # said with its person
-                continue
+        people = []  # one a participant: the service says a person's face and body as it
+        for body_id, state in states.items():  # (issue 75)
             changed = since.get(body_id)
             people.append(
                 PersonView(
@@ -362,7 +333,6 @@ class Watcher:
                     None if changed is None else changed[3] - changed[1],
                     levels.get(body_id),
                     changed is None or changed[2],
-                    humans.get(body_id, ()),
                 )
             )
         return people

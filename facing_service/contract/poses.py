@@ -129,11 +129,18 @@ class Rejection(str, Enum):
 @dataclass(frozen=True, slots=True)
 class Pose:
     """A validated pose: its stamp, and plain tuples the core can stack into arrays; unit
-    quaternion."""
+    quaternion. ``stance``: where the same human stands (translation, rotation), when this
+    pose is where they look from another frame (a ROS 4HRI person's face, its body apart:
+    issue 75); None when the two are one."""
 
     stamp: Time
     translation: tuple[float, float, float]
     rotation: tuple[float, float, float, float]
+    stance: Stance | None = None
+
+
+#: A human's stance: where their body stands, its translation and unit quaternion.
+Stance = tuple[tuple[float, float, float], tuple[float, float, float, float]]
 
 
 @dataclass(frozen=True, slots=True)

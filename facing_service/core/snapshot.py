@@ -75,15 +75,16 @@ class TurnSnapshot:
         return poses
 
     def people(self, frame_id: str) -> tuple[list[Person], Time]:
-        """A frame's people, as the scene sees them, and their newest stamp."""
+        """A frame's people, as the scene sees them (where each stands, and where they look
+        from when that is another frame: issue 75), and their newest stamp."""
         poses = self.poses(frame_id)
         levels = self.levels
         people = [
             Person(
                 body,
-                p.translation,
-                p.rotation,
+                *(p.stance or (p.translation, p.rotation)),
                 levels.get(BodyRef(frame_id=frame_id, body_id=body)) in _ENGAGING,
+                None if p.stance is None else (p.translation, p.rotation),
             )
             for body, p in poses
         ]

@@ -4,12 +4,12 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
 
 - The tracked lists define who exists: ``/humans/bodies/tracked``, ``/humans/faces/tracked``
   and ``/humans/persons/tracked``. An id that leaves its list is lost at once.
-- Each tracked id is one subject in our key space, named ``<kind>_<id>`` (``body_1f3a``,
-  ``face_959e0``, ``person_rorql``): the REP 155 frame name for bodies and faces, so the
-  same person's body and face never collide, and a person keyed by its person id.
-- A body's pose is its ``body_<id>`` frame, a face's its ``face_<id>`` frame (both x
-  forward, REP 155); a person's is its face's frame when ``/humans/persons/<id>/face_id``
-  names one, else its body's (``body_id``): engagement is about where the head points.
+- One human is one subject, a participant (``participants``: a tracked person, and each
+  face or body no tracked person links), named ``<kind>_<id>`` (``body_1f3a``,
+  ``face_959e0``, ``person_rorql``: REP 155's frame names, a person by its id). A face or
+  body that becomes a person's is lost as a subject; one no person links comes back.
+- A person's pose is where it looks (its face, else its body), with its ``stance`` (its
+  body apart, at the same time); a body's or face's is its own frame (x forward).
 - Each pose is tf2's lookup of that frame in the base frame at the latest common time,
   redone whenever a transform on its chain (or the base frame's) changes; a pose is
   emitted only when that time moves forward, so nothing already said is repeated.
@@ -34,7 +34,8 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
 - Links cannot amplify: a face or body frame is the pose of at most one person at a time,
   the first tracked person to resolve it, until that person is lost or relinked; another
   person linked to it gets no pose (``link_taken``, counted once per link), so 200 cloned
-  person ids pointing at a real face make no results. Frame names are bounded
+  person ids pointing at a real face make no results, and the face is that first person's
+  alone. Frame names are bounded
   (``MAX_FRAME_NAME``, ``tf_frame_name_too_long``).
 """
 
@@ -45,13 +46,14 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 from ..contract import keys
-from ..contract.poses import MAX_TRANSLATION_M, Pose
+from ..contract.poses import MAX_TRANSLATION_M, Pose, Stance
 from ..contract.robot import DEFAULT_MAX_FRAMES
 from ..contract.stamps import NS_PER_S, Time
 from ..core.records import PoseSample
 from ..core.tf.buffer import TfBuffer
 from ..core.tf.errors import TfError
 from ..core.tf.geometry import RigidTransform
+from .participants import PERSONS, aliases, look_frame, stance_frame
 
 #: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
 KINDS = {
@@ -144,6 +146,7 @@ class People:
         self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}  # person -> id
         self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
         self._owner: dict[str, str] = {}  # frame -> the person subject whose pose it is
+        self._aliases: dict[str, str] = {}  # face or body subject -> the person it is
         self._taken: set[str] = set()  # person subjects refused as link_taken (said once)
         self._by_frame: dict[str, set[str]] | None = None  # frame -> subjects; None: stale
         # /tf messages whose every transform went back in time: (publisher, count, since)
@@ -269,9 +272,10 @@ class People:
             self._by_frame = None
         for ros_id in sorted(gone):
             subject = prefix + ros_id
-            self._last.pop(subject, None)
+            if self._last.pop(subject, None) is not None or subject not in self._aliases:
+                update.lost.append(subject)
             self._release(subject)
-            update.lost.append(subject)
+        self._realias(update)
         self._resolve([prefix + ros_id for ros_id in sorted(new)], update)
         return update
 
@@ -290,13 +294,14 @@ class People:
             links[person_id] = target
             self._forget_links(links, link, update)
         self._by_frame = None
-        if person_id in self._tracked["/humans/persons/tracked"]:
+        self._realias(update)
+        if person_id in self._tracked[PERSONS]:
             self._resolve(["person_" + person_id], update)
         return update
 
     def _forget_links(self, links: dict[str, str], link: str, update: Update) -> None:
         """Over ``max_ids`` links of a kind: forget the oldest of untracked persons."""
-        tracked = self._tracked["/humans/persons/tracked"]
+        tracked = self._tracked[PERSONS]
         while len(links) > self.max_ids:
             oldest = next((p for p in links if p not in tracked), None)
             if oldest is None:
@@ -309,18 +314,39 @@ class People:
     # -- state -----------------------------------------------------------------------------
 
     def subjects(self) -> list[str]:
-        """Every tracked subject, by our name."""
-        return [KINDS[topic][0] + i for topic, ids in self._tracked.items() for i in sorted(ids)]
+        """Every participant tracked, by our name: each tracked person, and each tracked
+        face or body that no tracked person links (those that one does are its)."""
+        return [
+            subject
+            for topic, ids in self._tracked.items()
+            for i in sorted(ids)
+            if (subject := KINDS[topic][0] + i) not in self._aliases
+        ]
+
+    def participant_of(self, subject: str) -> str:
+        """Whose a subject is: the person that links a face or body, else itself."""
+        return self._aliases.get(subject, subject)
 
     def frame_of(self, subject: str) -> str | None:
-        """The TF frame a subject's pose is read from, or None when it has none (yet)."""
+        """The TF frame a subject's pose (where it looks) is read from, or None when it has
+        none (yet)."""
         prefix, _, ros_id = subject.partition("_")
         if prefix != "person":
             return subject  # body_<id> and face_<id> are REP 155's frame names
-        for link_prefix in ("face_", "body_"):
-            if target := self._links[link_prefix].get(ros_id):
-                return link_prefix + target
-        return None
+        return look_frame(ros_id, self._tracked, self._links)
+
+    def _realias(self, update: Update) -> None:
+        """Which faces and bodies are a tracked person's, after a list or a link changed: one
+        that becomes a person's is lost as a subject of its own (the person goes on); one
+        that no longer is comes back as its own."""
+        before, self._aliases = self._aliases, aliases(self._tracked, self._links, self._owner)
+        if before == self._aliases:
+            return
+        self._by_frame = None
+        for alias in sorted(self._aliases.keys() - before.keys()):
+            if self._last.pop(alias, None) is not None:
+                update.lost.append(alias)
+        self._resolve(sorted(before.keys() - self._aliases.keys()), update)
 
     def _release(self, subject: str) -> None:
         """``subject`` no longer holds a frame (lost, or relinked)."""
@@ -345,6 +371,8 @@ class People:
 
     def _resolve(self, subjects: Iterable[str], update: Update) -> None:
         for subject in subjects:
+            if subject in self._aliases:
+                continue  # a person's face or body: its poses are the person's
             frame = self.frame_of(subject)
             if (
                 frame is None
@@ -365,6 +393,22 @@ class People:
             self._last[subject] = stamp
             update.poses.append(self._sample(subject, frame, transform, stamp))
 
+    def _stance(self, subject: str, stamp: int) -> Stance | None:
+        """Where a person stands at ``stamp`` (its body, at that time, else its latest), or
+        None when it has no body apart or it cannot be looked up yet."""
+        prefix, _, ros_id = subject.partition("_")
+        frame = stance_frame(ros_id, self._tracked, self._links) if prefix == "person" else None
+        if frame is None or not self.tf.has_frame(frame):
+            return None
+        for at in (stamp, 0):
+            try:
+                transform, _ = self.tf.lookup(self.base_frame, frame, at)
+            except TfError:
+                continue
+            pose = _pose(transform, stamp)
+            return pose.translation, pose.rotation
+        return None
+
     def _first_results(self, subject: str, frame: str, upto: int, update: Update) -> None:
         """The subject's poses before ``upto`` that its frame holds (see the module's rules);
         a stamp that cannot be looked up (another link has no data then) is skipped."""
@@ -380,9 +424,12 @@ class People:
         self, subject: str, frame: str, transform: RigidTransform, stamp: int
     ) -> PoseSample:
         profile = "head" if frame.startswith("face_") else "body"
+        pose = _pose(transform, stamp)
+        if (stance := self._stance(subject, stamp)) is not None:
+            pose = Pose(pose.stamp, pose.translation, pose.rotation, stance)
         return PoseSample(
             keys.BodyRef(frame_id=self.base_frame, body_id=subject),
-            _pose(transform, stamp),
+            pose,
             profile,
         )
 

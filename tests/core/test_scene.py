@@ -281,3 +281,31 @@ def test_with_the_memory_a_heading_flickering_for_one_reading_moves_no_group():
         if k > 40:
             assert [sorted(g.members) for g in scene.tracker.groups.values()] == [["a", "b"]]
     assert said is not None
+
+
+def test_a_participant_looks_with_their_face_and_stands_with_their_body():
+    """Issue 75: where a person has both, the face says who they look at and the body how
+    they stand. a and b stand face to face (a group); a's face turns to the robot: a faces
+    the robot, not b, and the group holds (bodies did not move)."""
+    scene = FrameScene("map", PARAMS)
+    a_body = person("a", 3.0, 2.0, 0)
+    toward_robot = person("a", 3.0, 2.0, math.degrees(math.atan2(-2.0, -3.0)))
+    a = replace(a_body, look=(toward_robot.translation, toward_robot.rotation))
+    b = person("b", 4.2, 2.0, 180)
+    scene.update([a, b], Time.of(1), 0.0)
+    held = scene.update([a, b], Time.of(2), 0.35)
+    assert held is not None and [sorted(g.members) for g in held.groups] == [["a", "b"]]
+    assert ("a", ROBOT) in held.gazing and ("a", "b") not in held.gazing
+    assert ("b", "a") in held.gazing  # b looks at a, wherever a looks
+
+
+def test_a_turned_face_alone_is_said_though_nobody_moved_where_they_stand():
+    """The scene is worked out again when only where someone looks changed."""
+    scene = FrameScene("map", PARAMS)
+    b = person("b", 4.2, 2.0, 180)
+    a = person("a", 3.0, 2.0, 0)
+    scene.update([a, b], Time.of(1), 0.0)
+    scene.update([a, b], Time.of(2), 0.35)
+    away = person("a", 3.0, 2.0, 90)
+    turned = scene.update([replace(a, look=(away.translation, away.rotation)), b], Time.of(3), 0.5)
+    assert turned is not None and ("a", "b") not in turned.gazing

@@ -31,3 +31,17 @@ def test_people_are_the_frames_poses_and_their_newest_stamp():
     people, newest = TurnSnapshot(t).people("cam")
     assert sorted(p.id for p in people) == ["a", "b"] and newest == Time.of(3)
     assert TurnSnapshot(t).people("nowhere") == ([], Time(0))
+
+
+def test_a_pose_with_a_stance_is_a_person_standing_there_looking_from_the_pose():
+    """Issue 75: a ROS4HRI person's pose is its face; its body, where it stands, comes as
+    the pose's stance: the scene stands them there and lets them look from the face."""
+    from dataclasses import replace
+
+    t = tracker()
+    looking = sample("p", sec=1, x=2.0)
+    body = ((2.2, 0.3, 0.0), (0.0, 0.0, 0.0, 1.0))
+    t.ingest([replace(looking, pose=replace(looking.pose, stance=body))], 0.0)
+    (person,) = TurnSnapshot(t).people("cam")[0]
+    assert (person.translation, person.rotation) == body
+    assert person.look == (looking.pose.translation, looking.pose.rotation)

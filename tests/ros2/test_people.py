@@ -153,8 +153,106 @@ def test_cloned_person_ids_pointing_at_a_real_face_make_no_results():
     assert update.poses == []
     assert [r for r, _ in refused] == ["link_taken"] * 200
     poses = people.on_tf([tf_in("base_link", "face_f1", 2, (1.0, 0, 0))], static=False).poses
-    assert sorted(p.body_id for p in poses) == ["face_f1", "person_real"]
+    assert sorted(p.body_id for p in poses) == ["person_real"]  # the face is theirs (issue 75)
     # the real person leaves: the face is free for the next person who resolves it
     people.on_tracked("/humans/persons/tracked", clones)
     poses = people.on_tf([tf_in("base_link", "face_f1", 3, (1.0, 0, 0))], static=False).poses
     assert {p.body_id for p in poses if p.body_id.startswith("person_")} == {"person_c0"}
+
+
+# -- one human, one participant (issue 75) ------------------------------------------------
+
+
+def _person_with_face_and_body(people: People, sec: float = 1) -> list:
+    """p1 links face f1 (at 2 m, looking at the robot) and body b1 (at 2.2 m, turned 90
+    degrees: it faces y); all three tracked."""
+    poses = []
+    poses += people.on_tf(
+        [
+            tf_in("base_link", "face_f1", sec, (2.0, 0.0, 1.6), yaw_q(180)),
+            tf_in("base_link", "body_b1", sec, (2.2, 0.0, 1.0), yaw_q(90)),
+        ],
+        static=False,
+    ).poses
+    for topic, ids in (("faces", ["f1"]), ("bodies", ["b1"])):
+        poses += people.on_tracked(f"/humans/{topic}/tracked", ids).poses
+    poses += people.on_person_link("p1", "face_id", "f1").poses
+    poses += people.on_person_link("p1", "body_id", "b1").poses
+    poses += people.on_tracked("/humans/persons/tracked", ["p1"]).poses
+    return poses
+
+
+def test_a_person_with_a_face_and_a_body_is_one_participant_looking_and_standing():
+    """The person is the participant; its face says where it looks (its pose), its body
+    how it stands (the stance, for groups); the face and the body, once the person links
+    them, are no subjects of their own: lost as such, never said again."""
+    people = People("base_link")
+    update_poses = _person_with_face_and_body(people)
+    assert people.subjects() == ["person_p1"]
+    assert people.participant_of("face_f1") == people.participant_of("body_b1") == "person_p1"
+    update = people.on_tf(
+        [
+            tf_in("base_link", "face_f1", 2, (2.0, 0.0, 1.6), yaw_q(180)),
+            tf_in("base_link", "body_b1", 2, (2.2, 0.0, 1.0), yaw_q(90)),
+        ],
+        static=False,
+    )
+    (pose,) = update.poses
+    assert pose.body_id == "person_p1" and pose.profile == "head"
+    assert pose.pose.translation == (2.0, 0.0, 1.6)  # where it looks from: the face
+    assert pose.pose.stance is not None and pose.pose.stance[0] == (2.2, 0.0, 1.0)  # the body
+    said = {p.body_id for p in update_poses}
+    assert said <= {"face_f1", "body_b1", "person_p1"}  # before the links: anonymous
+
+
+def test_a_face_and_a_body_become_a_persons_and_are_lost_as_their_own():
+    people = People("base_link")
+    people.on_tf([tf_in("base_link", "face_f1", 1, (2.0, 0.0, 1.6), yaw_q(180))], static=False)
+    (alone,) = people.on_tracked("/humans/faces/tracked", ["f1"]).poses
+    assert alone.body_id == "face_f1"  # no person links it: a participant of its own
+    people.on_person_link("p1", "face_id", "f1")
+    update = people.on_tracked("/humans/persons/tracked", ["p1"])
+    assert update.lost == ["face_f1"] and [p.body_id for p in update.poses] == ["person_p1"]
+    # the person leaves (the face stays): the face is its own participant again
+    update = people.on_tracked("/humans/persons/tracked", [])
+    assert update.lost == ["person_p1"] and [p.body_id for p in update.poses] == ["face_f1"]
+
+
+def test_two_people_with_faces_only_are_two_participants():
+    people = People("base_link")
+    people.on_tf(
+        [
+            tf_in("base_link", "face_a", 1, (2.0, 0.5, 1.6), yaw_q(180)),
+            tf_in("base_link", "face_b", 1, (2.0, -0.5, 1.6), yaw_q(180)),
+        ],
+        static=False,
+    )
+    poses = people.on_tracked("/humans/faces/tracked", ["a", "b"]).poses
+    assert sorted(p.body_id for p in poses) == ["face_a", "face_b"]
+    assert people.subjects() == ["face_a", "face_b"]
+    assert all(p.pose.stance is None for p in poses)
+
+
+def test_a_person_linking_a_face_another_holds_gets_neither_it_nor_its_results():
+    people = People("base_link")
+    people.on_tf([tf_in("base_link", "face_f1", 1, (2.0, 0.0, 1.6), yaw_q(180))], static=False)
+    people.on_tracked("/humans/faces/tracked", ["f1"])
+    people.on_person_link("first", "face_id", "f1")
+    people.on_tracked("/humans/persons/tracked", ["first"])
+    refused = people.on_person_link("second", "face_id", "f1").refused
+    update = people.on_tracked("/humans/persons/tracked", ["first", "second"])
+    assert [r for r, _ in refused + update.refused] == ["link_taken"]
+    assert people.participant_of("face_f1") == "person_first"
+    poses = people.on_tf([tf_in("base_link", "face_f1", 2, (2.0, 0.0, 1.6))], static=False).poses
+    assert [p.body_id for p in poses] == ["person_first"]
+
+
+def test_a_person_whose_face_is_lost_is_seen_through_its_body():
+    """Turned away, the face is no longer tracked: the person, still tracked, reads its
+    body (it was lost with its face's frame before, at --stale-after-s)."""
+    people = People("base_link")
+    _person_with_face_and_body(people)
+    people.on_tracked("/humans/faces/tracked", [])
+    assert people.frame_of("person_p1") == "body_b1"
+    poses = people.on_tf([tf_in("base_link", "body_b1", 2, (2.2, 0.0, 1.0))], static=False).poses
+    assert [(p.body_id, p.profile, p.pose.stance) for p in poses] == [("person_p1", "body", None)]

@@ -253,38 +253,6 @@ def test_held_is_at_least_only_for_people_there_before_the_view(net):
     assert re.search(r"late\s*│\s*yes\s*│.*│\s*2\.0\s*│", text), text
 
 
-def test_a_person_and_their_face_are_one_human_in_the_view():
-    """Issue 46: on ROS 2 input `person_<id>` (looked up in its face's frame) and that
-    `face_<id>` were two rows, "2 of 4 facing" for two people. One human is one row that
-    names both; a person with no such twin, and anyone else, stands alone."""
-    from facing_service.client.watch import same_humans
-    from facing_service.contract.poses import Stamp
-    from facing_service.contract.schemas import FacingState, Point
-
-    def state(body: str, x: float, sec: int = 1) -> FacingState:
-        return FacingState(
-            body_id=body, frame_id="base_link", stamp=Stamp(sec=sec, nanosec=0), facing=True,
-            angle_deg=3.0, distance_m=x, robot_in_body=Point(x=x, y=0.0, z=0.0),
-            threshold_deg=24.0, position=Point(x=x, y=0.0, z=1.5), heading_deg=180.0,
-        )  # fmt: skip
-
-    states = {
-        "person_rorql": state("person_rorql", 1.2),
-        "face_959e0": state("face_959e0", 1.2),
-        "person_aqfwx": state("person_aqfwx", 2.0),  # no face seen: alone
-        "face_77": state("face_77", 2.0, sec=2),  # another instant: not the same lookup
-        "body_b": state("body_b", 3.0),
-    }
-    assert same_humans(states) == {"person_rorql": ("face_959e0",)}
-    people = [
-        PersonView(b, s.position.x, 0.0, 180.0, True, 3.0, s.position.x, 24.0, 1.0,
-                   also=same_humans(states).get(b, ()))
-        for b, s in states.items() if b != "face_959e0"
-    ]  # fmt: skip
-    text = text_of(render(people, "base_link"))
-    assert "4 of 4 facing the robot" in text and "person_rorql = face_959e0" in text
-
-
 def test_where_to_stand_prints_the_places_to_join_and_to_greet(net):
     """Issue 53's example: a pair talking 3 m ahead, a person engaging 2.4 m behind: where
     to join the pair, where to greet the person."""

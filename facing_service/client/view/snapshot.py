@@ -38,7 +38,6 @@ def snapshot(
         "people": [
             {
                 "id": p.body_id,
-                "label": p.label,
                 "x": p.x,
                 "y": p.y,
                 "heading_deg": p.yaw_deg,

@@ -25,6 +25,7 @@ from typing import Protocol
 
 import numpy as np
 
+from ...contract.poses import Stance
 from ...contract.stamps import ZERO, Time
 from .. import detector
 from .groups import (
@@ -63,10 +64,18 @@ class SceneParams:
 
 @dataclass(frozen=True, slots=True)
 class Person:
+    """One participant: where they stand (groups, where to stand) and, when it is another
+    frame, where they look from (``look``: a ROS4HRI person's face beside its body; who
+    faces whom reads it, issue 75)."""
+
     id: str
     translation: tuple[float, float, float]
     rotation: tuple[float, float, float, float]  # (x, y, z, w): x is where the person faces
     engaging: bool = False  # ENGAGING or ENGAGED: one the robot may go and greet
+    look: Stance | None = None  # (translation, rotation); None: where they stand
+
+    def looking(self) -> Stance:
+        return self.look or (self.translation, self.rotation)
 
 
 class PeopleOf(Protocol):
@@ -167,13 +176,16 @@ class FrameScene:
         ids = [person.id for person in people] + [ROBOT]
         t = np.array([person.translation for person in people] + [_ROBOT_POSE[0]])
         q = np.array([person.rotation for person in people] + [_ROBOT_POSE[1]])
+        looks = [person.looking() for person in people] + [_ROBOT_POSE]
+        look_t, look_q = np.array([lt for lt, _ in looks]), np.array([lq for _, lq in looks])
         engaging = [person.engaging for person in people]
-        moved = self._worked is None or not self._worked.still(ids, t, q, engaging)
+        where = np.hstack([t, look_t]), np.hstack([q, look_q])  # what a move may change
+        moved = self._worked is None or not self._worked.still(ids, *where, engaging)
         if self._worked is not None and not moved and self.memory.settled:
             gazing, found = self.gazing, self._worked.found  # nothing to redo
             greetings = self._worked.greetings
         else:
-            gazing = self._who_faces_whom(ids, t, q)
+            gazing = self._who_faces_whom(ids, look_t, look_q)
             scale = self.room.observe(t[:-1, :2], now)  # the people's spacing, not the robot's
             heading = self.memory.headings(ids, detector.headings(q), now)
             now_labels = detect(t[:, :2], heading, p.groups, scale)
@@ -186,7 +198,7 @@ class FrameScene:
                 for m, (x, y) in zip(members(labels), centre.tolist(), strict=True)
             ]
             greetings = _greetings(ids, t[:, :2], heading, engaging, labels, p)
-            self._worked = LastComputation(ids, t, q, engaging, heading, found, greetings)
+            self._worked = LastComputation(ids, *where, engaging, heading, found, greetings)
             self._joins = {}
         before = self.tracker.groups
         changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough

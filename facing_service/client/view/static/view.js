@@ -93,7 +93,7 @@ function draw(model) {
                  class: "cone" }, shape);
     el("line", { x1: 0, y1: 0, x2: 0.45, y2: 0, stroke: colour, "stroke-width": 0.06 }, shape);
     el("circle", { cx: 0, cy: 0, r: 0.14, fill: colour }, shape);
-    const name = p.label ?? p.id;
+    const name = p.id;
     const [lx, ly] = labelSpot(sx(p) + 0.2, sy(p) - 0.2, 0.17 * name.length, placed);
     const label = el("text", { x: lx, y: ly, "font-size": 0.3, fill: "#222",
                                class: "label" }, radar);
@@ -105,7 +105,7 @@ function draw(model) {
   for (const g of model.groups) for (const m of g.members) groupOf[m] = g.id + (g.robot ? " +robot" : "");
   for (const p of people) {
     const row = rows.insertRow();
-    const cells = [p.label ?? p.id, p.level, p.facing ? "yes" : "no",
+    const cells = [p.id, p.level, p.facing ? "yes" : "no",
                    p.angle_deg === null ? "-" : p.angle_deg.toFixed(1),
                    p.distance_m === null ? "-" : p.distance_m.toFixed(2), groupOf[p.id] || "-"];
     cells.forEach((text, i) => {
