@@ -346,7 +346,8 @@ class People:
         for alias in sorted(self._aliases.keys() - before.keys()):
             if self._last.pop(alias, None) is not None:
                 update.lost.append(alias)
-        self._resolve(sorted(before.keys() - self._aliases.keys()), update)
+        own = set(self.subjects())  # no longer a person's, and still tracked: its own again
+        self._resolve(sorted(s for s in before.keys() - self._aliases.keys() if s in own), update)
 
     def _release(self, subject: str) -> None:
         """``subject`` no longer holds a frame (lost, or relinked)."""

@@ -256,3 +256,42 @@ def test_a_person_whose_face_is_lost_is_seen_through_its_body():
     assert people.frame_of("person_p1") == "body_b1"
     poses = people.on_tf([tf_in("base_link", "body_b1", 2, (2.2, 0.0, 1.0))], static=False).poses
     assert [(p.body_id, p.profile, p.pose.stance) for p in poses] == [("person_p1", "body", None)]
+
+
+def test_a_persons_face_found_again_under_a_new_id_keeps_its_engagement():
+    """Issue 75: a face lost and found again under a new id (the person manager relinks
+    the person to it) must not reset what was built up about the person: ENGAGED carries
+    over, and the new face never becomes a second participant once linked."""
+    from facing_service.contract.keys import BodyRef
+    from facing_service.contract.levels import Level
+
+    from trackers import tracker
+
+    people, core = People("base_link"), tracker()
+    clock = [0.0]
+
+    def feed(update) -> None:
+        core.ingest(update.poses, clock[0])
+        lost = [BodyRef(frame_id="base_link", body_id=s) for s in update.lost]
+        if lost:
+            core.lose(lost, clock[0])
+
+    def stream(face: str, seconds: float, start: float) -> None:
+        for i in range(int(seconds * 30)):
+            clock[0] = start + i / 30
+            looking = tf_in("base_link", face, clock[0], (1.5, 0.0, 1.6), yaw_q(180))
+            feed(people.on_tf([looking], static=False))
+
+    feed(people.on_tracked("/humans/faces/tracked", ["f1"]))
+    feed(people.on_person_link("p1", "face_id", "f1"))
+    feed(people.on_tracked("/humans/persons/tracked", ["p1"]))
+    stream("face_f1", 8.0, 1.0)
+    levels = {e.body_id: e.level for e in core.engagements()}
+    assert levels == {"person_p1": Level.ENGAGED}
+    # the face is lost; found again as f2, anonymous for a moment, then the person's
+    feed(people.on_tracked("/humans/faces/tracked", ["f2"]))
+    stream("face_f2", 0.3, 9.0)
+    feed(people.on_person_link("p1", "face_id", "f2"))
+    stream("face_f2", 1.0, 9.3)
+    levels = {e.body_id: e.level for e in core.engagements()}
+    assert levels == {"person_p1": Level.ENGAGED}  # f2 a participant no more
