@@ -186,6 +186,9 @@ def summary(status: ServiceStatus, reach: str) -> str:
                  "its log names the frames)")  # fmt: skip
     if status.outage_s is not None:
         line += f", no router or peer for {status.outage_s:.1f} s"
+    if (heard := status.input) is not None and heard.silent:
+        line += (f", its input silent for {heard.last_heard_s or 0:.1f} s "
+                 f"({counted(heard.held, 'person', 'people')} held)")  # fmt: skip
     if status.ros2 is not None and status.ros2.findings:
         line += f"; findings: {', '.join(sorted(status.ros2.findings))}"
     return line

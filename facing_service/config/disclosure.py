@@ -24,6 +24,8 @@ PUBLIC_FIELDS = frozenset(
         "threshold_deg",
         "hysteresis_deg",
         "stale_after_s",
+        "silent_after_s",
+        "hold_silent_s",
         "max_payload_bytes",
         "max_bodies",
         "engagement",

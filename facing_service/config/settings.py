@@ -123,6 +123,15 @@ class Settings(SessionChecks):
         lt=180.0,
     )
     stale_after_s: float = flag(2.0, "a body with no accepted pose for this long is lost", gt=0.0)
+    silent_after_s: float = flag(
+        1.0,
+        "the input sent nothing for this long (at most half of --stale-after-s) with people "
+        "tracked: it is silent (a link stalled), and they are held",
+        gt=0.0,
+    )
+    hold_silent_s: float = flag(10.0, "a silent input's people are held at most this long "
+                                "after it was last heard, then lost (0: never held)", ge=0.0,
+                                le=3600.0)  # fmt: skip
     max_payload_bytes: int = flag(
         DEFAULT_MAX_PAYLOAD_BYTES, "larger pose payloads are rejected", gt=0
     )

@@ -261,6 +261,23 @@ class FrameGazing(OfAFrame):
     instance: str | None = Field(default=None, description=INSTANCE_DESCRIPTION)
 
 
+class InputHealth(BaseModel):
+    """Whether the service hears its input (issue 76): a link that stalls is held, and
+    said here, in the log and by ``health``."""
+
+    last_heard_s: float | None = Field(
+        description="Seconds since anything last came from the input (poses, a robot's "
+        "topics); null before anything did."
+    )
+    silent: bool = Field(
+        description="Nothing heard for --silent-after-s with people tracked: they are held "
+        "as they were (nobody goes stale) for up to --hold-silent-s."
+    )
+    held: int = Field(description="People held now (0 unless silent).")
+    silences: int = Field(description="How many times the input went silent.")
+    longest_silence_s: float = Field(description="The longest silence that has ended.")
+
+
 class Ros2Status(BaseModel):
     """What a service on ROS 2 input (``--input ros2``) knows of its robot."""
 
@@ -358,6 +375,9 @@ class ServiceStatus(BaseModel):
         "service: while false, results are neither formatted nor sent (results_published "
         "stands still; every other output and every query goes on), and when one appears "
         "every tracked body's current result is said (but those already sent since).",
+    )
+    input: InputHealth | None = Field(
+        None, description="Whether the input is heard, or silent and its people held."
     )
     ros2: Ros2Status | None = Field(
         None, description="With --input ros2: the robot's form and what stops results."

@@ -3,7 +3,8 @@ its own (docs/architecture.md).
 
 - facing: ``detector`` (the cone test), ``tracker`` (the latest state per body, order,
   staleness, hysteresis) with ``records`` (what a change says) and ``journal`` (its
-  containers, undone when a turn meets a bug), ``snapshot`` (a turn's, read-only);
+  containers, undone when a turn meets a bug), ``snapshot`` (a turn's, read-only),
+  ``silence`` (an input silent, its people held);
 - engagement: ``engagement`` (levels, the score), ``evidence`` (a head's soft evidence),
   ``mutual_gaze`` and ``rule`` (hri_engagement's rule, as its mode);
 - ``social/``: the social scene (groups, where to stand, the scene over time);

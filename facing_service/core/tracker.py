@@ -274,6 +274,16 @@ class Tracker:
                 changes.engagement.append(track.engagement_update(before))
         return changes
 
+    def resume(self, held_s: float) -> Changes:
+        """The input was silent and its people held for ``held_s`` (``core.silence``):
+        time resumes where it stopped, so nobody's staleness or dwell counts that silence
+        (the order of last samples, which expiry reads, stays as it was)."""
+        for key in list(self._tracks):
+            self._tracks[key].last_seen += held_s
+        for key, due in list(self._due.items()):
+            self._due[key] = due + held_s
+        return Changes()
+
     def next_due(self) -> float | None:
         """When ``advance`` has something to do (caller's clock), or None."""
         return min(self._due.values(), default=None)

@@ -10,6 +10,7 @@ from collections.abc import Callable
 
 from ..config.profiles import head_profile, robot_wire, scene_params, tracker_for
 from ..config.settings import Settings
+from ..core.silence import InputSilence, SilenceParams
 from ..core.social.scene import Scenes
 from ..ros2.wire import FormLearner
 from .decisions import Parts
@@ -24,7 +25,10 @@ from .ros_input import RobotReading, RosInput
 def parts_for(settings: Settings, ledger: Ledger, clock: Callable[[], float]) -> Parts:
     """The tracker, the scenes, the input and the outputs a service with ``settings`` runs."""
     source, outputs = io_for(settings, ledger, clock)
-    return Parts(tracker_for(settings), Scenes(scene_params(settings)), source, outputs)
+    return Parts(
+        tracker_for(settings), Scenes(scene_params(settings)), source, outputs,
+        silence_for(settings),
+    )  # fmt: skip
 
 
 def io_for(
@@ -66,6 +70,14 @@ def robot_reading(settings: Settings) -> RobotReading:
         head_threshold_deg=head_profile(s).threshold_deg,
         head_cone=s.head_cone,
     )
+
+
+def silence_for(settings: Settings) -> InputSilence:
+    """Whether the input is silent and its people held (``core.silence``), as set: silent
+    after at most half of ``--stale-after-s`` (a shorter staleness, set for a fast
+    tracker, is never outrun by the silence that would hold it)."""
+    after = min(settings.silent_after_s, settings.stale_after_s / 2)
+    return InputSilence(SilenceParams(after, settings.hold_silent_s))
 
 
 def answers_for(settings: Settings, ledger: Ledger) -> Answers:

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from ..contract.keys import BodyRef
 from ..contract.poses import Rejection
 from ..core.records import Changes, PoseSample
+from ..core.silence import InputSilence
 from ..core.social.scene import Scenes
 from ..core.tracker import RESTART_EVIDENCE, Tracker
 from .inputs import Input, Loss
@@ -55,12 +56,14 @@ class Faults:
 @dataclass(frozen=True)
 class Parts:
     """What the worker's decisions are made with (``compose.parts_for`` makes them from
-    the settings): the tracker, the scenes, the input and the outputs."""
+    the settings): the tracker, the scenes, the input and the outputs, and whether the
+    input is heard (its silence)."""
 
     tracker: Tracker
     scenes: Scenes
     source: Input
     outputs: Sequence[Output]
+    silence: InputSilence
 
 
 class Decisions:
@@ -72,6 +75,7 @@ class Decisions:
         self.source = parts.source
         self.outputs = parts.outputs
         self.scenes = parts.scenes
+        self.silence = parts.silence
         self.ledger = ledger
         self._outbox = outbox
         self.faults = Faults(ledger)  # its ``failing`` is read by the status

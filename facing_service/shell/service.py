@@ -48,7 +48,8 @@ from ..config.session import effective_session, mode_and_endpoints, zenoh_config
 from ..config.settings import Settings
 from ..config.version import VERSION
 from ..contract import keys
-from ..contract.schemas import ServiceStatus
+from ..contract.schemas import InputHealth, ServiceStatus
+from ..core.silence import InputSilence
 from .compose import answers_for, parts_for
 from .decisions import Decisions
 from .intake import Intake
@@ -271,6 +272,7 @@ class FacingService:
             outage_s=None if outage is None else round(outage, 3),
             inbox_depth=len(self._intake) if self._intake is not None else 0,
             results_heard=self._json_output.results_heard,
+            input=None if self._worker is None else self._input_health(self._worker.silence),
             ros2=self._input.status(),
         )
         alive = (
@@ -283,6 +285,17 @@ class FacingService:
         if health == "ok" and outage is not None and outage > NO_ROUTER_AFTER_S:
             health = "no router"
         return snapshot.model_copy(update={"status": health})
+
+    def _input_health(self, silence: InputSilence) -> InputHealth:
+        """The input as the worker last judged it (plain fields it alone writes)."""
+        heard, holding = silence.last_heard, silence.holding
+        return InputHealth(
+            last_heard_s=None if heard is None else round(self._clock() - heard, 3),
+            silent=holding,
+            held=sum(self._ledger.tracked.values()) if holding else 0,
+            silences=silence.silences,
+            longest_silence_s=round(silence.longest_s, 3),
+        )
 
     # -- zenoh callbacks: hand off, nothing else ---------------------------------------
 

@@ -21,7 +21,9 @@ from collections.abc import Callable
 
 import zenoh
 
+from ..contract.words import counted
 from ..core.records import Changes, PoseSample
+from ..core.silence import Change
 from ..core.snapshot import TurnSnapshot
 from .decisions import Decisions
 from .intake import Intake
@@ -52,6 +54,8 @@ class Worker:
         closing: threading.Event,
     ) -> None:
         self._decisions = decisions
+        self.silence = decisions.silence  # (core.silence) its fields are read by the
+        # status, written here alone
         self._ledger = decisions.ledger
         self.faults = decisions.faults  # its ``failing`` is read by the status
         self._intake = intake
@@ -109,13 +113,17 @@ class Worker:
         return batch
 
     def _next_deadline(self) -> float | None:
-        """When time alone makes the worker's next change (the clock's time), if ever."""
+        """When time alone makes the worker's next change (the clock's time), if ever.
+        While a silent input's people are held, the tracker's time stands still."""
+        tracker = self._decisions.tracker
+        held = self.silence.holding
         return min(
             (
                 d
                 for d in (
-                    self._decisions.tracker.next_expiry(),
-                    self._decisions.tracker.next_due(),
+                    None if held else tracker.next_expiry(),
+                    None if held else tracker.next_due(),
+                    self.silence.next_due(len(tracker) > 0),
                     self._ledger.rejection_log.next_due(),
                     self._decisions.source.next_due(),
                     self._decisions.scenes.next_due(),
@@ -136,8 +144,38 @@ class Worker:
         """
         if self._carried:  # taken at the horizon, not handled yet: they may refresh bodies
             return
-        for call in self._decisions.tracker.timed(self._horizon):
+        tracker = self._decisions.tracker
+        change = self.silence.look(self._horizon, len(tracker) > 0)
+        people = counted(len(tracker), "person", "people")
+        if change is Change.SILENT:
+            log.warning(
+                "the input is silent: nothing heard for %.1f s with %s tracked; holding them "
+                "as they were for up to %g s (--hold-silent-s): a link or a tracker stalled",
+                self._horizon - (self.silence.last_heard or self._horizon), people,
+                self.silence.params.hold_s,
+            )  # fmt: skip
+        elif change is Change.GONE:
+            log.warning(
+                "the input is gone: nothing heard for %.1f s (--hold-silent-s); the %s it "
+                "held are lost", self.silence.longest_s, people,
+            )  # fmt: skip
+        if self.silence.holding:
+            return  # time stands still for the tracker: nobody goes stale, no dwell moves
+        for call in tracker.timed(self._horizon):
             self._decisions.apply(call)
+
+    def _heard(self) -> None:
+        """Something came from the input: a silence it ends is not counted against anyone
+        (the tracker's time resumes where it stopped), and said."""
+        held = self.silence.heard(self._horizon)
+        if held is None:
+            return
+        tracker = self._decisions.tracker
+        self._decisions.apply(lambda: tracker.resume(held))
+        log.warning(
+            "the input is back after %.1f s of silence; the %s held go on as they were",
+            held, counted(len(tracker), "person", "people"),
+        )  # fmt: skip
 
     def _time_tick(self, snapshot: TurnSnapshot) -> None:
         """What time alone makes due, read from the turn's snapshot: each frame whose people
@@ -158,6 +196,8 @@ class Worker:
         that meets a bug is counted and skipped: the others are handled. Past
         BATCH_BUDGET_S the rest waits for the next turn (see ``_next_batch``)."""
         poses: list[PoseSample] = []
+        if any(not isinstance(item, QueryItem) for item in batch):
+            self._heard()
         deadline = time.monotonic() + BATCH_BUDGET_S
         for i, item in enumerate(batch):
             if self._closing.is_set():  # SIGTERM under a flood: the backlog is abandoned

@@ -219,3 +219,22 @@ def test_ctrl_c_ends_health_while_its_session_still_connects():
         proc.communicate()
         pytest.fail("health went on connecting after Ctrl-C")
     assert proc.returncode == 130 and "Traceback" not in out + err, err
+
+
+def test_health_says_a_silent_input_and_how_many_it_holds():
+    """Issue 76: the status said ok throughout a stall, and nothing else did."""
+    from facing_service.client.health import summary
+    from facing_service.contract.schemas import InputHealth
+
+    status = ServiceStatus(
+        status="ok", instance="edge", version="1", zenoh_id="z", uptime_s=60.0, config={},
+        bodies_tracked={"base_link": 3}, bodies_tracked_total=3, counters={}, rejected={},
+        inbox_depth=0, outbox_depth=0,
+        input=InputHealth(last_heard_s=3.2, silent=True, held=3, silences=1,
+                          longest_silence_s=0.0),
+    )  # fmt: skip
+    line = summary(status, "reached at tcp/127.0.0.1:7447")
+    assert line.endswith(", its input silent for 3.2 s (3 people held)"), line
+    heard = status.model_copy(update={"input": InputHealth(
+        last_heard_s=0.03, silent=False, held=0, silences=1, longest_silence_s=4.0)})  # fmt: skip
+    assert "silent" not in summary(heard, "reached at tcp/127.0.0.1:7447")

@@ -12,6 +12,7 @@ from facing_service.config.settings import Settings
 from facing_service.contract.poses import Rejection
 from facing_service.core.records import Changes
 from facing_service.core.social.scene import Scenes
+from facing_service.shell.compose import silence_for
 from facing_service.shell.decisions import Decisions, Faults, Parts
 from facing_service.shell.inputs import JsonInput
 from facing_service.shell.ledger import Ledger
@@ -34,7 +35,9 @@ def decisions_with(output: JsonOutput) -> tuple[Decisions, Ledger, Outbox, Fault
     settings = Settings(base_frame="cam")
     ledger, outbox = Ledger(time.monotonic), Outbox()
     source = JsonInput("hri", "cam", 65536, settings.max_bodies, ledger)
-    parts = Parts(tracker(), Scenes(scene_params(settings)), source, [output])
+    parts = Parts(
+        tracker(), Scenes(scene_params(settings)), source, [output], silence_for(settings)
+    )
     made = Decisions(parts, ledger, outbox)
     return made, ledger, outbox, made.faults
 

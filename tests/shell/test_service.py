@@ -82,7 +82,9 @@ def test_input_delete_loses_the_body(rig):
 
 
 def test_stale_body_is_deleted(rig):
-    service, client, rec = rig(stale_after_s=0.3)
+    """Staleness itself: the input never held (one pose, then nothing: with a hold, that
+    is a silent input, held --hold-silent-s; tests/shell/test_service_stall.py)."""
+    service, client, rec = rig(stale_after_s=0.3, hold_silent_s=0.0)
     send(client, pose_key("a"), pose_json("a", "cam"))
     rec.wait_for(is_put(body_key("a")))
     rec.wait_for(lambda i: i.key == body_key("a") and i.kind == "delete", timeout=3)

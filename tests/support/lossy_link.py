@@ -49,7 +49,8 @@ def unavailable() -> str | None:
 
 class JitterProxy(Proxy):
     """A ``Proxy`` that holds each chunk a random 0..``jitter_s`` s, never letting one
-    overtake another (a TCP stream stays in order); it is never cut."""
+    overtake another (a TCP stream stays in order); cut, it reads nothing until resumed
+    (a stall), and reset, its connections end (a cut link)."""
 
     def __init__(self, target: int, host: str, jitter_s: float, seed: int = 45) -> None:
         self._jitter, self._rng = jitter_s, random.Random(seed)  # before connections come
@@ -84,6 +85,8 @@ class JitterProxy(Proxy):
 
         threading.Thread(target=release, daemon=True).start()
         while not self._closed.is_set():
+            if not self._forwarding.wait(0.1):
+                continue  # stalled: nothing read, the sender's backlog waits in TCP
             try:
                 chunk = source.recv(65536)
             except OSError:

@@ -1,11 +1,16 @@
 """A TCP proxy on loopback that can stop forwarding without closing anything: a network
-partition (a cable pulled, a Wi-Fi dropout) as a link sees it, with no FIN or RST."""
+partition (a cable pulled, a Wi-Fi dropout) as a link sees it, with no FIN or RST; and
+forward again (a stall: TCP then delivers what waited), or reset every connection and
+refuse new ones for a while (a link cut)."""
 
 from __future__ import annotations
 
+import contextlib
 import select
 import socket
+import struct
 import threading
+import time
 
 
 class Proxy:
@@ -20,12 +25,25 @@ class Proxy:
         self._forwarding.set()
         self._closed = threading.Event()
         self._sockets: list[socket.socket] = []
+        self._refused_until = 0.0
         self._thread = threading.Thread(target=self._accept, daemon=True)
         self._thread.start()
 
     def cut(self) -> None:
         """Stop forwarding; both sides keep their connection open and hear nothing."""
         self._forwarding.clear()
+
+    def resume(self) -> None:
+        """Forward again: what waited in the connections (the backlog) goes through."""
+        self._forwarding.set()
+
+    def reset(self, refuse_s: float) -> None:
+        """Every connection reset (RST, as a dropped Wi-Fi association ends them), and new
+        ones refused for ``refuse_s``."""
+        self._refused_until = time.monotonic() + refuse_s
+        sockets, self._sockets = self._sockets, []
+        for s in sockets:
+            _reset(s)
 
     def close(self) -> None:
         self._closed.set()
@@ -40,7 +58,14 @@ class Proxy:
                 client, _ = self._listener.accept()
             except OSError:
                 return
-            upstream = socket.create_connection((self.host, self.target))
+            if time.monotonic() < self._refused_until:  # the link is down: refused
+                _reset(client)
+                continue
+            try:
+                upstream = socket.create_connection((self.host, self.target))
+            except OSError:  # nothing listens there (yet): the link is refused
+                _reset(client)
+                continue
             self._sockets += [client, upstream]
             threading.Thread(target=self._pump, args=(client, upstream), daemon=True).start()
 
@@ -58,3 +83,10 @@ class Proxy:
                     peers[s].sendall(data)
             except OSError:
                 return
+
+
+def _reset(s: socket.socket) -> None:
+    """Close with an RST, not a FIN: the peer learns at once that the link is gone."""
+    with contextlib.suppress(OSError):
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+    s.close()
