@@ -109,3 +109,19 @@ def test_the_scenes_made_for_the_failures_are_what_they_say():
         if a < b
     ]
     assert nearest < float(np.median(within))  # denser than its groups
+
+
+def test_the_order_harness_counts_frames_grouped_otherwise_and_groups_listed_together():
+    """benchmarks.groups.order (issue 77): a frame whose grouping follows the order its
+    people are listed in is counted; one that does not is not; a true group listed
+    consecutively is counted as such."""
+    from benchmarks.groups.order import changed, listed_together
+    from benchmarks.groups.sequence_frame import Frame
+
+    pair = Frame((1, 2, 3), np.array([[0.0, 0.0], [1.2, 0.0], [9.0, 9.0]]),
+                 np.array([0.0, np.pi, 0.0]), (frozenset({1, 2}),))  # fmt: skip
+    by_order = lambda ids, frame, order: frozenset({frozenset(ids[i] for i in order[:2])})  # noqa: E731
+    by_place = lambda ids, frame, order: frozenset({frozenset(ids[:2])})  # noqa: E731
+    assert changed([pair] * 4, by_order, orders=3) >= 1
+    assert changed([pair] * 4, by_place, orders=3) == 0
+    assert listed_together([pair])[0] == 1.0
