@@ -294,8 +294,8 @@ class People:
             links[person_id] = target
             self._forget_links(links, link, update)
         self._by_frame = None
-        self._realias(update)
-        if person_id in self._tracked[PERSONS]:
+        if person_id in self._tracked[PERSONS]:  # (an untracked person's links alias nothing)
+            self._realias(update)
             self._resolve(["person_" + person_id], update)
         return update
 
