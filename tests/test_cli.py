@@ -154,9 +154,9 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
         (["run", "-l", "tcp/[::1:7447"], "--listen="),
         (["run", "-c", "/no/such.json5"], "--config '/no/such.json5': no such file"),
         (["run", "-c", "/tmp"], "--config '/tmp': not a file"),
-        (["run", "--threshold", "30"], "unrecognized arguments: --threshold (did you mean "),
+        (["run", "--threshold", "30"], "unrecognized arguments: --threshold 30 (did you mean "),
         # issue 59: a misspelt flag gets the nearest, as a misspelt FACING_ variable does
-        (["run", "--treshold-deg", "30"], "--treshold-deg (did you mean --threshold-deg?) 30"),
+        (["run", "--treshold-deg", "30"], "--treshold-deg 30 (did you mean --threshold-deg?)"),
         # issue 59: nan was said as "Input should be less than 180"
         (["run", "--threshold-deg", "nan"], "--threshold-deg=nan: Input should be a finite"),
         (["run", "--stale-after-s", "inf"], "--stale-after-s=inf: Input should be a finite"),

@@ -107,8 +107,10 @@ def test_ctrl_c_ends_every_example_quietly_and_the_tracker_deletes_its_people(ne
             proc = example(name, port)
             if during_imports:
                 loading_zenoh(proc)
-            elif name == "tracker.py":  # once it has people to delete
-                lost.wait_for(lambda item: item.kind == "put", timeout=30)
+            elif name == "tracker.py":  # once it has people to delete, and knows it is
+                # heard (zenoh's matching status comes a moment after the first put:
+                # interrupted at once, it said "no subscriber heard them", seen in CI)
+                lost.wait_for(lambda item: item.kind == "put", count=20, timeout=30)
             else:
                 time.sleep(2.5)
             proc.send_signal(signal.SIGINT)
