@@ -118,3 +118,39 @@ def test_every_generated_page_is_its_results_files():
     from benchmarks import pages
 
     assert pages.main(["--check"]) == 0, "regenerate: python -m benchmarks.pages"
+
+
+def test_the_people_benchmark_streams_the_robots_it_says():
+    """benchmarks.perf.people (issue 75): bodies alone are bodies; persons with a face and a
+    body are one participant each, every message of theirs measured."""
+    from benchmarks.perf.people import per_message_us, robot
+
+    bodies, messages = robot(3, persons=False)
+    assert bodies.subjects() == ["body_b0", "body_b1", "body_b2"] and len(messages) == 3 * 30
+    persons, messages = robot(3, persons=True)
+    assert persons.subjects() == ["person_p0", "person_p1", "person_p2"]
+    assert len(messages) == 2 * 3 * 30  # each face and each body, 30 times a second
+    assert per_message_us(2, True, 1.0) > 0
+
+
+def test_the_participants_benchmark_calls_one_head_said_twice_a_self_group():
+    """benchmarks.engagement.participants (issue 75): a group of two members at one place
+    is one human said twice; two people a conversation apart are not."""
+    from benchmarks.engagement.participants import self_grouped
+    from facing_service.contract.poses import Stamp
+    from facing_service.contract.schemas import FacingState, GroupState, Point
+
+    def at(body: str, x: float) -> FacingState:
+        return FacingState(
+            body_id=body, frame_id="camera_link", stamp=Stamp(sec=1, nanosec=0), facing=True,
+            angle_deg=3.0, distance_m=x, robot_in_body=Point(x=x, y=0.0, z=0.0),
+            threshold_deg=20.0, position=Point(x=x, y=0.0, z=1.5), heading_deg=180.0,
+        )  # fmt: skip
+
+    states = {"person_a": at("person_a", 1.0), "face_a": at("face_a", 1.05),
+              "person_b": at("person_b", 2.2)}  # fmt: skip
+    group = GroupState.model_validate(
+        {"id": "1", "members": ["person_a", "face_a"], "robot": False, "centre": {"x": 1, "y": 0}}
+    )
+    apart = group.model_copy(update={"members": ["person_a", "person_b"]})
+    assert self_grouped(group, states) and not self_grouped(apart, states)
