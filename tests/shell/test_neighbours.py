@@ -49,8 +49,10 @@ def test_services_sharded_by_frame_judge_each_other_and_warn_of_nothing(net, cap
     """Each judged the other (issue 74: the test passed had no question ever been asked),
     and neither warned."""
     caplog.set_level(logging.INFO, logger="facing_service")
-    _, ep = net.service(base_frame="map")
-    net.service(base_frame="camera_left", connect=[ep])
+    # two instance names: each learns of the other from its token at once (one name in
+    # one process would wait the older's next periodic ask, 10 s)
+    _, ep = net.service(base_frame="map", instance="map-side")
+    net.service(base_frame="camera_left", instance="camera-side", connect=[ep])
 
     def judged() -> list[str]:
         return [r.getMessage() for r in caplog.records if "reads other frames" in r.getMessage()]
