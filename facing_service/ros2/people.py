@@ -323,10 +323,6 @@ class People:
             if (subject := KINDS[topic][0] + i) not in self._aliases
         ]
 
-    def participant_of(self, subject: str) -> str:
-        """Whose a subject is: the person that links a face or body, else itself."""
-        return self._aliases.get(subject, subject)
-
     def frame_of(self, subject: str) -> str | None:
         """The TF frame a subject's pose (where it looks) is read from, or None when it has
         none (yet)."""
