@@ -7,6 +7,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from facing_service.core.social.groups import (
     GroupParams,
@@ -235,3 +237,24 @@ def test_the_rings_stride_lands_every_vote_on_the_centre_whatever_its_size_and_c
         nearest = votes(positions, headings, replace(ring, ring=False))
         radius = spacing / (2 * math.sin(math.pi / count))
         assert np.allclose(np.hypot(*(nearest - [3.0, 0.0]).T), radius - spacing / 2)
+
+
+rooms = st.lists(
+    st.tuples(st.integers(-8, 8), st.integers(-8, 8), st.sampled_from([0, 90, 180, 270])),
+    min_size=2,
+    max_size=12,
+    unique_by=lambda person: person[:2],
+)  # GDet's kind: places on a grid, headings in 90-degree steps (exact ties everywhere)
+
+
+@settings(max_examples=300, deadline=None)
+@given(rooms, st.randoms(use_true_random=False))
+def test_the_same_room_is_grouped_alike_whatever_order_its_people_come_in(room, rng):
+    """Issue 77: the greedy assignment broke ties in listing order, so the same room was
+    grouped otherwise when its people were listed (or, through the service, named)
+    otherwise."""
+    positions, headings = scene(*((0.3 * x, 0.3 * y, h) for x, y, h in room))
+    order = np.array(rng.sample(range(len(room)), len(room)))
+    listed = {frozenset(g) for g in groups(detect(positions, headings, P))}
+    reordered = groups(detect(positions[order], headings[order], P))
+    assert {frozenset(order[g].tolist()) for g in reordered} == listed

@@ -14,12 +14,17 @@ from facing_service.core.social.memory import MemoryParams, SceneMemory, linked
 DT = 0.1
 
 
+def in_a_row(n: int) -> np.ndarray:
+    """(n, 2): places a metre apart along x, in listing order."""
+    return np.column_stack([np.arange(n, dtype=np.float64), np.zeros(n)])
+
+
 def feed(memory: SceneMemory, ids, headings, labels, start: float, seconds: float) -> np.ndarray:
     """The groups after ``seconds`` of the same reading, one every ``DT`` from ``start``."""
     out = np.asarray(labels)
     for k in range(round(seconds / DT)):
         memory.headings(list(ids), np.radians(headings), start + k * DT)
-        out = memory.groups(np.asarray(labels, dtype=np.int64))
+        out = memory.groups(np.asarray(labels, dtype=np.int64), in_a_row(len(labels)))
     return out
 
 
@@ -75,7 +80,7 @@ def test_flickering_frames_keep_a_group_whole():
     for k in range(100):
         labels = [0, 0, 1, 1] if k % 3 == 0 else [0, 0, 0, 0]
         said = memory.headings(list("abcd"), np.zeros(4), k * DT) is not None and memory.groups(
-            np.array(labels)
+            np.array(labels), in_a_row(4)
         )
     assert said.tolist() == [0, 0, 0, 0]
 
@@ -94,7 +99,7 @@ def test_the_memory_off_says_each_frame_as_it_is():
     memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=0.0))
     read = memory.headings(list("abc"), np.radians([37.0, 0.0, 0.0]), 0.0)
     assert read[0] == pytest.approx(math.radians(37))
-    assert memory.groups(np.array([0, 1, 1])).tolist() == [0, 1, 1]
+    assert memory.groups(np.array([0, 1, 1]), in_a_row(3)).tolist() == [0, 1, 1]
     assert memory.settled
 
 
@@ -118,18 +123,37 @@ def test_average_linkage_joins_a_group_whole_and_does_not_chain():
     assert linked(np.zeros((0, 0)), 0.5).tolist() == []
 
 
-def test_the_groups_said_do_not_depend_on_the_order_people_are_listed_in():
-    rng = np.random.default_rng(70)
-    ids = [f"p{i}" for i in range(8)]
+@pytest.mark.parametrize("seed", range(5))
+def test_the_groups_said_do_not_depend_on_the_order_or_the_names_of_people(seed):
+    """Issue 77: the linkage's ties went by id, so a room was grouped otherwise when its
+    people were called otherwise."""
+    rng = np.random.default_rng(seed)
+    places = rng.uniform(-3, 3, (8, 2))
     frames = [rng.integers(0, 3, 8) for _ in range(60)]  # each reading's grouping
     said = []
-    for order in (np.arange(8), rng.permutation(8)):
+    for order, names in ((np.arange(8), "abcdefgh"), (rng.permutation(8), "hgfedcba")):
         memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
         for k, labels in enumerate(frames):
-            memory.headings([ids[i] for i in order], np.zeros(8), k * DT)
-            out = memory.groups(labels[order])
-        said.append({frozenset(ids[order[i]] for i in np.flatnonzero(out == g)) for g in set(out)})
+            memory.headings([names[i] for i in order], np.zeros(8), k * DT)
+            out = memory.groups(labels[order], places[order])
+        said.append({frozenset(int(order[i]) for i in np.flatnonzero(out == g)) for g in set(out)})
     assert said[0] == said[1]
+
+
+@pytest.mark.parametrize("names", ["abc", "cba", "bac"])
+def test_of_two_pairs_as_sure_the_nearer_is_said_whatever_the_names(names):
+    """A chain: a-b and b-c as often together (5/8 of the memory), a-c rarely, and the
+    newest frame apart: one pair is said, and it is the pair standing nearer (b and c,
+    0.8 m apart; a is 1.2 m from b), whatever the people are called."""
+    memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0))
+    places = np.array([[0.0, 0.0], [1.2, 0.0], [2.0, 0.0]])
+    t, out = 0.0, np.zeros(3, dtype=np.int64)
+    for labels, seconds in (([0, 0, 0], 5.0), ([0, 0, 1], 2.0), ([0, 1, 1], 1.0), ([0, 1, 2], 0.5)):
+        for _ in range(round(seconds / DT)):
+            memory.headings(list(names), np.zeros(3), t)
+            out = memory.groups(np.array(labels, dtype=np.int64), places)
+            t += DT
+    assert out[1] == out[2] != out[0]
 
 
 @pytest.mark.parametrize("rate_hz", [10.0, 2.0, 1.0, 0.25])
@@ -144,12 +168,12 @@ def test_a_pair_is_said_after_half_the_memory_at_any_rate_the_scene_is_worked_ou
     t = 0.0
     while t < 10.0:  # long apart: no evidence
         memory.headings(["a", "b"], np.radians([0.0, 180.0]), t)
-        memory.groups(apart)
+        memory.groups(apart, in_a_row(2))
         t += period
     started = t
     while True:
         memory.headings(["a", "b"], np.radians([0.0, 180.0]), t)
-        if memory.groups(together).tolist() == [0, 0]:
+        if memory.groups(together, in_a_row(2)).tolist() == [0, 0]:
             break
         t += period
         assert t - started < 20.0, "never said"
@@ -162,6 +186,6 @@ def test_a_stall_longer_than_the_period_is_no_evidence():
     memory = SceneMemory(MemoryParams(heading_s=0.0, together_s=4.0), period_s=0.1)
     feed(memory, "ab", [0, 180], [0, 1], 0.0, 5.0)  # long apart: no evidence
     memory.headings(["a", "b"], np.radians([0.0, 180.0]), 5.0)
-    memory.groups(np.asarray([0, 0], dtype=np.int64))  # together, then a 30 s stall
+    memory.groups(np.asarray([0, 0], dtype=np.int64), in_a_row(2))  # together, then a stall
     memory.headings(["a", "b"], np.radians([0.0, 180.0]), 35.0)
-    assert memory.groups(np.asarray([0, 0], dtype=np.int64)).tolist() == [0, 1]
+    assert memory.groups(np.asarray([0, 0], dtype=np.int64), in_a_row(2)).tolist() == [0, 1]

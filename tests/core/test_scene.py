@@ -4,6 +4,7 @@ them, said on change only, bounded in people and in rate."""
 from __future__ import annotations
 
 import math
+import random
 from dataclasses import replace
 
 import pytest
@@ -309,3 +310,26 @@ def test_a_turned_face_alone_is_said_though_nobody_moved_where_they_stand():
     away = person("a", 3.0, 2.0, 90)
     turned = scene.update([replace(a, look=(away.translation, away.rotation)), b], Time.of(3), 0.5)
     assert turned is not None and ("a", "b") not in turned.gazing
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_groups_said_do_not_depend_on_what_people_are_called(seed):
+    """Issue 77: a room's people heard in another order and named so that their ids sort
+    the other way are grouped alike, at first sight and over a stream of turning heads."""
+    rng = random.Random(seed)
+    spots = rng.sample([(x, y) for x in range(-6, 7) for y in range(-6, 7)], 10)
+    frames = [[rng.choice((0, 90, 180, 270)) for _ in spots] for _ in range(8)]
+    said = []
+    for names in ([f"p{k:02d}" for k in range(10)], [f"q{99 - k:02d}" for k in range(10)]):
+        order = list(range(10)) if names[0] == "p00" else rng.sample(range(10), 10)
+        scene = FrameScene("base_link", replace(STREAM, max_people=20))
+        seen = []
+        for k, headings in enumerate(frames):
+            people = [person(names[i], 0.4 * spots[i][0], 0.4 * spots[i][1], headings[i])
+                      for i in order]  # fmt: skip
+            for tick in range(20):  # each frame held 2 s at 10 Hz
+                scene.update(people, Time.of(20 * k + tick), 2.0 * k + 0.1 * tick)
+            seen.append({frozenset(names.index(m) for m in g.members if m != ROBOT)
+                         for g in scene.tracker.groups.values()})  # fmt: skip
+        said.append(seen)
+    assert said[0] == said[1]

@@ -17,9 +17,10 @@ stride is the case ``stride_min = stride_max``. Lengths are metres by default; w
 of issues 41 to 51, measured and not shipped (docs/groups.md).
 
 The assignment is GCFF's energy (unary costs plus a cost per label) minimised by greedy
-label removal and reassignment rather than alpha-expansion: with no pairwise terms that
-is the facility-location problem, and for the tens of people in one frame the greedy
-pass with a final reassignment reaches GCFF's solutions (``benchmarks/groups/held_out.py``).
+label removal and reassignment rather than alpha-expansion (``facility``: with no pairwise
+terms that is the facility-location problem), its ties broken by the energy and by place,
+never by the order people are listed in: the same people are grouped alike whatever they
+are called (issue 77).
 
 GCFF's visibility penalty is kept, in its units: ``100 ** (cos * d_k / d_j)`` cm² when
 member k stands behind member j (cosine of the angle between them, from the centre,
@@ -34,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from .facility import TIE, assign, place_rank
 from .join import JoinPose
 
 FloatArray = NDArray[np.float64]
@@ -126,7 +128,8 @@ def votes(positions: FloatArray, headings: FloatArray, p: GroupParams) -> FloatA
     off = np.angle(np.exp(1j * (np.arctan2(rel[..., 1], rel[..., 0]) - headings[:, None])))
     ahead = (np.abs(off) < np.radians(p.cone_deg)) & (dist > 0)
     near = np.where(ahead, dist, np.inf)
-    j = near.argmin(axis=1)  # the nearest person ahead (where anyone is)
+    # the nearest person ahead (where anyone is); of two as near, the one more ahead
+    j = (near + TIE * np.abs(off)).argmin(axis=1)
     rows = np.arange(len(positions))
     nearest = near[rows, j]
     reach = nearest / np.cos(off[rows, j]) if p.ring else nearest
@@ -167,29 +170,6 @@ def _unary(
     return cost.T
 
 
-def _assign(unary: FloatArray, mdl: float) -> IntArray:
-    """Facility location: labels minimising the sum of unary costs plus ``mdl`` per label
-    used. Greedy: from every label open, close the one whose closing saves most (its
-    ``mdl``, less what its people pay more at their next cheapest open label), while one
-    does; then everyone takes their cheapest open label."""
-    n, m = unary.shape
-    open_ = np.ones(m, dtype=bool)
-    rows = np.arange(n)
-    while open_.sum() > 1:
-        costs = np.where(open_[None, :], unary, np.inf)
-        best = np.argmin(costs, axis=1)  # the cheapest and the next: a partition, no sort
-        extra = np.partition(costs, 1, axis=1)[:, 1] - costs[rows, best]
-        loss = np.bincount(best, weights=extra, minlength=m)
-        gain = np.where(open_, mdl - loss, -np.inf)
-        k = int(np.argmax(gain))
-        if gain[k] <= 0:
-            break
-        open_[k] = False
-    cols = np.flatnonzero(open_)
-    chosen: IntArray = cols[np.argmin(unary[:, cols], axis=1)].astype(np.int64)
-    return chosen
-
-
 def centres(points: FloatArray, labels: IntArray) -> FloatArray:
     """Each label's centre: the mean of its members' votes (least squares)."""
     count = np.bincount(labels).astype(np.float64)[:, None]
@@ -218,7 +198,7 @@ def detect_centres(
     labels = np.arange(n, dtype=np.int64)
     centre = points
     for _ in range(MAX_ITERATIONS):
-        new = _assign(_unary(positions, points, centre, p.mdl), p.mdl)
+        new = assign(_unary(positions, points, centre, p.mdl), p.mdl, place_rank(centre))
         _, new = np.unique(new, return_inverse=True)
         centre = centres(points, new)
         if np.array_equal(new, labels):

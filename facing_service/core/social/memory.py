@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..evidence import MAX_GAP_S
+from .facility import place_rank
 from .groups import in_order
 
 FloatArray = NDArray[np.float64]
@@ -49,6 +50,9 @@ IntArray = NDArray[np.int64]
 TOGETHER = 0.5
 #: How far the newest frame tips an exact tie (newcomers start undecided, at one half).
 TIE = 1e-9
+#: A share's tip per metre apart: of pairs as often together, the nearer merge first
+#: (less than TIE over the 20 m a scene spans: the newest frame still decides first).
+NEARER = 1e-12
 #: The memory has settled when no heading is farther than this from its reading (the
 #: vectors' distance, about radians) and every pair's evidence is at a bound.
 SETTLED = 0.02
@@ -106,9 +110,12 @@ class SceneMemory:
         still: FloatArray = np.arctan2(self._facing[:, 1], self._facing[:, 0])
         return still
 
-    def groups(self, labels: IntArray) -> IntArray:
+    def groups(self, labels: IntArray, where: FloatArray) -> IntArray:
         """Labels of the groups the last seconds say (``groups.detect``'s form), given
-        this reading's grouping ``labels`` (in the order ``headings`` was given)."""
+        this reading's grouping ``labels`` and where each person stands (``where``, (n, 2)
+        m; both in the order ``headings`` was given). The linkage's ties go to the pair
+        standing nearer, then by place: never by the order people are listed in, nor by
+        what they are called."""
         together = labels[:, None] == labels[None, :]
         span = self.params.together_s
         self._together = np.clip(self._together + self._was * self._dt, 0.0, span)
@@ -116,9 +123,11 @@ class SceneMemory:
         if span <= 0:
             return labels
         # An exact tie (newcomers, undecided) goes the newest frame's way; the linkage's
-        # own ties go by id, whatever order the people are listed in.
-        share = self._together / span + self._was * TIE
-        order = np.argsort(np.array(self._ids))
+        # own ties go by place (issue 77: by id, the same room was grouped otherwise
+        # when its people were called otherwise).
+        apart = np.hypot(*(where[:, None, :] - where[None, :, :]).transpose(2, 0, 1))
+        share = self._together / span + self._was * TIE - NEARER * apart
+        order = np.argsort(place_rank(where), kind="stable")
         out = np.empty(len(order), dtype=np.int64)
         out[order] = linked(share[np.ix_(order, order)], TOGETHER)
         return in_order(out)

@@ -191,7 +191,7 @@ class FrameScene:
             now_labels = detect(t[:, :2], heading, p.groups, scale)
             robot = len(ids) - 1
             ringed = on_the_ring(now_labels, t[:, :2], heading, p.groups, scale, robot)
-            labels = self.memory.groups(ringed)  # what the last seconds say
+            labels = self.memory.groups(ringed, t[:, :2])  # what the last seconds say
             centre = vote_centres(t[:, :2], heading, labels, p.groups, scale)
             found = [
                 (frozenset(ids[i] for i in m), (x, y))
