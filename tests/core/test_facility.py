@@ -83,10 +83,13 @@ def test_small_rooms_mostly_reach_the_lowest_energy():
     assert max(gaps) < 0.5
 
 
-def test_place_rank_is_the_same_whatever_the_order_and_equal_places_share_one():
-    where = np.array([[1.0, 0.0], [0.0, 2.0], [0.0, 1.0], [1.0, 0.0]])
-    assert place_rank(where).tolist() == [2, 1, 0, 2]
-    assert place_rank(where[::-1]).tolist() == [2, 0, 1, 2]
+def test_place_rank_is_the_same_whatever_the_order_people_come_in():
+    where = np.array([[1.0, 0.0], [0.0, 2.0], [0.0, 1.0], [1.0, -1.0]])
+    assert place_rank(where).tolist() == [3, 1, 0, 2]
+    assert place_rank(where[::-1]).tolist() == [2, 0, 1, 3]
+    # one place twice: the two are interchangeable, ranked next to each other
+    assert sorted(place_rank(where[[0, 1, 0]]).tolist()) == [0, 1, 2]
+    assert place_rank(where[[0, 1, 0]])[1] == 0
 
 
 def test_one_person_is_one_label():

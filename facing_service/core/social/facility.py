@@ -62,15 +62,19 @@ def assign(unary: FloatArray, mdl: float, rank: IntArray) -> IntArray:
 
 def _cheapest(costs: FloatArray, rank: IntArray) -> IntArray:
     """Each row's cheapest column, ties (within ``TIE``) to the lowest ``rank``."""
-    tied = costs <= costs.min(axis=1, keepdims=True) + TIE
-    result: IntArray = np.argmin(np.where(tied, rank[None, :], np.iinfo(np.int64).max), axis=1)
+    low = costs.min(axis=1, keepdims=True)
+    tied = costs <= low + TIE
+    if tied.sum() == len(costs):  # no row has two: the plain argmin
+        plain: IntArray = np.argmax(tied, axis=1)
+        return plain
+    result: IntArray = np.argmin(np.where(tied, rank[None, :], rank.max() + 1), axis=1)
     return result
 
 
 def place_rank(points: FloatArray) -> IntArray:
     """Each point's rank in (x, y) order: a tie-break that is the same whatever order the
-    points come in (equal points share a rank)."""
-    rounded = np.round(points, 9)
-    _, rank = np.unique(rounded, axis=0, return_inverse=True)
-    result: IntArray = rank.reshape(-1).astype(np.int64)
-    return result
+    points come in (equal points, interchangeable, ranked in the order given)."""
+    order = np.lexsort((points[:, 1], points[:, 0]))
+    rank = np.empty(len(points), dtype=np.int64)
+    rank[order] = np.arange(len(points))
+    return rank
