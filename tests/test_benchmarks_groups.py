@@ -36,6 +36,9 @@ def test_evalgroups_is_gcffs_on_its_edge_cases():
         ("CoffeeBreak/Seq2", 0.94),
         ("Synth", 0.97),
         ("GDet/S1", 0.93),
+        # GCFF's code breaks ties in the order its data lists people, and GDet lists each
+        # group together: the port with index ties gave 0.927 as listed and 0.920 listed
+        # the other way round; order-free, 0.920 (issue 77). Within 2.5 points here.
         ("GDet/S2", 0.94),
         ("SALSA/CocktailParty", 0.82),  # every third frame, as GCFF's figure (issue 51)
     ],
@@ -44,14 +47,15 @@ def test_evalgroups_is_gcffs_on_its_edge_cases():
 def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
     """GCFF's own per-scene parameters, read from the sequence's settings_gc.mat (stride
     in cm, MDL in cm², converted to metres): F1 (T = 2/3) within two points of GCFF's
-    code run unchanged (issue 33's table)."""
+    code run unchanged (issue 33's table); GDet S2 within 2.5 (its comment above)."""
     from scipy.io import loadmat
 
     tuned = loadmat(SHARED / sequence / "settings_gc.mat")
     stride, mdl = float(tuned["stride"].item()) * 0.01, float(tuned["mdl"].item()) * 1e-4
     frames = load(sequence)
     found = run(frames, gcff_params(stride, mdl))
-    assert f1(frames, found, 2 / 3) == pytest.approx(gcff, abs=0.02)
+    near = 0.025 if sequence == "GDet/S2" else 0.02
+    assert f1(frames, found, 2 / 3) == pytest.approx(gcff, abs=near)
 
 
 def test_the_shipped_defaults_are_the_set_chosen_on_all_six_sequences():
@@ -68,16 +72,22 @@ def test_the_shipped_defaults_are_the_set_chosen_on_all_six_sequences():
     assert chosen["scale"] == asdict(shipped.scale)
 
 
-def test_the_shipped_rule_is_the_best_at_its_worst_held_out_sequence():
+def test_the_shipped_rule_is_in_metres_eligible_and_beaten_by_none_that_may_ship():
     """Issue 60: the rule that ships is chosen by its worst sequence held out by dataset
-    (not the mean), among those that fail no made scene another rule passes."""
-    from benchmarks.groups.held_out import INCUMBENT, RULES, preferred, worst_held_out
+    (not the mean), among those that fail no made scene another rule passes; issue 77:
+    only a rule in metres may ship. (Frame by frame with the order-free assignment, GCFF's
+    one stride in metres is better at its worst, 0.69 against 0.66 on CoffeeBreak Seq1,
+    and fails the wide circle: docs/groups.md.)"""
+    from benchmarks.groups.held_out import IN_METRES, RULES, eligible, preferred
 
     results = json.loads(RESULTS.read_text())
     best = results["preferred"]
     assert preferred(results) == best
     assert all(set(RULES) <= set(scene) for scene in results["scenes"].values())
-    assert worst_held_out(results, best) >= worst_held_out(results, INCUMBENT)
+    assert best in IN_METRES and best in eligible(results)
+    for step in results["steps"]:
+        beaten = step["difference"][1] > 0 and step["incumbent"] == best
+        assert not (beaten and step["challenger"] in IN_METRES), step
 
 
 def test_the_scenes_made_for_the_failures_are_what_they_say():

@@ -119,7 +119,7 @@ def test_the_engagement_tables_are_the_committed_results():
 
 def test_the_groups_tables_are_the_committed_results():
     """docs/groups.md's held-out tables are generated from benchmarks/results/groups.json
-    (`python -m benchmarks.groups.held_out --live --out ...`): a figure copied by hand
+    (`python -m benchmarks.groups.held_out --out ...`): a figure copied by hand
     fails here."""
     from benchmarks.groups import held_out as groups
 

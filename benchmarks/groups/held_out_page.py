@@ -143,7 +143,7 @@ def _steps(results: dict[str, Any]) -> list[str]:
         lines.append(
             f"| {name[step['challenger']]} | {name[step['incumbent']]} | {step['sequence']}"
             f" | {mean:+.2f} [{lo:+.2f}, {hi:+.2f}] |"
-            f" {'replaces it' if step['replaces'] else 'kept out'} |"
+            f" {_verdict(step)} |"
         )
     lines += ["", f"The shipped default (chosen on all six): {_params(results['default'][best])}."]
     return lines
@@ -168,3 +168,11 @@ def _scenes(results: dict[str, Any]) -> list[str]:
             + " |"
         )
     return lines
+
+
+def _verdict(step: dict[str, Any]) -> str:
+    if step["replaces"]:
+        return "replaces it"
+    if step["difference"][1] > 0:  # better, with its interval above 0, yet not in metres
+        return "kept out: not in metres (lost outside, issue 60)"
+    return "kept out"
