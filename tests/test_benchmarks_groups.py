@@ -125,7 +125,7 @@ def test_the_order_harness_counts_frames_grouped_otherwise_and_groups_listed_tog
     """benchmarks.groups.order (issue 77): a frame whose grouping follows the order its
     people are listed in is counted; one that does not is not; a true group listed
     consecutively is counted as such."""
-    from benchmarks.groups.order import changed, listed_together
+    from benchmarks.groups.order import changed, first_look_f1, listed_together
     from benchmarks.groups.sequence_frame import Frame
 
     pair = Frame((1, 2, 3), np.array([[0.0, 0.0], [1.2, 0.0], [9.0, 9.0]]),
@@ -135,3 +135,4 @@ def test_the_order_harness_counts_frames_grouped_otherwise_and_groups_listed_tog
     assert changed([pair] * 4, by_order, orders=3) >= 1
     assert changed([pair] * 4, by_place, orders=3) == 0
     assert listed_together([pair])[0] == 1.0
+    assert first_look_f1([pair], orders=2) == (1.0, 1.0)  # the pair found, however listed

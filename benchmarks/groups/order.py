@@ -8,6 +8,9 @@ Frame by frame (``groups.detect`` with the shipped parameters, memory off) and t
 scene with the shipped memory (``scene.FrameScene``, each frame's people new to it: the
 first look), as the live service lists people: sorted by id.
 
+And how well the first look scores (F1 at T = 2/3, GCFF's way): as listed, and the mean
+over the reorderings and renamings (where ties went by listing, the listing helped).
+
 Beside them, how often each true group is listed consecutively in the data's own order
 (and how often a random set of its size would be): where the annotators listed groups
 together, a grouping whose ties go by listing order is helped by the answer.
@@ -25,6 +28,7 @@ from facing_service.core.social.groups import GroupParams, detect, members
 from facing_service.core.social.scene import FrameScene, Person
 
 from .replay import shipped
+from .scoring import f1
 from .sequence_frame import Frame
 from .sequences import SEQUENCES, load
 
@@ -75,6 +79,23 @@ def changed(frames: list[Frame], how, orders: int, seed: int = 77) -> int:
     return count
 
 
+def first_look_f1(frames: list[Frame], orders: int, seed: int = 77) -> tuple[float, float]:
+    """The first look's F1 (T = 2/3): the data's listing and ids, and the mean over
+    ``orders`` other listings, ids renamed to sort the other way."""
+    rng = np.random.default_rng(seed)
+    runs: list[list[list[frozenset[int]]]] = [[] for _ in range(orders + 1)]
+    for frame in frames:
+        n = len(frame.ids)
+        for k in range(orders + 1):
+            order = np.arange(n) if k == 0 else rng.permutation(n)
+            name = (lambda i: f"p{i:03d}") if k == 0 else (lambda i: f"q{999 - i:03d}")
+            said = by_scene([name(i) for i in frame.ids], frame, order)
+            back = {name(i): i for i in frame.ids}
+            runs[k].append([frozenset(back[m] for m in g) for g in said])
+    figures = [f1(frames, found, 2 / 3) for found in runs]
+    return figures[0], float(np.mean(figures[1:]))
+
+
 def listed_together(frames: list[Frame], seed: int = 77) -> tuple[float, float]:
     """The share of true groups whose members are listed consecutively, and the share
     random sets of the same sizes would have."""
@@ -97,14 +118,16 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--orders", type=int, default=3)
     args = parser.parse_args(argv)
-    print(f"{'sequence':22} frames  frame by frame  first look (memory)  groups listed together")
+    print(f"{'sequence':22} frames  frame by frame  first look (memory)  groups listed together"
+          "  first look F1: listed, reordered")  # fmt: skip
     for name in SEQUENCES:
         frames = load(name)
         d = changed(frames, by_detect, args.orders)
         s = changed(frames, by_scene, args.orders)
         together, chance = listed_together(frames)
-        print(f"{name:22} {len(frames):6}  {d:14}  {s:19}  {together:7.0%} (chance {chance:.0%})",
-              flush=True)  # fmt: skip
+        listed, reordered = first_look_f1(frames, args.orders)
+        print(f"{name:22} {len(frames):6}  {d:14}  {s:19}  {together:7.0%} (chance {chance:.0%})"
+              f"  {listed:.3f}, {reordered:.3f}", flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":
