@@ -120,12 +120,11 @@ def _live(results: dict[str, Any]) -> list[str]:
             "",
             "The shipped memory through the live service (JSON poses at 30 Hz, each frame held"
             " its spacing, `hri/groups/<frame>` asked at its end) beside the core replaying the"
-            " same frames (in-sample: it shows the service says what the core decides). Fewer"
-            " frames are said alike than the figures' agreement suggests, both ways: the"
-            " service lists people in the order it first heard of them, the replay in the"
-            " data's, and the method's greedy assignment breaks ties in that order (shuffling"
-            " the order alone, frame by frame, changes 15 of CoffeeBreak Seq1's 45 frames and"
-            " 41 of SALSA's 167; replays at other tick rates agree on 93 to 98 %):",
+            " same frames (in-sample: it shows the service says what the core decides). The"
+            " service lists people by id, the replay in the data's order; since issue 77 the"
+            " grouping does not depend on either, so a frame said otherwise is timing (the"
+            " last poses of a hold heard after the ask, the scene's tick against the frame's"
+            " change):",
             "",
             "| sequence | live, T = 2/3 | T = 1 | core, T = 2/3 | T = 1 | frames said alike |",
             "| --- | ---: | ---: | ---: | ---: | ---: |",
