@@ -71,10 +71,17 @@ def _cheapest(costs: FloatArray, rank: IntArray) -> IntArray:
     return result
 
 
+def place_order(points: FloatArray) -> IntArray:
+    """The points' indices in (x, y) order: the same people in the same order whatever
+    order they come in (equal points, interchangeable, in the order given)."""
+    order: IntArray = np.lexsort((points[:, 1], points[:, 0]))
+    return order
+
+
 def place_rank(points: FloatArray) -> IntArray:
-    """Each point's rank in (x, y) order: a tie-break that is the same whatever order the
-    points come in (equal points, interchangeable, ranked in the order given)."""
-    order = np.lexsort((points[:, 1], points[:, 0]))
+    """Each point's rank in (x, y) order (``place_order``'s inverse): a tie-break that is
+    the same whatever order the points come in."""
+    order = place_order(points)
     rank = np.empty(len(points), dtype=np.int64)
     rank[order] = np.arange(len(points))
     return rank

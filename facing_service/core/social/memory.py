@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..evidence import MAX_GAP_S
-from .facility import place_rank
+from .facility import place_order
 from .groups import in_order
 
 FloatArray = NDArray[np.float64]
@@ -123,11 +123,11 @@ class SceneMemory:
         if span <= 0:
             return labels
         # An exact tie (newcomers, undecided) goes the newest frame's way; the linkage's
-        # own ties go by place (issue 77: by id, the same room was grouped otherwise
-        # when its people were called otherwise).
+        # own ties to the nearer pair, then by place (issue 77: by id, the same room was
+        # grouped otherwise when its people were called otherwise).
         apart = np.hypot(*(where[:, None, :] - where[None, :, :]).transpose(2, 0, 1))
         share = self._together / span + self._was * TIE - NEARER * apart
-        order = np.argsort(place_rank(where), kind="stable")
+        order = place_order(where)
         out = np.empty(len(order), dtype=np.int64)
         out[order] = linked(share[np.ix_(order, order)], TOGETHER)
         return in_order(out)
