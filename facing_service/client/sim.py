@@ -90,6 +90,10 @@ class Crowd:
     def now(self) -> float:
         return self._now
 
+    def present(self) -> list[str]:
+        """The ids of the people there now."""
+        return list(self._walkers)
+
     def step(self, dt: float) -> Tick:
         """Advance by ``dt`` seconds; the tracker's view of the new instant."""
         self._now += dt
@@ -199,24 +203,30 @@ def simulate(
     sleep: Callable[[float], None] = time.sleep,
 ) -> int:
     """Publish ``crowd`` in real time: ``publish(key, payload)`` for each pose and
-    ``publish(key, None)`` (a DELETE) for each person lost. Returns the ticks published.
+    ``publish(key, None)`` (a DELETE) for each person lost, and for everyone still there
+    when it stops (a tracker that stops says its people are gone: a service would
+    otherwise read the stop as a stalled link and hold them). Returns the ticks published.
     ``clock`` and ``sleep`` pace it (tests give their own, so they need not wait)."""
     period = 1.0 / rate_hz
     started = clock()
     ticks = 0
-    while not should_stop() and (duration_s is None or ticks * period < duration_s):
-        tick = crowd.step(period)
-        for pose in tick.poses:
-            publish(
-                keys.pose_key(namespace, body_id=pose.body_id, frame_id=frame_id),
-                pose_message(pose, frame_id),
-            )
-        for body_id in tick.lost:
+    try:
+        while not should_stop() and (duration_s is None or ticks * period < duration_s):
+            tick = crowd.step(period)
+            for pose in tick.poses:
+                publish(
+                    keys.pose_key(namespace, body_id=pose.body_id, frame_id=frame_id),
+                    pose_message(pose, frame_id),
+                )
+            for body_id in tick.lost:
+                publish(keys.pose_key(namespace, body_id=body_id, frame_id=frame_id), None)
+            ticks += 1
+            delay = started + ticks * period - clock()
+            if delay > 0:
+                sleep(delay)
+    finally:
+        for body_id in crowd.present():
             publish(keys.pose_key(namespace, body_id=body_id, frame_id=frame_id), None)
-        ticks += 1
-        delay = started + ticks * period - clock()
-        if delay > 0:
-            sleep(delay)
     return ticks
 
 

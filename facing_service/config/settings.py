@@ -130,7 +130,7 @@ class Settings(SessionChecks):
         gt=0.0,
     )
     hold_silent_s: float = flag(10.0, "a silent input's people are held at most this long "
-                                "after it was last heard, then lost (0: never held)", ge=0.0,
+                                "after their own last pose, then lost (0: never held)", ge=0.0,
                                 le=3600.0)  # fmt: skip
     max_payload_bytes: int = flag(
         DEFAULT_MAX_PAYLOAD_BYTES, "larger pose payloads are rejected", gt=0

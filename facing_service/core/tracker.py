@@ -274,37 +274,31 @@ class Tracker:
                 changes.engagement.append(track.engagement_update(before))
         return changes
 
-    def resume(self, held_s: float) -> Changes:
-        """The input was silent and its people held for ``held_s`` (``core.silence``):
-        time resumes where it stopped, so nobody's staleness or dwell counts that silence
-        (the order of last samples, which expiry reads, stays as it was)."""
-        for key in list(self._tracks):
-            self._tracks[key].last_seen += held_s
-        for key, due in list(self._due.items()):
-            self._due[key] = due + held_s
-        return Changes()
-
     def next_due(self) -> float | None:
         """When ``advance`` has something to do (caller's clock), or None."""
         return min(self._due.values(), default=None)
 
-    def timed(self, now: float) -> Iterator[Callable[[], Changes]]:
+    def timed(
+        self, now: float, staleness_s: float | None = None, *, advancing: bool = True
+    ) -> Iterator[Callable[[], Changes]]:
         """The calls time alone makes due at ``now``, in order: ``expire``, then
-        ``advance``. Lazy: whether the second is due is asked once the caller has run
+        ``advance`` (unless not ``advancing``: the input is silent, so no level moves with
+        time alone). Lazy: whether the second is due is asked once the caller has run
         the first (which may lose bodies that were due). The caller runs each (the
         service in a transaction, with its publications)."""
-        if (expiry := self.next_expiry()) is not None and expiry <= now:
-            yield lambda: self.expire(now)
-        if (due := self.next_due()) is not None and due <= now:
+        if (expiry := self.next_expiry(staleness_s)) is not None and expiry <= now:
+            yield lambda: self.expire(now, staleness_s)
+        if advancing and (due := self.next_due()) is not None and due <= now:
             yield lambda: self.advance(now)
 
-    def expire(self, now: float) -> Changes:
-        """Lose every body with no accepted sample for ``stale_after_s`` before ``now``,
-        and forget expired tombstones."""
+    def expire(self, now: float, staleness_s: float | None = None) -> Changes:
+        """Lose every body with no accepted sample for ``staleness_s`` (by default
+        ``stale_after_s``; longer while a silent input's people are held, see
+        ``core.silence``) before ``now``, and forget expired tombstones."""
         while self._tombstones and next(iter(self._tombstones.values()))[1] <= now:
             self._tombstones.popitem(last=False)
         changes = Changes()
-        deadline = now - self.stale_after_s
+        deadline = now - (self.stale_after_s if staleness_s is None else staleness_s)
         while self._tracks:
             key, track = next(iter(self._tracks.items()))
             if track.last_seen > deadline:
@@ -313,12 +307,14 @@ class Tracker:
         changes.frames = self._frame_changes({body.frame_id for body in changes.lost})
         return changes
 
-    def next_expiry(self) -> float | None:
+    def next_expiry(self, staleness_s: float | None = None) -> float | None:
         """When ``expire`` has something to do (caller's clock): the oldest body goes
-        stale or the oldest tombstone is forgotten; None when neither exists."""
+        stale (after ``staleness_s``, by default ``stale_after_s``) or the oldest
+        tombstone is forgotten; None when neither exists."""
         when = [next(iter(self._tombstones.values()))[1]] if self._tombstones else []
         if self._tracks:
-            when.append(next(iter(self._tracks.values())).last_seen + self.stale_after_s)
+            stale = self.stale_after_s if staleness_s is None else staleness_s
+            when.append(next(iter(self._tracks.values())).last_seen + stale)
         return min(when, default=None)
 
     def tracked_per_frame(self) -> dict[str, int]:

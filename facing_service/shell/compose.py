@@ -75,9 +75,18 @@ def robot_reading(settings: Settings) -> RobotReading:
 def silence_for(settings: Settings) -> InputSilence:
     """Whether the input is silent and its people held (``core.silence``), as set: silent
     after at most half of ``--stale-after-s`` (a shorter staleness, set for a fast
-    tracker, is never outrun by the silence that would hold it)."""
-    after = min(settings.silent_after_s, settings.stale_after_s / 2)
-    return InputSilence(SilenceParams(after, settings.hold_silent_s))
+    tracker, is never outrun by the silence that would hold it; said at start and shown
+    in the status, ``silent_after_in_force``)."""
+    return InputSilence(
+        SilenceParams(
+            silent_after_in_force(settings), settings.hold_silent_s, settings.stale_after_s
+        )
+    )
+
+
+def silent_after_in_force(settings: Settings) -> float:
+    """``--silent-after-s``, at most half of ``--stale-after-s``."""
+    return min(settings.silent_after_s, settings.stale_after_s / 2)
 
 
 def answers_for(settings: Settings, ledger: Ledger) -> Answers:

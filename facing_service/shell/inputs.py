@@ -58,7 +58,14 @@ class Input(Protocol):
 
     def read(self, item: object, poses: list[PoseSample]) -> Loss | None:
         """One sample (from the hot key or a side subscription): its poses appended to
-        ``poses``, its rejections counted; a loss, which the worker applies after them."""
+        ``poses``, its rejections counted; a loss, which the worker applies after them.
+        A sample read whole adds one to ``read_whole``."""
+        ...
+
+    @property
+    def read_whole(self) -> int:
+        """Samples read whole so far: the input speaking (a refused one is not; the
+        worker tells a silent input by this)."""
         ...
 
     def origin(self, sample: PoseSample) -> str:
@@ -118,6 +125,7 @@ class JsonInput:
         self._said: set[str] = set()  # the invalid keys said in the log
         self._capacity = max_bodies
         self.declared_keys: DeclaredKeys | None = None  # the pose keys declared, once open
+        self.read_whole = 0  # samples read whole: a pose decoded, or a DELETE of a body
 
     def hot_key(self) -> str:
         return self._subscription
@@ -154,6 +162,7 @@ class JsonInput:
             if parsed is None:
                 self._ledger.reject(Rejection.INVALID_KEY, key, "DELETE on an invalid key")
                 return None
+            self.read_whole += 1
             return Loss([parsed])
         if parsed is None:
             self._ledger.reject(Rejection.INVALID_KEY, key, "not NS/bodies/<id>/pose/<frame>")
@@ -168,6 +177,7 @@ class JsonInput:
             self._ledger.reject(decoded.reason, key, decoded.detail)
             return None
         poses.append(PoseSample(parsed, decoded))
+        self.read_whole += 1
         if self._other_frames is not None:  # poses flow in the frame read: no more watch
             self._stop_watching_other_frames()
         declared = self.declared_keys

@@ -87,6 +87,7 @@ class RosInput:
         self._gone: OrderedDict[str, float] = OrderedDict()  # subject -> when it was lost
         self._flaps: deque[tuple[float, str]] = deque(maxlen=EVENTS_KEPT)  # (when, subject)
         self.flaps = 0  # people who left a tracked list and came back within FLAP_S
+        self.read_whole = 0  # samples of the robot's topics that decoded: the robot speaking
         self._sniffers: list[zenoh.Subscriber[None]] = []
         self._token_watch: zenoh.Subscriber[None] | None = None
         self._subscriptions: RobotSubscriptions | None = None
@@ -141,6 +142,7 @@ class RosInput:
         if isinstance(update, Rejected):
             self._ledger.reject(update.reason, item.key, update.detail)
             return None
+        self.read_whole += 1
         topic = self.topic(item.key)  # decoded: named as the robot names it
         for reason, what in update.refused:
             self._ledger.reject(Rejection(reason), topic, what)

@@ -50,7 +50,7 @@ from ..config.version import VERSION
 from ..contract import keys
 from ..contract.schemas import InputHealth, ServiceStatus
 from ..core.silence import InputSilence
-from .compose import answers_for, parts_for
+from .compose import answers_for, parts_for, silent_after_in_force
 from .decisions import Decisions
 from .intake import Intake
 from .json_sender import JSON
@@ -170,6 +170,15 @@ class FacingService:
         except BaseException:
             self.close()
             raise
+        self._say_started(session, subscription, spaces)
+        return self
+
+    def _say_started(
+        self, session: zenoh.Session, subscription: str, spaces: dict[QuerySpace, str]
+    ) -> None:
+        """The start line, and a setting changed to fit another (the status shows it in
+        force)."""
+        s = self.settings
         log.info(
             "facing-service %s started: instance %s, zenoh id %s, %s; poses from %s; results "
             "on %s and %s (queryable); status on %s; threshold %.1f deg, hysteresis %.1f deg, "
@@ -181,14 +190,23 @@ class FacingService:
             subscription,
             spaces[QuerySpace.FACING],
             spaces[QuerySpace.FRAME],
-            keys.status_key(ns, s.instance),
+            keys.status_key(s.namespace, s.instance),
             s.threshold_deg,
             s.hysteresis_deg,
             s.stale_after_s,
             s.max_bodies,
             self._input.start_line() + "".join(o.start_line() for o in self._outputs),
         )
-        return self
+        if (in_force := silent_after_in_force(s)) != s.silent_after_s:
+            log.warning(
+                "--silent-after-s %g is more than half of --stale-after-s %g: %g is in "
+                "force (a silence must be noticed before anyone goes stale)",
+                s.silent_after_s, s.stale_after_s, in_force,
+            )  # fmt: skip
+
+    def _in_force(self) -> dict[str, object]:
+        """Settings as they are in force where they differ from what was set."""
+        return self._session_in_force | {"silent_after_s": silent_after_in_force(self.settings)}
 
     def _queryable(
         self, session: zenoh.Session, space: QuerySpace, key: str
@@ -267,7 +285,7 @@ class FacingService:
             version=VERSION,
             zenoh_id=str(self._session.zid()) if self._session is not None else "",
             uptime_s=round(self._clock() - self._started_at, 3),
-            config=public_settings(self.settings.model_dump(mode="json") | self._session_in_force),
+            config=public_settings(self.settings.model_dump(mode="json") | self._in_force()),
             connected=self.connected(),
             outage_s=None if outage is None else round(outage, 3),
             inbox_depth=len(self._intake) if self._intake is not None else 0,

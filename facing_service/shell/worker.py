@@ -114,16 +114,16 @@ class Worker:
 
     def _next_deadline(self) -> float | None:
         """When time alone makes the worker's next change (the clock's time), if ever.
-        While a silent input's people are held, the tracker's time stands still."""
-        tracker = self._decisions.tracker
-        held = self.silence.holding
+        While a silent input's people are held, no level moves with time alone."""
+        tracker, silence = self._decisions.tracker, self.silence
+        held = silence.holding
         return min(
             (
                 d
                 for d in (
-                    None if held else tracker.next_expiry(),
+                    tracker.next_expiry(silence.staleness_s(self._clock())),
                     None if held else tracker.next_due(),
-                    self.silence.next_due(len(tracker) > 0),
+                    silence.next_due(len(tracker) > 0),
                     self._ledger.rejection_log.next_due(),
                     self._decisions.source.next_due(),
                     self._decisions.scenes.next_due(),
@@ -135,47 +135,57 @@ class Worker:
         )
 
     def _expire(self) -> None:
-        """Lose bodies with no sample for ``stale_after_s``.
+        """Lose bodies with no sample for the staleness in force (``core.silence``:
+        ``--stale-after-s`` while the input is heard, up to ``--hold-silent-s`` while it
+        is silent), and say what the input's silence did.
 
         "Now" is when the worker took what it just handled: a body whose next sample was
         already queued is not stale, however long the worker took to get to it, and a
-        batch slower than ``stale_after_s`` does not make the bodies it updated stale. Nor
+        batch slower than the staleness does not make the bodies it updated stale. Nor
         does the rest of a batch over its budget: expiry waits until it is handled.
         """
         if self._carried:  # taken at the horizon, not handled yet: they may refresh bodies
             return
-        tracker = self._decisions.tracker
-        change = self.silence.look(self._horizon, len(tracker) > 0)
+        tracker, silence, now = self._decisions.tracker, self.silence, self._horizon
+        change = silence.look(now, len(tracker) > 0)
         people = counted(len(tracker), "person", "people")
         if change is Change.SILENT:
             log.warning(
                 "the input is silent: nothing heard for %.1f s with %s tracked; holding them "
-                "as they were for up to %g s (--hold-silent-s): a link or a tracker stalled",
-                self._horizon - (self.silence.last_heard or self._horizon), people,
-                self.silence.params.hold_s,
+                "as they were for up to %g s after their own last pose (--hold-silent-s): "
+                "a link or a tracker stalled",
+                now - (silence.last_heard or now), people, silence.params.hold_s,
             )  # fmt: skip
-        elif change is Change.GONE:
+        elif change is Change.SLOW:
             log.warning(
-                "the input is gone: nothing heard for %.1f s (--hold-silent-s); the %s it "
-                "held are lost", self.silence.longest_s, people,
+                "the input arrives about every %.1f s, no faster than --silent-after-s "
+                "(%g s): each pause between its messages holds its people as a silence "
+                "would, and a person whose poses stop is lost when the input is heard "
+                "without them; set --silent-after-s (and --stale-after-s) above its period "
+                "to tell a stalled link from its rate (said once)",
+                silence.period_s or 0.0, silence.params.after_s,
             )  # fmt: skip
-        if self.silence.holding:
-            return  # time stands still for the tracker: nobody goes stale, no dwell moves
-        for call in tracker.timed(self._horizon):
-            self._decisions.apply(call)
+        staleness = silence.staleness_s(now)
+        for call in tracker.timed(now, staleness, advancing=not silence.holding):
+            changes = self._decisions.apply(call)
+            if changes.lost and staleness > silence.params.stale_s:
+                log.warning(
+                    "the input has been silent for %.1f s: %s not heard for %g s "
+                    "(--hold-silent-s) %s lost",
+                    now - (silence.last_heard or now),
+                    counted(len(changes.lost), "person", "people"), staleness,
+                    "is" if len(changes.lost) == 1 else "are",
+                )  # fmt: skip
 
     def _heard(self) -> None:
-        """Something came from the input: a silence it ends is not counted against anyone
-        (the tracker's time resumes where it stopped), and said."""
-        held = self.silence.heard(self._horizon)
-        if held is None:
-            return
-        tracker = self._decisions.tracker
-        self._decisions.apply(lambda: tracker.resume(held))
-        log.warning(
-            "the input is back after %.1f s of silence; the %s held go on as they were",
-            held, counted(len(tracker), "person", "people"),
-        )  # fmt: skip
+        """Something whole came from the input (refused samples are not it speaking);
+        the end of a silence that was said is said too."""
+        if self.silence.heard(self._horizon) is Change.BACK:
+            log.warning(
+                "the input is back after %.1f s of silence; %s tracked",
+                self.silence.ended_s,
+                counted(len(self._decisions.tracker), "person", "people"),
+            )
 
     def _time_tick(self, snapshot: TurnSnapshot) -> None:
         """What time alone makes due, read from the turn's snapshot: each frame whose people
@@ -196,8 +206,8 @@ class Worker:
         that meets a bug is counted and skipped: the others are handled. Past
         BATCH_BUDGET_S the rest waits for the next turn (see ``_next_batch``)."""
         poses: list[PoseSample] = []
-        if any(not isinstance(item, QueryItem) for item in batch):
-            self._heard()
+        source = self._decisions.source
+        read_whole = source.read_whole
         deadline = time.monotonic() + BATCH_BUDGET_S
         for i, item in enumerate(batch):
             if self._closing.is_set():  # SIGTERM under a flood: the backlog is abandoned
@@ -210,6 +220,8 @@ class Worker:
             except Exception as error:
                 self.faults.caught(error, f"an input item ({type(item).__name__})")
         self._decisions.flush(poses, self._horizon)
+        if source.read_whole != read_whole:
+            self._heard()
 
     def _handle_one(self, item: object, poses: list[PoseSample]) -> None:
         if isinstance(item, QueryItem):

@@ -97,3 +97,18 @@ def test_simulate_publishes_valid_poses_and_deletes():
     key, payload = puts[0]
     body_id = key.split("/")[2]
     assert isinstance(decode_pose(payload, body_id, "base_link"), Pose)
+
+
+def test_simulate_says_everyone_still_there_is_gone_when_it_stops():
+    """Before, a run ended with its people's poses just stopping: a service read that as a
+    stalled link, held them for --hold-silent-s and said the input was gone."""
+    published: list[tuple[str, bytes | None]] = []
+    time = FakeTime()
+    crowd = Crowd(people=3, seed=1)
+    simulate(
+        lambda key, payload: published.append((key, payload)), crowd, "base_link",
+        rate_hz=30.0, duration_s=1.0, clock=time.clock, sleep=time.sleep,
+    )  # fmt: skip
+    tail = published[-3:]
+    assert all(payload is None for _, payload in tail)
+    assert sorted(k.split("/")[2] for k, _ in tail) == sorted(crowd.present()) != []

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 
@@ -237,3 +238,14 @@ def test_the_alarm_thread_dying_is_a_failed_status(net, monkeypatch):
     monkeypatch.setattr(intake.Intake, "_ring", dies)
     service, _ = net.service()
     wait_until(lambda: service.status().status == "failed", 5, "a failed status")
+
+
+def test_a_silence_setting_changed_to_fit_is_said_at_start_and_shown_in_force(rig, caplog):
+    """Before: --silent-after-s 5 was cut to half of --stale-after-s without a word, and
+    the status showed 5.0 as in force."""
+    caplog.set_level(logging.WARNING, logger="facing_service")
+    service, _, _ = rig(stale_after_s=2.0, silent_after_s=5.0)
+    assert service.status().config["silent_after_s"] == 1.0
+    said = [r.getMessage() for r in caplog.records]
+    assert any("--silent-after-s 5 is more than half of --stale-after-s 2: 1 is in" in s
+               for s in said), said  # fmt: skip
