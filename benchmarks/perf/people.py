@@ -5,7 +5,8 @@ whom it concerns, lookups, the pose) as a robot streams, one transform a message
 
 Two robots: bodies alone (``body_<id>`` tracked, no persons), and persons linking a face
 and a body each (the face a participant's pose, the body its stance: issue 75), faces
-and bodies at 30 Hz. Best of ``--repeat``, microseconds a message. To compare two trees,
+and bodies at 30 Hz; then a tracked list changing one id a message, at ``--people`` and
+at 10 000. Best of ``--repeat``, microseconds a message. To compare two trees,
 run it in each, alternated (the machine is shared and noisy).
 """
 
@@ -57,6 +58,18 @@ def per_message_us(people: int, persons: bool, seconds: float) -> float:
     return (time.perf_counter() - started) / (rounds * len(messages)) * 1e6
 
 
+def per_list_change_us(people: int, changes: int) -> float:
+    """Microseconds a tracked list message takes when one id leaves it or comes back
+    (who is there is derived again from the lists and links), at ``people`` persons each
+    linking a face and a body."""
+    subject, _ = robot(people, persons=True)
+    faces = [f"f{i}" for i in range(people)]
+    started = time.perf_counter()
+    for k in range(changes):
+        subject.on_tracked("/humans/faces/tracked", faces[1:] if k % 2 == 0 else faces)
+    return (time.perf_counter() - started) / changes * 1e6
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--people", type=int, default=10)
@@ -66,6 +79,10 @@ def main(argv: list[str] | None = None) -> None:
     for persons, label in ((False, "bodies alone"), (True, "persons with a face and a body")):
         best = min(per_message_us(args.people, persons, args.seconds) for _ in range(args.repeat))
         print(f"{label:32} {best:6.1f} us a message ({args.people} people)", flush=True)
+    for people, changes in ((args.people, 200), (10_000, 10)):
+        best = min(per_list_change_us(people, changes) for _ in range(args.repeat))
+        print(f"{'a list changing one id':32} {best:8.1f} us a message ({people} people)",
+              flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":

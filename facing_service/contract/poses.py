@@ -123,7 +123,6 @@ class Rejection(str, Enum):
     TF_OUT_OF_RANGE = "tf_out_of_range"  # a translation beyond MAX_TRANSLATION_M
     TF_TOO_MANY_FRAMES = "tf_too_many_frames"  # over --ros-max-frames, none gone to forget
     TF_FRAME_NAME_TOO_LONG = "tf_frame_name_too_long"  # over MAX_FRAME_NAME characters
-    LINK_TAKEN = "link_taken"  # a face or body another tracked person is already linked to
 
 
 @dataclass(frozen=True, slots=True)

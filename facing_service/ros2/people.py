@@ -4,12 +4,15 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
 
 - The tracked lists define who exists: ``/humans/bodies/tracked``, ``/humans/faces/tracked``
   and ``/humans/persons/tracked``. An id that leaves its list is lost at once.
-- One human is one subject, a participant (``participants``: a tracked person, and each
-  face or body no tracked person links), named ``<kind>_<id>`` (``body_1f3a``,
-  ``face_959e0``, ``person_rorql``: REP 155's frame names, a person by its id). A face or
-  body that becomes a person's is lost as a subject; one no person links comes back.
-- A person's pose is where it looks (its face, else its body), with its ``stance`` (its
-  body apart, at the same time); a body's or face's is its own frame (x forward).
+- One human is one subject, a participant (``participants.derive``: a tracked person,
+  and each face or body no tracked person holds), named ``<kind>_<id>`` (``body_1f3a``,
+  ``face_959e0``, ``person_rorql``: REP 155's frame names, a person by its id), derived
+  whole from the current lists and links whenever they change: nothing outlives the
+  link that made it. A face or body that becomes a person's is lost as a subject; one no
+  person holds comes back.
+- A person's pose is where it looks (its face, else its body; a frame that cannot be
+  looked up yet gives way to the next), with its ``stance`` (its tracked body apart, at
+  the same time); a body's or face's is its own frame (x forward).
 - Each pose is tf2's lookup of that frame in the base frame at the latest common time,
   redone whenever a transform on its chain (or the base frame's) changes; a pose is
   emitted only when that time moves forward, so nothing already said is repeated.
@@ -31,12 +34,14 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
   In a row: a stale or forged message between fresh ones clears nothing, and a burst of
   forged ones cannot span the time while the robot streams. Clears are counted, and at
   most one in ``CLEAR_MIN_INTERVAL_S`` (the others are counted as refused).
-- Links cannot amplify: a face or body frame is the pose of at most one person at a time,
-  the first tracked person to resolve it, until that person is lost or relinked; another
-  person linked to it gets no pose (``link_taken``, counted once per link), so 200 cloned
-  person ids pointing at a real face make no results, and the face is that first person's
-  alone. Frame names are bounded
-  (``MAX_FRAME_NAME``, ``tf_frame_name_too_long``).
+- Links cannot amplify: a face or body frame is the pose of at most one person at a time
+  (the one that linked it last), so 200 cloned person ids pointing at a real face make
+  one stream of results, never 200. Frame names are bounded (``MAX_FRAME_NAME``,
+  ``tf_frame_name_too_long``).
+- Nothing is said twice: a subject lost and back (a person leaving its list for one
+  message, a face no longer a person's) resumes after the last stamp said of it
+  (``_said_before``, bounded), so the tracker never refuses its first results as out of
+  order.
 """
 
 from __future__ import annotations
@@ -53,7 +58,7 @@ from ..core.records import PoseSample
 from ..core.tf.buffer import TfBuffer
 from ..core.tf.errors import TfError
 from ..core.tf.geometry import RigidTransform
-from .participants import PERSONS, aliases, look_frame, stance_frame
+from .participants import PERSONS, Participant, Presence, derive
 
 #: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
 KINDS = {
@@ -143,12 +148,14 @@ class People:
         self.max_ids = max_ids
         self.tf = TfBuffer(max_frames=max_frames)
         self._tracked: dict[str, set[str]] = {topic: set() for topic in KINDS}
-        self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}  # person -> id
-        self._last: dict[str, int] = {}  # subject -> stamp of the last pose emitted
-        self._owner: dict[str, str] = {}  # frame -> the person subject whose pose it is
-        self._aliases: dict[str, str] = {}  # face or body subject -> the person it is
-        self._taken: set[str] = set()  # person subjects refused as link_taken (said once)
-        self._by_frame: dict[str, set[str]] | None = None  # frame -> subjects; None: stale
+        # person -> the id it links, per kind; oldest link first (the last one made wins)
+        self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}
+        # participant -> the stamp of the last pose emitted, and the frame it was read from
+        self._last: dict[str, tuple[int, str]] = {}
+        # a subject no longer a participant -> the last stamp said of it (oldest first)
+        self._said_before: dict[str, int] = {}
+        # Derived whole from the lists and links, when they change (see participants)
+        self.presence: Presence = derive(self._tracked, self._links)
         # /tf messages whose every transform went back in time: (publisher, count, since)
         self._back_run: tuple[bytes | None, int, float | None] = (None, 0, None)
         self._last_clear: float | None = None  # receive time of the last buffer clear
@@ -174,6 +181,7 @@ class People:
             update.lost = [s for s in self.subjects() if s in self._last]
             self.tf.clear()
             self._last.clear()
+            self._said_before.clear()  # older stamps are the new timeline
         changed: set[str] = set()
         for t in transforms:
             reason = out_of_range(t) or _name_too_long(t)
@@ -238,17 +246,9 @@ class People:
             self._base_chain = (self.tf.shape, chain)
         if not chain.isdisjoint(changed):
             return self.subjects()
-        by_frame = self._subjects_by_frame()
         frames = set().union(*(self.tf.descendants(frame) for frame in changed))
+        by_frame = self.presence.by_frame
         return sorted({s for frame in frames for s in by_frame.get(frame, ())})
-
-    def _subjects_by_frame(self) -> dict[str, set[str]]:
-        if self._by_frame is None:
-            self._by_frame = {}
-            for subject in self.subjects():
-                if (frame := self.frame_of(subject)) is not None:
-                    self._by_frame.setdefault(frame, set()).add(subject)
-        return self._by_frame
 
     def on_tracked(self, topic: str, ids: Sequence[str]) -> Update:
         update = Update()
@@ -266,17 +266,9 @@ class People:
                 ("capacity", f"{topic}: {len(valid)} ids, only the first {self.max_ids} kept")
             )
             valid = set(kept[: self.max_ids])
-        gone, new = current - valid, valid - current
-        self._tracked[topic] = valid
-        if gone or new:
-            self._by_frame = None
-        for ros_id in sorted(gone):
-            subject = prefix + ros_id
-            if self._last.pop(subject, None) is not None or subject not in self._aliases:
-                update.lost.append(subject)
-            self._release(subject)
-        self._realias(update)
-        self._resolve([prefix + ros_id for ros_id in sorted(new)], update)
+        if valid != current:
+            self._tracked[topic] = valid
+            self._derive(update)
         return update
 
     def on_person_link(self, person_id: str, link: str, target: str) -> Update:
@@ -288,16 +280,35 @@ class People:
             return update
         if links.get(person_id, "") == target:
             return update
-        self._release("person_" + person_id)
-        links.pop(person_id, None)  # (re)inserted last: the oldest are forgotten first
+        links.pop(person_id, None)  # (re)inserted last: the newest link, forgotten last
         if target:
             links[person_id] = target
             self._forget_links(links, link, update)
-        self._by_frame = None
-        if person_id in self._tracked[PERSONS]:  # (an untracked person's links alias nothing)
-            self._realias(update)
-            self._resolve(["person_" + person_id], update)
+        if person_id in self._tracked[PERSONS]:  # (an untracked person's links hold nothing)
+            self._derive(update)
         return update
+
+    def _derive(self, update: Update) -> None:
+        """Who is there, derived again after a list or a link changed: a participant no
+        longer there, or with no frame left to read (a person that links nothing), is
+        lost once said, and one new or reading other frames is resolved (its first
+        results said, after what was said of it before)."""
+        before, self.presence = self.presence, derive(self._tracked, self._links)
+        now = self.presence.participants
+        changed = [s for s, p in now.items() if before.participants.get(s) != p]
+        self._resolve(changed, update)
+        # lost: no longer there, or no longer reading the frame it was read from with
+        # none it may read now that can be looked up (a person that links nothing)
+        for subject, (stamp, frame) in sorted(self._last.items()):
+            if subject not in now or (
+                frame not in now[subject].looks and self._look_up(now[subject], Update()) is None
+            ):
+                del self._last[subject]
+                update.lost.append(subject)
+                self._said_before.pop(subject, None)
+                self._said_before[subject] = stamp
+                while len(self._said_before) > self.max_ids:
+                    del self._said_before[next(iter(self._said_before))]
 
     def _forget_links(self, links: dict[str, str], link: str, update: Update) -> None:
         """Over ``max_ids`` links of a kind: forget the oldest of untracked persons."""
@@ -315,86 +326,64 @@ class People:
 
     def subjects(self) -> list[str]:
         """Every participant tracked, by our name: each tracked person, and each tracked
-        face or body that no tracked person links (those that one does are its)."""
-        return [
-            subject
-            for topic, ids in self._tracked.items()
-            for i in sorted(ids)
-            if (subject := KINDS[topic][0] + i) not in self._aliases
-        ]
+        face or body that no tracked person holds (those that one does are its)."""
+        return sorted(self.presence.participants)
 
     def frame_of(self, subject: str) -> str | None:
-        """The TF frame a subject's pose (where it looks) is read from, or None when it has
-        none (yet)."""
-        prefix, _, ros_id = subject.partition("_")
-        if prefix != "person":
-            return subject  # body_<id> and face_<id> are REP 155's frame names
-        return look_frame(ros_id, self._tracked, self._links)
-
-    def _realias(self, update: Update) -> None:
-        """Which faces and bodies are a tracked person's, after a list or a link changed: one
-        that becomes a person's is lost as a subject of its own (the person goes on); one
-        that no longer is comes back as its own."""
-        before, self._aliases = self._aliases, aliases(self._tracked, self._links, self._owner)
-        if before == self._aliases:
-            return
-        self._by_frame = None
-        for alias in sorted(self._aliases.keys() - before.keys()):
-            if self._last.pop(alias, None) is not None:
-                update.lost.append(alias)
-        own = set(self.subjects())  # no longer a person's, and still tracked: its own again
-        self._resolve(sorted(s for s in before.keys() - self._aliases.keys() if s in own), update)
-
-    def _release(self, subject: str) -> None:
-        """``subject`` no longer holds a frame (lost, or relinked)."""
-        self._taken.discard(subject)
-        if (frame := self.frame_of(subject)) is not None and self._owner.get(frame) == subject:
-            del self._owner[frame]
-
-    def _holds(self, subject: str, frame: str, update: Update) -> bool:
-        """Whether ``subject``'s pose may be read from ``frame``: a person's only while no
-        other tracked person holds it."""
-        if not subject.startswith("person_"):
-            return True
-        owner = self._owner.setdefault(frame, subject)
-        if owner == subject:
-            return True
-        if subject not in self._taken:
-            self._taken.add(subject)
-            update.refused.append(
-                ("link_taken", f"{keys.cut(subject)}: {keys.cut(frame)} is {owner}'s")
-            )
-        return False
+        """The TF frame a subject's pose (where it looks) is read from first, or None
+        when it has none."""
+        participant = self.presence.participants.get(subject)
+        if participant is None:  # (not a participant now: its own frame, if a face or body)
+            return None if subject.startswith("person_") else subject
+        return next(iter(participant.looks), None)
 
     def _resolve(self, subjects: Iterable[str], update: Update) -> None:
         for subject in subjects:
-            if subject in self._aliases:
-                continue  # a person's face or body: its poses are the person's
-            frame = self.frame_of(subject)
-            if (
-                frame is None
-                or not self.tf.has_frame(frame)
-                or not self._holds(subject, frame, update)
-            ):
+            participant = self.presence.participants.get(subject)
+            if participant is None:
+                continue
+            looked_up = self._look_up(participant, update)
+            if looked_up is None:
+                continue
+            frame, transform, stamp = looked_up
+            said = self._last.get(subject)
+            last = None if said is None else said[0]
+            if said is not None and (stamp < said[0] or (stamp, frame) == said):
+                continue  # nothing newer than what was already said (another frame at
+                # the same time is: the tracker takes an equal stamp)
+            if last is None:  # first known: what its frame already holds, said first
+                before = self._said_before.get(subject)
+                if before is not None and stamp <= before:
+                    continue  # said already, before it was lost
+                self._said_before.pop(subject, None)
+                self._first_results(subject, frame, stamp, before, update)
+            self._last[subject] = (stamp, frame)
+            stands = participant.stands if participant.stands != frame else None
+            update.poses.append(self._sample(subject, frame, stands, transform, stamp))
+
+    def _look_up(
+        self, participant: Participant, update: Update
+    ) -> tuple[str, RigidTransform, int] | None:
+        """Where a participant looks from now: the first of its frames that can be looked
+        up in the base frame (a face under a camera not yet connected gives way to the
+        body), with its transform at the latest common time."""
+        tried = False
+        for frame in participant.looks:
+            if not self.tf.has_frame(frame):
                 continue
             try:
                 transform, stamp = self.tf.lookup(self.base_frame, frame, 0)
             except TfError:
-                update.unresolved += 1
+                tried = True
                 continue
-            last = self._last.get(subject)
-            if last is not None and stamp <= last:
-                continue  # nothing newer than what was already said
-            if last is None:  # first known: what its frame already holds, said first
-                self._first_results(subject, frame, stamp, update)
-            self._last[subject] = stamp
-            update.poses.append(self._sample(subject, frame, transform, stamp))
+            return frame, transform, stamp
+        if tried:
+            update.unresolved += 1
+        return None
 
-    def _stance(self, subject: str, stamp: int) -> Stance | None:
-        """Where a person stands at ``stamp`` (its body, at that time, else its latest), or
-        None when it has no body apart or it cannot be looked up yet."""
-        prefix, _, ros_id = subject.partition("_")
-        frame = stance_frame(ros_id, self._tracked, self._links) if prefix == "person" else None
+    def _stance(self, frame: str | None, stamp: int) -> Stance | None:
+        """Where a person stands at ``stamp``: in its body ``frame`` (at that time, else its
+        latest), or None when it has no body apart or it cannot be looked up yet."""
         if frame is None or not self.tf.has_frame(frame):
             return None
         for at in (stamp, 0):
@@ -406,23 +395,31 @@ class People:
             return pose.translation, pose.rotation
         return None
 
-    def _first_results(self, subject: str, frame: str, upto: int, update: Update) -> None:
-        """The subject's poses before ``upto`` that its frame holds (see the module's rules);
-        a stamp that cannot be looked up (another link has no data then) is skipped."""
-        stamps = self.tf.stamps(frame, upto - FIRST_RESULTS_NS, upto - 1)
-        for stamp in stamps[-MAX_FIRST_RESULTS:]:
+    def _first_results(
+        self, subject: str, frame: str, upto: int, after: int | None, update: Update
+    ) -> None:
+        """The subject's poses before ``upto`` (and after ``after``, the last said of it
+        before) that its frame holds (see the module's rules); a stamp that cannot be
+        looked up (another link has no data then) is skipped."""
+        since = (
+            upto - FIRST_RESULTS_NS if after is None else max(upto - FIRST_RESULTS_NS, after + 1)
+        )
+        stands = self.presence.participants[subject].stands
+        stands = stands if stands != frame else None
+        for stamp in self.tf.stamps(frame, since, upto - 1)[-MAX_FIRST_RESULTS:]:
             try:
                 transform, _ = self.tf.lookup(self.base_frame, frame, stamp)
             except TfError:
                 continue
-            update.poses.append(self._sample(subject, frame, transform, stamp))
+            update.poses.append(self._sample(subject, frame, stands, transform, stamp))
 
     def _sample(
-        self, subject: str, frame: str, transform: RigidTransform, stamp: int
-    ) -> PoseSample:
+        self, subject: str, frame: str, stands: str | None, transform: RigidTransform,
+        stamp: int,
+    ) -> PoseSample:  # fmt: skip
         profile = "head" if frame.startswith("face_") else "body"
         pose = _pose(transform, stamp)
-        if (stance := self._stance(subject, stamp)) is not None:
+        if (stance := self._stance(stands, stamp)) is not None:
             pose = Pose(pose.stamp, pose.translation, pose.rotation, stance)
         return PoseSample(
             keys.BodyRef(frame_id=self.base_frame, body_id=subject),

@@ -147,7 +147,6 @@ def test_every_decoder_reason_is_exercised():
         Rejection.TYPE_MISMATCH,
         Rejection.MALFORMED_CDR,
         Rejection.INVALID_ID,
-        Rejection.LINK_TAKEN,
     }
     decoder_reasons = (
         set(Rejection)
