@@ -5,9 +5,16 @@ it returns on its dispatcher.
 
 Events: ``facing(state)``, ``not_facing(state)``, ``change(state)``, ``lost(body)``,
 ``engaged(event)``, ``disengaged(event)``.
+
+One order decides: a live result or level replaces an older one (stamps), and a seed (a
+query's answer, applied after it arrives) never undoes what was heard live since the
+query began: a DELETE heard meanwhile leaves a tombstone (when it was heard, on the
+caller's clock) that refuses the seed's older view of that body.
 """
 
 from __future__ import annotations
+
+from collections import OrderedDict
 
 from ..contract.keys import BodyRef
 from ..contract.levels import Level
@@ -17,6 +24,9 @@ from .scene import ClientEvent, Event
 
 #: The levels at which a body counts as engaged: ``disengaged`` follows only these.
 ENGAGED_LEVELS = (Level.ENGAGED, Level.DISENGAGING)
+#: DELETEs remembered against seeds still under way (the newest kept): a seed takes at
+#: most a few timeouts, and a room does not lose this many people meanwhile.
+TOMBSTONES = 10_000
 
 
 class BodyCache:
@@ -29,13 +39,28 @@ class BodyCache:
         self.states: dict[BodyRef, FacingState] = {}
         self.levels: dict[BodyRef, EngagementEvent] = {}
         self._vouchers: dict[BodyRef, set[str]] = {}
+        # body -> when its DELETE was heard (the caller's clock), oldest first
+        self._deleted: OrderedDict[BodyRef, float] = OrderedDict()
         self.dropped_from_dead = 0
+        self.seeds_refused = 0  # seeded facts about bodies deleted since the seed began
 
-    def apply(self, state: FacingState) -> list[Event]:
-        """A result, said or seeded."""
-        key = BodyRef(frame_id=state.frame_id, body_id=state.body_id)
-        if state.instance is not None and state.instance not in self.live:
+    def _refused(self, key: BodyRef, instance: str | None, seeded_since: float | None) -> bool:
+        """Whether a fact is refused: said by an instance not alive, or seeded by a query
+        that began before the body's DELETE was heard. A live fact ends a tombstone."""
+        if instance is not None and instance not in self.live:
             self.dropped_from_dead += 1  # said by an instance no longer (or not yet) alive
+            return True
+        if seeded_since is None:
+            self._deleted.pop(key, None)
+        elif self._deleted.get(key, seeded_since - 1.0) >= seeded_since:
+            self.seeds_refused += 1
+            return True
+        return False
+
+    def apply(self, state: FacingState, seeded_since: float | None = None) -> list[Event]:
+        """A result, said (live) or seeded (by a query begun at ``seeded_since``)."""
+        key = BodyRef(frame_id=state.frame_id, body_id=state.body_id)
+        if self._refused(key, state.instance, seeded_since):
             return []
         previous = self.states.get(key)
         if previous is not None and _time(previous) > _time(state):
@@ -51,13 +76,12 @@ class BodyCache:
             events.append((ClientEvent.NOT_FACING, (state,)))
         return events
 
-    def take_level(self, event: EngagementEvent) -> list[Event]:
+    def take_level(self, event: EngagementEvent, seeded_since: float | None = None) -> list[Event]:
         """A change of level, said or seeded: kept, and the events of the transition from
         the level last seen (an older change, raced by the seed, is not)."""
         level = event.level
         key = BodyRef(frame_id=event.frame_id, body_id=event.body_id)
-        if event.instance is not None and event.instance not in self.live:
-            self.dropped_from_dead += 1
+        if self._refused(key, event.instance, seeded_since):
             return []
         known = self.levels.get(key)
         if known is not None and _time(known) > _time(event):
@@ -74,10 +98,15 @@ class BodyCache:
             return [(ClientEvent.DISENGAGED, (event,))]
         return []
 
-    def delete(self, body: BodyRef) -> list[Event]:
-        """The service deleted a body's result (gone from its frame, or stale)."""
+    def delete(self, body: BodyRef, now: float) -> list[Event]:
+        """The service deleted a body's result (gone from its frame, or stale), heard at
+        ``now`` (the caller's clock): a seed begun before then cannot bring it back."""
         known = body in self.states
         self._forget(body)
+        self._deleted.pop(body, None)
+        self._deleted[body] = now
+        while len(self._deleted) > TOMBSTONES:
+            self._deleted.popitem(last=False)
         return [(ClientEvent.LOST, (body,))] if known else []
 
     def instance_gone(self, instance: str) -> list[Event]:

@@ -393,23 +393,18 @@ class FacingClient:
                 self._call(callback, *args)
 
     def _reseed(self) -> None:
-        """The cache from queries: at start, and when a service (re)appears. A service
-        with nobody in this client's frame yet is normal, not an error."""
+        """The cache from queries: at start, and when a service (re)appears. Each answer
+        is applied as it arrives, and never undoes what was heard live since its query
+        began (a DELETE meanwhile wins). A service with nobody in this client's frame yet
+        is normal, not an error."""
         try:
-            try:
-                states = self._ask(self.frame, None)
-            except UnknownFrame as error:  # others are tracked: a misspelt frame, said once
-                with self._lock:
-                    say, self._said_unknown = not self._said_unknown, True
-                if say:
-                    log.warning(
-                        "facing client: no service knows frame %r yet (%s); a misspelt "
-                        "frame stays empty",
-                        self.frame,
-                        error.detail,
-                    )
-                states = []
-            self._scene.seed(self.session, self.timeout_s)
+            since = time.monotonic()
+            states = self._seed_states()
+            with self._lock:
+                for state in states:
+                    self._emit(self._bodies.apply(state, since))
+            self._scene.seed(self.session, self.timeout_s, time.monotonic())
+            since = time.monotonic()
             selector = keys.engagement_key(
                 self.namespace, body_id=keys.ALL_FRAMES, frame_id=self.frame
             )
@@ -421,11 +416,26 @@ class FacingClient:
             log.exception("facing client: could not query the service")
             return
         with self._lock:
-            for state in states:
-                self._emit(self._bodies.apply(state))
             for level in levels:
                 seeded = EngagementEvent(previous=Level.UNKNOWN, **level.model_dump())
-                self._emit(self._bodies.take_level(seeded))
+                self._emit(self._bodies.take_level(seeded, since))
+
+    def _seed_states(self) -> list[FacingState]:
+        """The service's results for this client's frame; none for a frame no service
+        knows yet (a misspelt frame, said once)."""
+        try:
+            return self._ask(self.frame, None)
+        except UnknownFrame as error:  # others are tracked: a misspelt frame, said once
+            with self._lock:
+                say, self._said_unknown = not self._said_unknown, True
+            if say:
+                log.warning(
+                    "facing client: no service knows frame %r yet (%s); a misspelt "
+                    "frame stays empty",
+                    self.frame,
+                    error.detail,
+                )
+            return []
 
     # The inbox's handlers: one that raises (a bad sample) is logged with its key by the
     # inbox, and the next sample handled.
@@ -435,7 +445,8 @@ class FacingClient:
                 state = FacingState.model_validate_json(sample.payload.to_bytes())
                 self._emit(self._bodies.apply(state))
             else:
-                self._emit(self._bodies.delete(keys.body_of(str(sample.key_expr))))
+                body = keys.body_of(str(sample.key_expr))
+                self._emit(self._bodies.delete(body, time.monotonic()))
 
     def _on_event(self, sample: zenoh.Sample) -> None:
         event = EngagementEvent.model_validate_json(sample.payload.to_bytes())

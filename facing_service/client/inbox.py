@@ -43,7 +43,9 @@ Subscription = zenoh.Subscriber[None]
 
 class Overflow:
     """A count of what a bounded queue refused, said in one log line when it starts and
-    one when it ends (a count per episode, not a line per item)."""
+    one when it ends (a count per episode, not a line per item): an episode ends when
+    the queue has emptied, not when one item has gone (under sustained overload a slot
+    frees and fills again with every item)."""
 
     def __init__(self, what: str) -> None:
         self._what = what
@@ -59,7 +61,8 @@ class Overflow:
         if first:
             log.warning("facing client: %s; dropping until it catches up", self._what)
 
-    def had_room(self) -> None:
+    def emptied(self) -> None:
+        """The queue has caught up with everything it held: the episode, if any, ends."""
         if not self._episode:  # a plain read: the common case costs no lock
             return
         with self._lock:
@@ -106,10 +109,12 @@ class Serial:
             call, args = item
             try:
                 call(*args)
-            except Exception:  # one bug, or one bad sample, must never end the thread
+            except BaseException:  # one bug, one bad sample, or a callback's sys.exit()
+                # must never end the thread: the cache would freeze without a word
                 about = next((f" on {a.key_expr}" for a in args if isinstance(a, zenoh.Sample)), "")
                 log.exception("facing client: could not handle %s%s", _name(call), about)
-            self.overflow.had_room()
+            if self._queue.empty():
+                self.overflow.emptied()
 
 
 def _name(call: Callable[..., object]) -> str:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 import threading
+import time
 from collections.abc import Callable
 from enum import Enum
 from typing import Any
@@ -48,11 +49,14 @@ Event = tuple[ClientEvent, tuple[Any, ...]]
 
 class SceneCache:
     """The latest groups and pairs per frame, newest stamp wins (a seeding query may race
-    a publication), and the frames each service instance vouches for."""
+    a publication), and the frames each service instance vouches for. A frame whose
+    groups all dissolved is forgotten, and when that was heard is kept: a seed begun
+    before it cannot bring the groups back."""
 
     def __init__(self) -> None:
         self._groups: dict[str, FrameGroups] = {}
         self._gazing: dict[str, FrameGazing] = {}
+        self._emptied: dict[str, float] = {}  # frame -> when its groups were said empty
 
     def groups(self, frame: str) -> list[GroupState]:
         said = self._groups.get(frame)
@@ -66,14 +70,23 @@ class SceneCache:
         said = self._groups.get(frame)
         return [] if said is None else list(said.greetings)
 
-    def apply_groups(self, said: FrameGroups) -> list[Event]:
+    def apply_groups(
+        self, said: FrameGroups, now: float, seeded_since: float | None = None
+    ) -> list[Event]:
+        """A frame's groups heard at ``now`` (the caller's clock), live or seeded by a
+        query begun at ``seeded_since``."""
         before = self._groups.get(said.frame)
         if before is not None and _stamp(before) > _stamp(said):
             return []
+        if seeded_since is not None and self._emptied.get(said.frame, -1.0) >= seeded_since:
+            return []  # emptied since the seed began: its view is older
         if said.groups or said.greetings:
             self._groups[said.frame] = said
+            self._emptied.pop(said.frame, None)
         else:  # nobody grouped: forgotten (the service forgets an empty frame, and its
             self._groups.pop(said.frame, None)  # stamps may start over when it returns)
+            if seeded_since is None:
+                self._emptied[said.frame] = now
         return changes(said.frame, [] if before is None else before.groups, said.groups)
 
     def apply_gazing(self, said: FrameGazing) -> None:
@@ -105,13 +118,14 @@ class SceneListener:
         frame: str,
         is_live: Callable[[str], bool],
         emit: Callable[[list[Event]], None],
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self._keys: dict[str, type[FrameGroups] | type[FrameGazing]] = {
             keys.groups_key(namespace, frame): FrameGroups,
             keys.gazing_key(namespace, frame): FrameGazing,
         }
         self._gazing_prefix = keys.gazing_key(namespace, "")
-        self._is_live, self._emit = is_live, emit
+        self._is_live, self._emit, self._clock = is_live, emit, clock
         self._lock = threading.Lock()
         self._cache = SceneCache()
         self.dropped_from_dead = 0
@@ -121,12 +135,13 @@ class SceneListener:
         for key in self._keys:  # one by one: a Ctrl-C meanwhile closes those declared
             inbox.subscribe(session, key, self._on_sample)
 
-    def seed(self, session: zenoh.Session, timeout_s: float) -> None:
-        """What the services say now (at start, and when one appears)."""
+    def seed(self, session: zenoh.Session, timeout_s: float, since: float) -> None:
+        """What the services say now (at start, and when one appears), asked at ``since``
+        (the client's clock)."""
         for key, model in self._keys.items():
             for reply in session.get(key, timeout=timeout_s):
                 if reply.ok is not None:
-                    self._take(model.model_validate_json(reply.ok.payload.to_bytes()))
+                    self._take(model.model_validate_json(reply.ok.payload.to_bytes()), since)
 
     def groups(self, frame: str) -> list[GroupState]:
         with self._lock:
@@ -155,9 +170,9 @@ class SceneListener:
             return
         self._take(said)
 
-    def _take(self, said: FrameGroups | FrameGazing) -> None:
+    def _take(self, said: FrameGroups | FrameGazing, seeded_since: float | None = None) -> None:
         """From the inbox's thread and the seeding one: the count under the lock too
-        (issue 74: ``+= 1`` outside it, from three threads, could lose counts)."""
+        (``+= 1`` outside it, from three threads, could lose counts)."""
         with self._lock:
             if said.instance is not None and not self._is_live(said.instance):
                 self.dropped_from_dead += 1
@@ -165,7 +180,7 @@ class SceneListener:
             if isinstance(said, FrameGazing):
                 self._cache.apply_gazing(said)
                 return
-            events = self._cache.apply_groups(said)
+            events = self._cache.apply_groups(said, self._clock(), seeded_since)
         self._emit(events)
 
 

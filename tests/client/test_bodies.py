@@ -43,8 +43,8 @@ def test_transitions_only_and_the_newest_stamp_wins():
     assert names(cache.apply(state(3, True))) == ["change"]
     assert cache.apply(state(2, False)) == []  # older than what is held: a raced seed
     assert names(cache.apply(state(4, False))) == ["change", "not_facing"]
-    assert names(cache.delete(ANN)) == ["lost"]
-    assert cache.delete(ANN) == []  # unknown: nothing to lose
+    assert names(cache.delete(ANN, 1.0)) == ["lost"]
+    assert cache.delete(ANN, 2.0) == []  # unknown: nothing to lose
 
 
 def test_what_a_dead_instance_says_is_refused_and_counted():

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -115,6 +116,48 @@ def test_what_does_not_fit_is_dropped_counted_and_said_once(caplog):
         "facing client: the test's calls fall behind; dropping until it catches up",
         "facing client: caught up after dropping 7 (the test's calls fall behind)",
     ]
+
+
+def test_a_sustained_overload_is_one_episode_said_once(caplog):
+    """Before: "dropping" and "caught up" alternated on every item (a slot freed by one
+    call ended the episode, the next offer started another: 1 532 lines for 772 drops in
+    2 s), and the test above passed because its queue emptied at once."""
+    turns = threading.Semaphore(0)
+    calls = Serial("test-calls", 3, "the test's calls fall behind")
+    try:
+        calls.offer(turns.acquire)
+        wait_until(lambda: calls._queue.empty(), 5, "the first call under way")
+        for _ in range(50):  # the queue kept full: each call that ends frees one slot
+            while calls._queue.qsize() < 3:
+                calls.offer(turns.acquire)
+            calls.offer(turns.acquire)  # dropped
+            turns.release()
+            wait_until(lambda: calls._queue.qsize() < 3, 5, "a call ended")
+        for _ in range(60):
+            turns.release()
+        wait_until(lambda: calls._queue.empty(), 5, "caught up")
+        wait_until(lambda: calls.overflow._episode == 0, 5, "the episode said ended")
+    finally:
+        calls.stop()
+    said = [r.getMessage() for r in caplog.records if "fall behind" in r.getMessage()]
+    assert said == [
+        "facing client: the test's calls fall behind; dropping until it catches up",
+        "facing client: caught up after dropping 50 (the test's calls fall behind)",
+    ], said[:6]
+
+
+def test_a_callback_that_exits_does_not_end_the_thread(caplog):
+    """Before: a callback raising SystemExit (sys.exit() in a behaviour) ended the
+    client's thread without a word, and its cache froze."""
+    ran: list[int] = []
+    calls = Serial("test-calls", 8, "behind")
+    try:
+        calls.offer(sys.exit, 3)
+        calls.offer(ran.append, 1)
+        wait_until(lambda: ran == [1], 5, "the call after the exit")
+    finally:
+        calls.stop()
+    assert any("could not handle exit" in r.getMessage() for r in caplog.records)
 
 
 def test_a_call_may_stop_its_own_thread_even_with_a_full_queue():

@@ -21,3 +21,23 @@ def test_a_group_the_robot_leaves_is_changed_and_the_robot_left_it():
         ("group_dissolved", "2"),
     ]
     assert changes("map", after, after) == []
+
+
+def test_groups_dissolved_while_a_seed_is_under_way_stay_dissolved():
+    """Before: the frame was forgotten when its groups dissolved, so the seed's older
+    answer, applied after, formed them again for good."""
+    from facing_service.client.scene import SceneCache
+    from facing_service.contract.schemas import FrameGroups
+
+    def said(sec: int, *groups: GroupState) -> FrameGroups:
+        return FrameGroups(frame="map", stamp={"sec": sec, "nanosec": 0}, groups=list(groups),
+                           people_left_out=0)  # fmt: skip
+
+    cache = SceneCache()
+    cache.apply_groups(said(1, group("1", "a", "b")), now=1.0)
+    began = 5.0  # a seed is asked; the service answers with the group
+    assert [name for name, _ in cache.apply_groups(said(2), now=5.5)] == ["group_dissolved"]
+    assert cache.apply_groups(said(1, group("1", "a", "b")), now=6.0, seeded_since=began) == []
+    assert cache.groups("map") == []
+    formed = cache.apply_groups(said(3, group("2", "a", "c")), now=7.0, seeded_since=6.5)
+    assert [name for name, _ in formed] == ["group_formed"]  # a later seed: taken
