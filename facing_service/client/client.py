@@ -394,9 +394,8 @@ class FacingClient:
 
     def _reseed(self) -> None:
         """The cache from queries: at start, and when a service (re)appears. Each answer
-        is applied as it arrives, and never undoes what was heard live since its query
-        began (a DELETE meanwhile wins). A service with nobody in this client's frame yet
-        is normal, not an error."""
+        is applied as it arrives, never undoing what was heard live since its query
+        began (a DELETE meanwhile wins); nobody in this client's frame is no error."""
         try:
             since = time.monotonic()
             states = self._seed_states()
@@ -405,9 +404,7 @@ class FacingClient:
                     self._emit(self._bodies.apply(state, since))
             self._scene.seed(self.session, self.timeout_s, time.monotonic())
             since = time.monotonic()
-            selector = keys.engagement_key(
-                self.namespace, body_id=keys.ALL_FRAMES, frame_id=self.frame
-            )
+            selector = keys.engagement_key(self.namespace, body_id="*", frame_id=self.frame)
             levels = engagement_states(self.session.get(selector, timeout=self.timeout_s))
         except FacingError as error:  # said in one line: the cache fills as results arrive
             log.warning("facing client: could not query the service: %s", error)
@@ -421,20 +418,15 @@ class FacingClient:
                 self._emit(self._bodies.take_level(seeded, since))
 
     def _seed_states(self) -> list[FacingState]:
-        """The service's results for this client's frame; none for a frame no service
-        knows yet (a misspelt frame, said once)."""
+        """The service's results for this client's frame (none for a frame unknown)."""
         try:
             return self._ask(self.frame, None)
         except UnknownFrame as error:  # others are tracked: a misspelt frame, said once
             with self._lock:
                 say, self._said_unknown = not self._said_unknown, True
             if say:
-                log.warning(
-                    "facing client: no service knows frame %r yet (%s); a misspelt "
-                    "frame stays empty",
-                    self.frame,
-                    error.detail,
-                )
+                log.warning("facing client: no service knows frame %r yet (%s); a misspelt "
+                            "frame stays empty", self.frame, error.detail)  # fmt: skip
             return []
 
     # The inbox's handlers: one that raises (a bad sample) is logged with its key by the
