@@ -3,15 +3,15 @@ by one daemon thread of the client's.
 
 zenoh hands each sample straight to a callback on its own network thread
 (``Callback(indirect=False)``), which only offers it to the queue and returns: a full
-queue drops the sample, counted and said once per episode, instead of waiting. A zenoh
-FIFO channel instead (the client's subscriptions until issue 74) blocks zenoh's sender
+queue drops the sample, counted and logged once per episode, instead of waiting. A zenoh
+FIFO channel instead (the client's subscriptions once) blocks zenoh's sender
 when it is full, and with it every other subscription, liveliness token and query of the
 session: 406 samples to a 20 ms handler delayed an unrelated subscriber by 3 s. One
 queue for every subscription keeps the order between streams (a result and the group it
 changes arrive as they were sent), and leaves one thread to reason about.
 
 Nothing here is a non-daemon thread (zenoh's plain callbacks run on threads of their own
-that are: a program that ends without closing its client would never exit, issue 67).
+that are: a program that ends without closing its client would never exit).
 What is still open when the interpreter exits is closed by an ``atexit`` hook, before
 Python stops its daemon threads: one stopped while zenoh hands it a sample unwinds
 through zenoh's native code and aborts the process ("FATAL: exception not rethrown").
@@ -42,7 +42,7 @@ Subscription = zenoh.Subscriber[None]
 
 
 class Overflow:
-    """A count of what a bounded queue refused, said in one log line when it starts and
+    """A count of what a bounded queue refused, logged in one line when it starts and
     one when it ends (a count per episode, not a line per item): an episode ends when
     the queue has emptied, not when one item has gone (under sustained overload a slot
     frees and fills again with every item)."""
@@ -73,7 +73,7 @@ class Overflow:
 
 class Serial:
     """Calls run one after another, in the order offered, on one daemon thread; offered
-    without waiting: past ``depth`` waiting, a call is dropped, counted and said."""
+    without waiting: past ``depth`` waiting, a call is dropped, counted and logged."""
 
     def __init__(self, name: str, depth: int, falling_behind: str) -> None:
         self._queue: queue.Queue[tuple[Callable[..., object], tuple[object, ...]] | None] = (

@@ -270,8 +270,9 @@ class InputHealth(BaseModel):
         "topics); null before anything did."
     )
     silent: bool = Field(
-        description="Nothing heard for --silent-after-s with people tracked: they are held "
-        "as they were (nobody goes stale) for up to --hold-silent-s."
+        description="Nothing heard for longer than the input's own rate explains (at least "
+        "--silent-after-s) with people tracked: they are held as they were (nobody goes "
+        "stale) for up to --hold-silent-s after their own last pose."
     )
     held: int = Field(description="People held now (0 unless silent).")
     silences: int = Field(description="How many times the input went silent.")

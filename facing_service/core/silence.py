@@ -23,8 +23,8 @@ So the staleness in force at any moment (``staleness_s``) is ``stale_s`` or
 A tracker slower than ``after_s`` (a 1 Hz detector) makes each pause between its
 messages a silence: it holds its people as it should (nobody is lost between poses), but
 it is the input's rate, not a stall. The input's period is learned from the gaps between
-what is heard: a silence is worth saying only once it lasts twice that period (and
-``after_s``), and a period no shorter than ``after_s`` is said once (``Change.SLOW``).
+what is heard: a silence is worth logging only once it lasts twice that period (and
+``after_s``), and a period no shorter than ``after_s`` is logged once (``Change.SLOW``).
 
 Invariants: the staleness in force is never below ``stale_s`` nor above
 ``max(stale_s, hold_s)``; nothing here moves a person's own time. Pure: the caller's
@@ -56,11 +56,11 @@ class SilenceParams:
 
 
 class Change(Enum):
-    """What the input's silence did that is worth saying."""
+    """What the input's silence did that is worth logging."""
 
     SILENT = "silent"  # nothing heard for longer than its rate explains: people are held
-    BACK = "back"  # heard again after a silence that was said
-    SLOW = "slow"  # the input's own period is no shorter than after_s (said once)
+    BACK = "back"  # heard again after a silence that was logged
+    SLOW = "slow"  # the input's own period is no shorter than after_s (logged once)
 
 
 class InputSilence:
@@ -70,13 +70,20 @@ class InputSilence:
         self.params = params
         self.last_heard: float | None = None
         self.holding = False  # silent now: its people are held
-        self.silences = 0  # silences said (longer than the input's rate explains)
-        self.longest_s = 0.0  # the longest silence said, once it ended
+        self.silences = 0  # silences logged (longer than the input's rate explains)
+        self.longest_s = 0.0  # the longest silence logged, once it ended
         self.ended_s = 0.0  # how long the last silence that ended lasted
         self._back_at: float | None = None  # heard again after a silence: when
-        self._said = False  # the current silence was said (its end is said too)
-        self._said_slow = False
+        self._logged = False  # the current silence was logged (so is its end)
+        self._logged_slow = False
+        self._losses_logged = False  # people lost to the hold were logged in this silence
         self._gaps: deque[float] = deque(maxlen=PERIOD_GAPS)
+
+    @property
+    def stalled(self) -> bool:
+        """Silent for longer than the input's own rate explains: a stall, logged (what the
+        status shows as silent; a slow tracker's pauses hold its people, unlogged)."""
+        return self.holding and self._logged
 
     @property
     def period_s(self) -> float | None:
@@ -87,17 +94,17 @@ class InputSilence:
 
     def heard(self, now: float) -> Change | None:
         """Something whole came from the input at ``now``: BACK when it ends a silence
-        that was said."""
+        that was logged."""
         change = None
         if self.last_heard is not None:
             gap = max(now - self.last_heard, 0.0)
             self._gaps.append(gap)
             if gap >= self.params.after_s:  # (held or not yet looked at: a silence ended)
                 self._back_at, self.ended_s = now, gap
-                if self.holding and self._said:
+                if self.holding and self._logged:
                     self.longest_s = max(self.longest_s, gap)
                     change = Change.BACK
-        self.holding = self._said = False
+        self.holding = self._logged = self._losses_logged = False
         self.last_heard = now
         return change
 
@@ -108,6 +115,12 @@ class InputSilence:
         if p.hold_s > 0 and (settling or self._silent(now)):
             return max(p.stale_s, p.hold_s)
         return p.stale_s
+
+    def first_losses(self) -> bool:
+        """People were just lost to the hold: True the first time in a silence (the rest
+        of its people, each at its own bound, follow without a line of their own)."""
+        first, self._losses_logged = not self._losses_logged, True
+        return first
 
     def _silent(self, now: float) -> bool:
         return self.last_heard is not None and now - self.last_heard >= self.params.after_s
@@ -121,11 +134,11 @@ class InputSilence:
             due.append(self._back_at + self.params.settle_s)
         if tracking and not self.holding:
             due.append(self.last_heard + self.params.after_s)
-        if tracking and self.holding and not self._said:
-            due.append(self.last_heard + self._worth_saying_s())
+        if tracking and self.holding and not self._logged:
+            due.append(self.last_heard + self._worth_logging_s())
         return min(due, default=None)
 
-    def _worth_saying_s(self) -> float:
+    def _worth_logging_s(self) -> float:
         """How long a silence lasts before it is more than the input's own rate."""
         period = self.period_s
         rate = 2 * (period if period is not None else self.params.after_s)
@@ -133,20 +146,20 @@ class InputSilence:
 
     def look(self, now: float, tracking: bool) -> Change | None:
         """Whether the input just went silent (``tracking``: people are held now), and
-        whether that is worth saying."""
+        whether that is worth logging."""
         if self._back_at is not None and now >= self._back_at + self.params.settle_s:
             self._back_at = None
         if self.last_heard is None or self.params.hold_s <= 0 or not tracking:
             return None
         period = self.period_s
-        if period is not None and period >= self.params.after_s and not self._said_slow:
-            self._said_slow = True
+        if period is not None and period >= self.params.after_s and not self._logged_slow:
+            self._logged_slow = True
             return Change.SLOW
         if not self._silent(now):
             return None
         self.holding = True
-        if not self._said and now - self.last_heard >= self._worth_saying_s():
-            self._said = True
+        if not self._logged and now - self.last_heard >= self._worth_logging_s():
+            self._logged = True
             self.silences += 1
             return Change.SILENT
         return None

@@ -38,9 +38,9 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
   (the one that linked it last), so 200 cloned person ids pointing at a real face make
   one stream of results, never 200. Frame names are bounded (``MAX_FRAME_NAME``,
   ``tf_frame_name_too_long``).
-- Nothing is said twice: a subject lost and back (a person leaving its list for one
-  message, a face no longer a person's) resumes after the last stamp said of it
-  (``_said_before``, bounded), so the tracker never refuses its first results as out of
+- Nothing is emitted twice: a subject lost and back (a person leaving its list for one
+  message, a face no longer a person's) resumes after the last stamp emitted for it
+  (``_emitted_before``, bounded), so the tracker never refuses its first results as out of
   order.
 """
 
@@ -152,8 +152,8 @@ class People:
         self._links: dict[str, dict[str, str]] = {"face_": {}, "body_": {}}
         # participant -> the stamp of the last pose emitted, and the frame it was read from
         self._last: dict[str, tuple[int, str]] = {}
-        # a subject no longer a participant -> the last stamp said of it (oldest first)
-        self._said_before: dict[str, int] = {}
+        # a subject no longer a participant -> the last stamp emitted for it (oldest first)
+        self._emitted_before: dict[str, int] = {}
         # Derived whole from the lists and links, when they change (see participants)
         self.presence: Presence = derive(self._tracked, self._links)
         # /tf messages whose every transform went back in time: (publisher, count, since)
@@ -181,7 +181,7 @@ class People:
             update.lost = [s for s in self.subjects() if s in self._last]
             self.tf.clear()
             self._last.clear()
-            self._said_before.clear()  # older stamps are the new timeline
+            self._emitted_before.clear()  # older stamps are the new timeline
         changed: set[str] = set()
         for t in transforms:
             reason = out_of_range(t) or _name_too_long(t)
@@ -291,8 +291,8 @@ class People:
     def _derive(self, update: Update) -> None:
         """Who is there, derived again after a list or a link changed: a participant no
         longer there, or with no frame left to read (a person that links nothing), is
-        lost once said, and one new or reading other frames is resolved (its first
-        results said, after what was said of it before)."""
+        lost once emitted, and one new or reading other frames is resolved (its first
+        results emitted, after what was emitted for it before)."""
         before, self.presence = self.presence, derive(self._tracked, self._links)
         now = self.presence.participants
         changed = [s for s, p in now.items() if before.participants.get(s) != p]
@@ -305,10 +305,10 @@ class People:
             ):
                 del self._last[subject]
                 update.lost.append(subject)
-                self._said_before.pop(subject, None)
-                self._said_before[subject] = stamp
-                while len(self._said_before) > self.max_ids:
-                    del self._said_before[next(iter(self._said_before))]
+                self._emitted_before.pop(subject, None)
+                self._emitted_before[subject] = stamp
+                while len(self._emitted_before) > self.max_ids:
+                    del self._emitted_before[next(iter(self._emitted_before))]
 
     def _forget_links(self, links: dict[str, str], link: str, update: Update) -> None:
         """Over ``max_ids`` links of a kind: forget the oldest of untracked persons."""
@@ -346,16 +346,16 @@ class People:
             if looked_up is None:
                 continue
             frame, transform, stamp = looked_up
-            said = self._last.get(subject)
-            last = None if said is None else said[0]
-            if said is not None and (stamp < said[0] or (stamp, frame) == said):
-                continue  # nothing newer than what was already said (another frame at
+            emitted = self._last.get(subject)
+            last = None if emitted is None else emitted[0]
+            if emitted is not None and (stamp < emitted[0] or (stamp, frame) == emitted):
+                continue  # nothing newer than what was already emitted (another frame at
                 # the same time is: the tracker takes an equal stamp)
-            if last is None:  # first known: what its frame already holds, said first
-                before = self._said_before.get(subject)
+            if last is None:  # first known: what its frame already holds, emitted first
+                before = self._emitted_before.get(subject)
                 if before is not None and stamp <= before:
-                    continue  # said already, before it was lost
-                self._said_before.pop(subject, None)
+                    continue  # emitted already, before it was lost
+                self._emitted_before.pop(subject, None)
                 self._first_results(subject, frame, stamp, before, update)
             self._last[subject] = (stamp, frame)
             stands = participant.stands if participant.stands != frame else None
@@ -398,7 +398,7 @@ class People:
     def _first_results(
         self, subject: str, frame: str, upto: int, after: int | None, update: Update
     ) -> None:
-        """The subject's poses before ``upto`` (and after ``after``, the last said of it
+        """The subject's poses before ``upto`` (and after ``after``, the last emitted for it
         before) that its frame holds (see the module's rules); a stamp that cannot be
         looked up (another link has no data then) is skipped."""
         since = (

@@ -306,7 +306,7 @@ class FacingService:
 
     def _input_health(self, silence: InputSilence) -> InputHealth:
         """The input as the worker last judged it (plain fields it alone writes)."""
-        heard, holding = silence.last_heard, silence.holding
+        heard, holding = silence.last_heard, silence.stalled
         return InputHealth(
             last_heard_s=None if heard is None else round(self._clock() - heard, 3),
             silent=holding,

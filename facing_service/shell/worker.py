@@ -137,7 +137,7 @@ class Worker:
     def _expire(self) -> None:
         """Lose bodies with no sample for the staleness in force (``core.silence``:
         ``--stale-after-s`` while the input is heard, up to ``--hold-silent-s`` while it
-        is silent), and say what the input's silence did.
+        is silent), and log what the input's silence did.
 
         "Now" is when the worker took what it just handled: a body whose next sample was
         already queued is not stale, however long the worker took to get to it, and a
@@ -162,24 +162,23 @@ class Worker:
                 "(%g s): each pause between its messages holds its people as a silence "
                 "would, and a person whose poses stop is lost when the input is heard "
                 "without them; set --silent-after-s (and --stale-after-s) above its period "
-                "to tell a stalled link from its rate (said once)",
+                "to tell a stalled link from its rate (logged once)",
                 silence.period_s or 0.0, silence.params.after_s,
             )  # fmt: skip
         staleness = silence.staleness_s(now)
         for call in tracker.timed(now, staleness, advancing=not silence.holding):
             changes = self._decisions.apply(call)
-            if changes.lost and staleness > silence.params.stale_s:
+            if changes.lost and staleness > silence.params.stale_s and silence.first_losses():
                 log.warning(
-                    "the input has been silent for %.1f s: %s not heard for %g s "
-                    "(--hold-silent-s) %s lost",
-                    now - (silence.last_heard or now),
-                    counted(len(changes.lost), "person", "people"), staleness,
-                    "is" if len(changes.lost) == 1 else "are",
+                    "the input has been silent for %.1f s: people not heard for %g s "
+                    "(--hold-silent-s) are lost: %d now, %d still held until each passes it",
+                    now - (silence.last_heard or now), staleness, len(changes.lost),
+                    len(tracker),
                 )  # fmt: skip
 
     def _heard(self) -> None:
         """Something whole came from the input (refused samples are not it speaking);
-        the end of a silence that was said is said too."""
+        the end of a silence that was logged is logged too."""
         if self.silence.heard(self._horizon) is Change.BACK:
             log.warning(
                 "the input is back after %.1f s of silence; %s tracked",

@@ -24,5 +24,5 @@ def test_a_stall_and_a_cut_lose_nobody_a_departure_and_a_dead_tracker_still_do()
     assert report.left_lost_after_s > 0 and report.dead_cleared_after_s > 0, report
     assert said.count("the input is silent: nothing heard for 1.0 s") == 3, said
     assert said.count("the input is back after") == 2, said
-    assert said.count("not heard for 6 s (--hold-silent-s) are lost") == 1, said
+    assert said.count("people not heard for 6 s (--hold-silent-s) are lost") == 1, said
     assert "Traceback" not in said and report.service_alive
