@@ -118,6 +118,7 @@ class FacingClient:
         close_at_exit(self)  # at the latest: nothing of it outlives the program
         try:
             self._start(session, log_absence)
+            close_at_exit(self)  # again, now newer than its inbox: closed before it
         except BaseException:
             # Ctrl-C while waiting for a service: the callback subscribers' threads would
             # keep the user's program from exiting after its KeyboardInterrupt.
@@ -406,11 +407,10 @@ class FacingClient:
             since = time.monotonic()
             selector = keys.engagement_key(self.namespace, body_id="*", frame_id=self.frame)
             levels = engagement_states(self.session.get(selector, timeout=self.timeout_s))
-        except FacingError as error:  # said in one line: the cache fills as results arrive
-            log.warning("facing client: could not query the service: %s", error)
-            return
-        except Exception:
-            log.exception("facing client: could not query the service")
+        except Exception as error:  # one line: the cache fills as results arrive
+            if self._session is not None:  # (closed meanwhile: nothing to say)
+                log.warning("facing client: could not query the service: %s", error,
+                            exc_info=not isinstance(error, FacingError))  # fmt: skip
             return
         with self._lock:
             for level in levels:

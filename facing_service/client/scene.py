@@ -157,8 +157,7 @@ class SceneListener:
 
     def forget(self, instance: str) -> None:
         with self._lock:
-            events = self._cache.forget(instance)
-        self._emit(events)
+            self._emit(self._cache.forget(instance))
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         try:
@@ -180,8 +179,9 @@ class SceneListener:
             if isinstance(said, FrameGazing):
                 self._cache.apply_gazing(said)
                 return
-            events = self._cache.apply_groups(said, self._clock(), seeded_since)
-        self._emit(events)
+            # queued under the lock: the callbacks come in the order the cache changed
+            # (the seeding thread and the inbox both apply groups)
+            self._emit(self._cache.apply_groups(said, self._clock(), seeded_since))
 
 
 def changes(frame: str, before: list[GroupState], after: list[GroupState]) -> list[Event]:

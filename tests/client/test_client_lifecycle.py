@@ -164,3 +164,25 @@ def test_the_examples_shape_still_exits(served, tmp_path):
     )
     code, out, err = run_program(program)
     assert (code, out) == (0, "open ['a']\n"), err
+
+
+def test_at_exit_a_client_is_closed_before_its_inbox(served):
+    """Before: the client was registered before its inbox, so exit closed the inbox
+    first (the comment said the opposite)."""
+    from facing_service.client import inbox
+
+    ep, _ = served
+    with FacingClient(frame="cam", session_config=loopback_config(connect=[ep])) as client:
+        order = sorted(inbox._OPEN.items(), key=lambda kv: -kv[1])
+        mine = [thing for thing, _ in order if thing in (client, client._inbox)]
+        assert mine == [client, client._inbox]
+
+
+def test_a_seed_cut_short_by_close_says_nothing(served, caplog):
+    """Before: closing a client while it seeded logged "could not query the service"."""
+    ep, _ = served
+    client = FacingClient(frame="cam", session_config=loopback_config(connect=[ep]))
+    with client:
+        pass
+    client._reseed()  # what the dispatcher was running when close() came
+    assert not [r for r in caplog.records if "could not query" in r.getMessage()]

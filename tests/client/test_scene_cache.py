@@ -41,3 +41,19 @@ def test_groups_dissolved_while_a_seed_is_under_way_stay_dissolved():
     assert cache.groups("map") == []
     formed = cache.apply_groups(said(3, group("2", "a", "c")), now=7.0, seeded_since=6.5)
     assert [name for name, _ in formed] == ["group_formed"]  # a later seed: taken
+
+
+def test_the_scene_queues_its_events_in_the_order_the_cache_changed():
+    """Before: events were queued after the lock was let go, so the seeding thread and the
+    inbox could queue "changed" before "formed"."""
+    from facing_service.client.scene import SceneListener
+    from facing_service.contract.schemas import FrameGroups
+
+    held: list[bool] = []
+    listener = SceneListener("hri", "map", lambda _: True, lambda _: held.append(lock.locked()))
+    lock = listener._lock
+    said = FrameGroups(frame="map", stamp={"sec": 1, "nanosec": 0}, groups=[group("1", "a", "b")],
+                       people_left_out=0)  # fmt: skip
+    listener._take(said)
+    listener.forget("s1")
+    assert held == [True, True]

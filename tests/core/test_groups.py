@@ -258,3 +258,18 @@ def test_the_same_room_is_grouped_alike_whatever_order_its_people_come_in(room, 
     listed = {frozenset(g) for g in groups(detect(positions, headings, P))}
     reordered = groups(detect(positions[order], headings[order], P))
     assert {frozenset(order[g].tolist()) for g in reordered} == listed
+
+
+def test_an_even_split_keeps_the_id_by_place_not_by_the_order_people_are_listed():
+    """Before: which half of an evenly split group kept its id followed the order the
+    halves were listed in (so, the people's names)."""
+    from facing_service.core.social.groups import GroupTracker
+
+    halves = [(frozenset("ab"), (1.0, 0.5)), (frozenset("cd"), (1.0, -0.2))]
+    ids = []
+    for listed in (halves, halves[::-1]):
+        tracker = GroupTracker(hold_s=0.0)
+        tracker.update([(frozenset("abcd"), (1.0, 0.0))], 0.0)
+        tracker.update(listed, 1.0)
+        ids.append({g.id: "".join(sorted(g.members)) for g in tracker.groups.values()})
+    assert ids[0] == ids[1] == {1: "cd", 2: "ab"}  # cd stands nearer where the group was

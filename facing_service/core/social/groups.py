@@ -29,6 +29,7 @@ above 0.75), converted to m² (1e-4 times the number), in the room's unit square
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass
 
@@ -333,22 +334,25 @@ class GroupTracker:
     ) -> tuple[list[Group], list[int]]:
         old = dict(self.groups)
         new: dict[int, Group] = {}
-        # Most overlap first: the group that keeps most of an old group's members keeps its id.
+        # Most overlap first: the group that keeps most of an old group's members keeps its
+        # id; of two that keep as many (an even split), the one nearer where the old group
+        # stood, then by place: never by the order people or groups are listed in.
         pairs = sorted(
             (
-                (len(members & g.members), gid, i)
-                for i, (members, _) in enumerate(found)
+                (-len(members & g.members), -gid, math.dist(centre, g.centre), centre, i, gid)
+                for i, (members, centre) in enumerate(found)
                 for gid, g in old.items()
                 if len(members) > 1 and 2 * len(members & g.members) >= len(g.members)
             ),
-            reverse=True,
         )
         taken: dict[int, int] = {}  # found index -> id
-        for _, gid, i in pairs:
+        for *_, i, gid in pairs:
             if i not in taken and gid not in taken.values():
                 taken[i] = gid
         changed = []
-        for i, (members, centre) in enumerate(found):
+        by_place = sorted(range(len(found)), key=lambda i: found[i][1])  # new ids by place
+        for i in by_place:
+            members, centre = found[i]
             if len(members) < 2:
                 continue
             known = taken.get(i)
