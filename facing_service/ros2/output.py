@@ -78,6 +78,18 @@ FACING_TOPICS = {
     "person_": "/humans/persons/facing",
 }
 PERSON = "person_"
+#: Every topic this output publishes (patterns: ``*`` is one level) and its type, for
+#: whoever subscribes to all of it (``replay --record``).
+PUBLISHED_TOPICS = (
+    ("/humans/persons/*/engagement_status", ENGAGEMENT_LEVEL),
+    ("/intents", INTENT),
+    ("/humans/*/facing", ros2_types.IDS_LIST),
+    (GROUPS_TOPIC, GROUP),
+    (f"{GROUPS_TOPIC}/*/join", POSE_STAMPED),
+    ("/humans/*/*/greet", POSE_STAMPED),
+    (GAZING_TOPIC, GAZE),
+    (MARKERS_TOPIC, MARKER_ARRAY),
+)
 
 
 @dataclass(frozen=True, slots=True)

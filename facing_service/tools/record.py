@@ -17,15 +17,8 @@ from pathlib import Path
 import zenoh
 
 from ..ros2 import types as ros2_types
-from ..ros2.output import ENGAGEMENT_LEVEL, INTENT
+from ..ros2.output import PUBLISHED_TOPICS
 from ..ros2.wire import Wire
-
-#: The service's ROS 2 output topics (patterns) and their types.
-OUTPUT_TOPICS = (
-    ("/humans/persons/*/engagement_status", ENGAGEMENT_LEVEL),
-    ("/intents", INTENT),
-    ("/humans/*/facing", ros2_types.IDS_LIST),
-)
 
 
 def bag_folder(out: Path) -> Path:
@@ -78,7 +71,7 @@ class Recording:
         self._samples: list[tuple[str, str, int, bytes]] = []
         self._subscribers = [
             session.declare_subscriber(wire.subscription(topic, typename), self._keep(typename))
-            for topic, typename in OUTPUT_TOPICS
+            for topic, typename in PUBLISHED_TOPICS
         ]
 
     def _keep(self, typename: str) -> Callable[[zenoh.Sample], None]:

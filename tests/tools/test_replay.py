@@ -78,3 +78,48 @@ def test_recording_nothing_says_why(net, tmp_path):
     assert "recorded nothing: no service answered on the robot's topics" in output
     assert "--output ros2" in output
     assert (tmp_path / "run" / "run.mcap").is_file()  # the bag is the folder run/
+
+
+@pytest.mark.slow
+@pytest.mark.shared_data
+def test_a_recording_holds_every_topic_the_service_publishes(net, tmp_path):
+    """Before: "recorded 280 messages on 4 topics" while a plain subscriber heard the
+    groups, the markers and who faces whom too (three of the seven topics published)."""
+    import threading
+
+    import zenoh
+    from rosbags.rosbag2 import Reader
+
+    from facing_service.ros2.wire import RosFormat, Wire
+
+    router = net.router()
+    ep = endpoint(router.port)
+    net.robot_service(ep, base_frame="camera_link", output="ros2", ros_intents=True)
+    wire = Wire(RosFormat.RMW_ZENOH)  # (the service and the replay default to it)
+    heard: dict[str, int] = {}
+    lock = threading.Lock()
+    listener = net.client(ep, mode="client")
+
+    def count(sample: zenoh.Sample) -> None:
+        topic = wire.topic_of(str(sample.key_expr))
+        if topic is not None and sample.kind == zenoh.SampleKind.PUT:
+            with lock:
+                heard[topic] = heard.get(topic, 0) + 1
+
+    every = listener.declare_subscriber("**", count)
+    out = tmp_path / "run.mcap"
+    flags = ("--rate", "4", "--record", str(out), "-m", "client", "-e", ep, *LOOPBACK_FLAGS)
+    with running_cli("replay", str(RECORDING), *flags) as proc:
+        assert proc.wait(timeout=90) == 0
+    every.undeclare()
+    with Reader(tmp_path / "run") as bag:
+        recorded: dict[str, int] = {}
+        for connection, _, _ in bag.messages():
+            recorded[connection.topic] = recorded.get(connection.topic, 0) + 1
+    with Reader(RECORDING) as source:
+        replayed = {c.topic for c in source.connections}
+    published = {t: n for t, n in heard.items() if t not in replayed}
+    assert {"/humans/interactions/groups", "/humans/facing/markers"} <= set(published)
+    assert set(recorded) == set(published), (recorded, published)
+    for topic, n in published.items():  # the subscriber began a moment before, ended after
+        assert n - 3 <= recorded[topic] <= n, (topic, recorded[topic], n)
