@@ -295,15 +295,14 @@ def build_parser() -> _Parser:
         "--instance",
         help=f"the instance to check, or '*' for any (env {env_name('instance')}; default *)",
     )
-    health.add_argument(
-        "--timeout",
-        type=POSITIVE,
-        default=3.0,
-        help="seconds to wait for a service to be discovered and answer (default 3)",
-    )
-    health.add_argument(
-        "--json", action="store_true", help="print each whole status as JSON, one a line"
-    )
+    health.add_argument("--timeout", type=POSITIVE, default=3.0, help="seconds to wait for a "
+                        "service to be discovered and answer (default 3)")  # fmt: skip
+    health.add_argument("--json", action="store_true",
+                        help="print each whole status as JSON, one a line")  # fmt: skip
+    health.add_argument("--require-input", action="store_true", help="exit 1 also while the "
+                        "service hears no input it can use (silent, or a robot's /tf that "
+                        "does not reach --base-frame): a health check that fails while "
+                        "nothing works")  # fmt: skip
     health.add_argument(
         "--health-config",
         type=Path,

@@ -101,8 +101,9 @@ def _run(args: argparse.Namespace) -> int:
 
 def _health(args: argparse.Namespace) -> int:
     return health.check(
-        vars(args), os.environ, args.instance, args.health_config, args.timeout, args.json
-    )
+        vars(args), os.environ, args.instance, args.health_config, args.timeout, args.json,
+        args.require_input,
+    )  # fmt: skip
 
 
 def _router(args: argparse.Namespace) -> int:

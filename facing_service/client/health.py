@@ -23,7 +23,7 @@ from ..config.settings import Settings
 from ..config.sources import env_name, load_settings
 from ..contract import keys
 from ..contract.errors import SettingsError
-from ..contract.schemas import ServiceStatus
+from ..contract.schemas import INPUT_BROKEN, ServiceStatus
 from ..contract.words import counted
 
 
@@ -194,6 +194,15 @@ def summary(status: ServiceStatus, reach: str) -> str:
     return line
 
 
+def input_broken(status: ServiceStatus) -> str | None:
+    """Why a service's input gives no results now (its input silent, or a ROS 2 finding
+    that nothing can be read or looked up), or None: what ``--require-input`` fails on."""
+    if (heard := status.input) is not None and heard.silent:
+        return "its input is silent"
+    broken = sorted(set(status.ros2.findings) & INPUT_BROKEN) if status.ros2 else []
+    return f"its ROS 2 input: {', '.join(broken)}" if broken else None
+
+
 #: A zenoh config file for the health check's own identity (``--health-config``).
 HEALTH_CONFIG_ENV = "FACING_HEALTH_CONFIG"
 
@@ -205,9 +214,11 @@ def check(
     health_config: str | None,
     timeout: float,
     as_json: bool = False,
+    require_input: bool = False,
 ) -> int:
     """``facing-service health``: print every answering service's status; the exit code
-    (0: one is ok, 1: none answers ok, 2: a bad setting). With its own identity
+    (0: one is ok, and with ``require_input`` hears its input; 1: none does; 2: a bad
+    setting). With its own identity
     (``health_config``), the service's config file and ``--cfg`` (its credentials) stay
     out of the check's session."""
     instance = instance or environ.get(env_name("instance")) or "*"
@@ -239,4 +250,11 @@ def check(
     if not answers:
         why = _why_no_answer(settings, instance, timeout, alive, identity, others)
         print(f"facing-service health: {why}", file=sys.stderr)
-    return 0 if any(status.status == "ok" for status in answers) else 1
+    healthy = [s for s in answers if s.status == "ok"]
+    if require_input and healthy:
+        working = [s for s in healthy if input_broken(s) is None]
+        if not working:
+            why = "; ".join(f"{s.instance}: {input_broken(s)}" for s in healthy)
+            print(f"facing-service health: --require-input: {why}", file=sys.stderr)
+        healthy = working
+    return 0 if healthy else 1

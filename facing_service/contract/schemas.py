@@ -279,6 +279,13 @@ class InputHealth(BaseModel):
     longest_silence_s: float = Field(description="The longest silence that has ended.")
 
 
+#: ROS 2 findings that mean the input gives nobody's results at all (``health
+#: --require-input`` fails on them): nothing read, or nothing that can be looked up.
+INPUT_BROKEN = frozenset(
+    {"no_ros_input", "ros_input_elsewhere", "base_frame_not_in_tree", "people_not_connected"}
+)
+
+
 class Ros2Status(BaseModel):
     """What a service on ROS 2 input (``--input ros2``) knows of its robot."""
 

@@ -146,7 +146,7 @@ class RobotWatch:
         if key not in self.strays and len(self.strays) < STRAYS_KEPT:
             self.strays.append(key)
 
-    def findings(self, people: People, now: float) -> dict[str, str]:
+    def findings(self, people: People, now: float) -> dict[str, str]:  # (INPUT_BROKEN's codes)
         """The current findings, code -> one line."""
         found: dict[str, str] = {}
         waited = now - self.started >= GRACE_S

@@ -238,3 +238,28 @@ def test_health_says_a_silent_input_and_how_many_it_holds():
     heard = status.model_copy(update={"input": InputHealth(
         last_heard_s=0.03, silent=False, held=0, silences=1, longest_silence_s=4.0)})  # fmt: skip
     assert "silent" not in summary(heard, "reached at tcp/127.0.0.1:7447")
+
+
+def test_require_input_fails_while_nothing_works_and_says_why(net):
+    """Before: health said ok, exit 0, while the input was silent or a ROS 2 robot's /tf
+    did not reach the base frame: a container health check passed while nothing worked."""
+    from facing_service.client.health import input_broken
+    from facing_service.contract.schemas import InputHealth, Ros2Status
+
+    status = ServiceStatus(
+        status="ok", instance="edge", version="1", zenoh_id="z", uptime_s=60.0, config={},
+        bodies_tracked={}, bodies_tracked_total=0, counters={}, rejected={},
+        inbox_depth=0, outbox_depth=0,
+        input=InputHealth(last_heard_s=0.1, silent=False, held=0, silences=0,
+                          longest_silence_s=0.0),
+    )  # fmt: skip
+    assert input_broken(status) is None
+    silent = status.model_copy(update={"input": status.input.model_copy(update={"silent": True})})
+    assert input_broken(silent) == "its input is silent"
+    ros = Ros2Status.model_construct(findings={"base_frame_not_in_tree": "...", "x": "..."})
+    lost = status.model_copy(update={"ros2": ros})
+    assert input_broken(lost) == "its ROS 2 input: base_frame_not_in_tree"
+    port = free_port()
+    net.service(listen=[endpoint(port)], instance="robot-7")
+    env = {"FACING_LISTEN": f"tcp/127.0.0.1:{port}", "FACING_NO_MULTICAST_SCOUTING": "true"}
+    assert health("--require-input", env=env).returncode == 0  # nobody tracked: not silent
