@@ -199,6 +199,12 @@ class GroupState(BaseModel):
         "everyone, the free place nearest the robot, facing into the group. null when the "
         "robot is in the group (robot true), or when the ring has no room for it.",
     )
+    stamp: Stamp | None = Field(
+        default=None,
+        description="Stamp of the newest pose behind the grouping that made this group as it "
+        "is (its frame's, as in the frame's list): an event that arrives late says so. Always "
+        "set by the service.",
+    )
 
 
 class Greeting(BaseModel):

@@ -24,6 +24,7 @@ from ..contract.schemas import (
     GroupState,
     Place,
 )
+from ..contract.stamps import Time
 from ..core.records import BodyState, Changes, EngagementUpdate
 from ..core.social.groups import Group
 from ..core.social.join import JoinPose
@@ -132,7 +133,7 @@ def scene_publications(update: SceneUpdate, us: Speaker) -> list[Publication]:
     out = [
         Publication(
             keys.group_key(namespace, frame, str(g.id)),
-            group_state(g).model_dump_json().encode(),
+            group_state(g, update.stamp).model_dump_json().encode(),
             Kind.SCENE,
         )
         for g in update.changed
@@ -160,13 +161,15 @@ def place(pose: JoinPose) -> Place:
     return Place(x=pose.x, y=pose.y, yaw=pose.yaw)
 
 
-def group_state(group: Group) -> GroupState:
+def group_state(group: Group, stamp: Time) -> GroupState:
+    """A group as published, with the stamp of the grouping that made it (its frame's)."""
     return GroupState(
         id=str(group.id),
         members=sorted(group.members - {ROBOT}, key=keys.natural_order),
         robot=group.robot,
         centre=Centre(x=group.centre[0], y=group.centre[1]),
         join=None if group.join is None else place(group.join),  # (None with the robot in)
+        stamp=stamp.model(),
     )
 
 
@@ -176,7 +179,7 @@ def groups_json(update: SceneUpdate, instance: str) -> bytes:
             frame_id=update.frame_id,
             frame=update.frame_id,
             stamp=update.stamp.model(),
-            groups=[group_state(g) for g in update.groups],
+            groups=[group_state(g, update.stamp) for g in update.groups],
             people_left_out=update.left_out,
             greetings=[Greeting(body_id=g.body_id, place=place(g.pose)) for g in update.greetings],
             instance=instance,

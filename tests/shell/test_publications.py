@@ -158,9 +158,13 @@ def test_threshold_parameter_refusals_say_why(parameters, message):
 
 def test_a_groups_members_are_said_in_natural_order():
     """Issue 59: members were sorted as text (p12, p13, p4)."""
+    from facing_service.contract.stamps import Time
     from facing_service.core.social.groups import Group
     from facing_service.core.social.scene import ROBOT
     from facing_service.shell.publications import group_state
 
-    said = group_state(Group(3, frozenset({"p12", "p4", "p13", ROBOT}), True, (1.0, 0.0)))
+    group = Group(3, frozenset({"p12", "p4", "p13", ROBOT}), True, (1.0, 0.0))
+    said = group_state(group, Time.of(7, 5))
     assert said.members == ["p4", "p12", "p13"] and said.robot
+    # each group says when: an event arriving late can be told from a current one
+    assert (said.stamp.sec, said.stamp.nanosec) == (7, 5)
