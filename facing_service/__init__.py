@@ -10,7 +10,7 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from .client import ClientOptions, FacingClient
+    from .client import AsyncFacingClient, ClientOptions, FacingClient
     from .config.version import VERSION as __version__
     from .contract import (
         BodyRef,
@@ -37,6 +37,7 @@ if TYPE_CHECKING:
 #: Where each public name lives.
 _HOMES = {
     "__version__": ".config.version",
+    "AsyncFacingClient": ".client",
     "ClientOptions": ".client",
     "FacingClient": ".client",
     "Level": ".contract.levels",
@@ -63,6 +64,7 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
+    "AsyncFacingClient",
     "BodyRef",
     "ClientNotOpen",
     "ClientOptions",
