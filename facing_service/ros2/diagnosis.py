@@ -104,6 +104,9 @@ class RobotWatch:
     nodes: dict[str, set[str]] = field(default_factory=dict)
     unnamed: dict[str, int] = field(default_factory=dict)  # topic -> GIDs not kept
     unnamed_nodes: dict[str, int] = field(default_factory=dict)  # topic -> nodes not kept
+    #: a tracked person's frame that cannot be looked up -> since when (a list leads its
+    #: /tf by a moment: a frame is said missing only once it has been for GRACE_S)
+    unplaced: dict[str, float] = field(default_factory=dict)
 
     def on_input(self, topic: str, publisher: bytes | None = None) -> None:
         topic = topic_pattern(topic)
@@ -165,7 +168,7 @@ class RobotWatch:
                     f"{expected} nor on any other /tf key: is the robot's router reachable, "
                     "and is something publishing /tf?"
                 )
-        found |= self._tree(people, waited)
+        found |= self._tree(people, waited, now)
         if self.time_back is not None and now - self.time_back[0] < TIME_BACK_SHOWN_S:
             found["time_went_back"] = (
                 f"/tf time went back by {self.time_back[1] / 1e9:.1f} s (a recording replayed "
@@ -174,11 +177,13 @@ class RobotWatch:
             )
         return found
 
-    def _tree(self, people: People, waited: bool) -> dict[str, str]:
+    def _tree(self, people: People, waited: bool, now: float) -> dict[str, str]:
         tf, base = people.tf, people.base_frame
         frames = tf.frames()
         if not frames or not waited:
             return {}
+        if self.time_back is not None and now - self.time_back[0] < GRACE_S:
+            return {}  # a recording starting again: its lists lead its /tf for a moment
         roots = tf.roots()
         if not tf.has_frame(base):
             trees = ", ".join(
@@ -203,6 +208,10 @@ class RobotWatch:
             except TfError:
                 if tf.root_of(frame) != tf.root_of(base):
                     apart.append(frame)
+        unplaced = set(missing) | set(apart)
+        self.unplaced = {f: self.unplaced.get(f, now) for f in unplaced}  # (people's: bounded)
+        missing = [f for f in missing if now - self.unplaced.get(f, now) >= GRACE_S]
+        apart = [f for f in apart if now - self.unplaced.get(f, now) >= GRACE_S]
         if missing:
             found["tracked_frames_missing"] = (
                 f"tracked people have no TF frame yet: {names(missing)} (REP 155: a body's "

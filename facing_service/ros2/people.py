@@ -82,6 +82,9 @@ DEFAULT_MAX_IDS = 10_000
 TIME_BACK_NS = NS_PER_S // 2
 TIME_BACK_MESSAGES = 3
 TIME_BACK_SPAN_S = 0.25
+#: /tf messages held while time going back is being told (a run longer than this, a burst
+#: of forged ones, is refused as it comes).
+MAX_HELD_BACK = 64
 #: At most one TF buffer clear in this long (a replay looping every few seconds is still
 #: followed; a flood of forged rewinds is not).
 CLEAR_MIN_INTERVAL_S = 2.0
@@ -158,6 +161,9 @@ class People:
         self.presence: Presence = derive(self._tracked, self._links)
         # /tf messages whose every transform went back in time: (publisher, count, since)
         self._back_run: tuple[bytes | None, int, float | None] = (None, 0, None)
+        # the /tf messages of that run, held until it is decided: the new timeline's first
+        # messages once time went back, refused as they would have been once it did not
+        self._held_back: list[Sequence[TfInput]] = []
         self._last_clear: float | None = None  # receive time of the last buffer clear
         self.clears = 0  # TF buffer clears (time went back)
         self.clears_refused = 0  # clears not made: within CLEAR_MIN_INTERVAL_S of the last
@@ -176,14 +182,21 @@ class People:
         """A /tf or /tf_static message from ``publisher`` (its GID, None when unknown),
         received at ``received_s`` (the caller's clock; None: judge by messages alone)."""
         update = Update()
-        if not static and (back := self._time_back(transforms, publisher, received_s)):
-            update.time_back_ns = back
-            update.lost = [s for s in self.subjects() if s in self._last]
-            self.tf.clear()
-            self._last.clear()
-            self._emitted_before.clear()  # older stamps are the new timeline
+        messages: list[Sequence[TfInput]] = [transforms]
+        if not static:
+            back = self._time_back(transforms, publisher, received_s)
+            if back:
+                update.time_back_ns = back
+                update.lost = [s for s in self.subjects() if s in self._last]
+                self.tf.clear()
+                self._last.clear()
+                self._emitted_before.clear()  # older stamps are the new timeline
+            elif self._back_run[1] and len(self._held_back) < MAX_HELD_BACK:
+                self._held_back.append(transforms)  # evidence under way: not refused yet
+                return update
+            messages, self._held_back = [*self._held_back, transforms], []
         changed: set[str] = set()
-        for t in transforms:
+        for t in (t for message in messages for t in message):
             reason = out_of_range(t) or _name_too_long(t)
             if reason is None and t.stamp is not None:
                 reason = self.tf.set_transform(
