@@ -82,9 +82,7 @@ DEFAULT_MAX_IDS = 10_000
 TIME_BACK_NS = NS_PER_S // 2
 TIME_BACK_MESSAGES = 3
 TIME_BACK_SPAN_S = 0.25
-#: /tf messages held while time going back is being told (a run longer than this, a burst
-#: of forged ones, is refused as it comes).
-MAX_HELD_BACK = 64
+MAX_HELD_BACK = 64  # /tf messages held while time going back is told (a burst: refused)
 #: At most one TF buffer clear in this long (a replay looping every few seconds is still
 #: followed; a flood of forged rewinds is not).
 CLEAR_MIN_INTERVAL_S = 2.0
@@ -161,8 +159,7 @@ class People:
         self.presence: Presence = derive(self._tracked, self._links)
         # /tf messages whose every transform went back in time: (publisher, count, since)
         self._back_run: tuple[bytes | None, int, float | None] = (None, 0, None)
-        # the /tf messages of that run, held until it is decided: the new timeline's first
-        # messages once time went back, refused as they would have been once it did not
+        # its messages, held: the new timeline's first once time went back, else refused
         self._held_back: list[Sequence[TfInput]] = []
         self._last_clear: float | None = None  # receive time of the last buffer clear
         self.clears = 0  # TF buffer clears (time went back)
