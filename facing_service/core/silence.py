@@ -151,13 +151,13 @@ class InputSilence:
             self._back_at = None
         if self.last_heard is None or self.params.hold_s <= 0 or not tracking:
             return None
+        silent = self.holding = self._silent(now)
         period = self.period_s
         if period is not None and period >= self.params.after_s and not self._logged_slow:
             self._logged_slow = True
             return Change.SLOW
-        if not self._silent(now):
+        if not silent:
             return None
-        self.holding = True
         if not self._logged and now - self.last_heard >= self._worth_logging_s():
             self._logged = True
             self.silences += 1

@@ -357,18 +357,17 @@ class People:
                 continue
             frame, transform, stamp = looked_up
             emitted = self._last.get(subject)
-            last = None if emitted is None else emitted[0]
             if emitted is not None and (stamp < emitted[0] or (stamp, frame) == emitted):
                 continue  # nothing newer than what was already emitted (another frame at
                 # the same time is: the tracker takes an equal stamp)
-            if last is None:  # first known: what its frame already holds, emitted first
+            stands = participant.stands if participant.stands != frame else None
+            if emitted is None:  # first known: what its frame already holds, emitted first
                 before = self._emitted_before.get(subject)
                 if before is not None and stamp <= before:
                     continue  # emitted already, before it was lost
                 self._emitted_before.pop(subject, None)
-                self._first_results(subject, frame, stamp, before, update)
+                self._first_results(subject, frame, stands, stamp, before, update)
             self._last[subject] = (stamp, frame)
-            stands = participant.stands if participant.stands != frame else None
             update.poses.append(self._sample(subject, frame, stands, transform, stamp))
 
     def _look_up(
@@ -406,16 +405,15 @@ class People:
         return None
 
     def _first_results(
-        self, subject: str, frame: str, upto: int, after: int | None, update: Update
-    ) -> None:
+        self, subject: str, frame: str, stands: str | None, upto: int, after: int | None,
+        update: Update,
+    ) -> None:  # fmt: skip
         """The subject's poses before ``upto`` (and after ``after``, the last emitted for it
-        before) that its frame holds (see the module's rules); a stamp that cannot be
-        looked up (another link has no data then) is skipped."""
+        before) that its frame holds, each standing in ``stands`` (see the module's rules);
+        a stamp that cannot be looked up (another link has no data then) is skipped."""
         since = (
             upto - FIRST_RESULTS_NS if after is None else max(upto - FIRST_RESULTS_NS, after + 1)
         )
-        stands = self.presence.participants[subject].stands
-        stands = stands if stands != frame else None
         for stamp in self.tf.stamps(frame, since, upto - 1)[-MAX_FIRST_RESULTS:]:
             try:
                 transform, _ = self.tf.lookup(self.base_frame, frame, stamp)

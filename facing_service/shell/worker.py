@@ -121,7 +121,7 @@ class Worker:
             (
                 d
                 for d in (
-                    tracker.next_expiry(silence.staleness_s(self._clock())),
+                    tracker.next_expiry(silence.staleness_s(self._horizon)),
                     None if held else tracker.next_due(),
                     silence.next_due(len(tracker) > 0),
                     self._ledger.rejection_log.next_due(),
