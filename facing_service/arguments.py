@@ -8,17 +8,24 @@ own example programs, so a zenoh user already knows them. What each command does
 from __future__ import annotations
 
 import argparse
-import ipaddress
-import math
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any, Literal, NoReturn, get_args, get_origin
 
-from .camera.intrinsics import FIELD_OF_VIEW_DEG
-from .config.settings import SERVICE, ZENOH, Settings
+from .argument_types import (
+    NON_NEGATIVE,
+    POSITIVE,
+    field_of_view,
+    finite,
+    id_prefix,
+    listen_address,
+    number,
+    port_number,
+)
+from .config.fields import SERVICE, ZENOH
+from .config.settings import Settings
 from .config.sources import env_help, env_name, flag_info, flag_name, shown_default
 from .config.version import VERSION
-from .contract import keys
 
 
 class _Parser(argparse.ArgumentParser):
@@ -31,51 +38,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: {message} (see {self.prog} --help)\n")
-
-
-def _number(
-    minimum: float, *, strict: bool, integer: bool = False, most: float | None = None
-) -> Callable[[str], float]:
-    """An argparse type: a finite number above (or from) ``minimum``, and at ``most``."""
-
-    def parse(text: str) -> float:
-        try:
-            value = int(text) if integer else float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-        if not math.isfinite(value) or value < minimum or (strict and value == minimum):
-            bound = f"> {minimum:g}" if strict else f">= {minimum:g}"
-            raise argparse.ArgumentTypeError(f"must be a number {bound}, got {text}")
-        if most is not None and value > most:
-            raise argparse.ArgumentTypeError(f"must be a number <= {most:g}, got {text}")
-        return value
-
-    return parse
-
-
-POSITIVE = _number(0, strict=True)
-NON_NEGATIVE = _number(0, strict=False)
-
-
-def port_number(text: str) -> int:
-    """An argparse type: a TCP port, 0 for any free one."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a port number: {text!r}") from None
-    if not 0 <= value <= 65535:
-        raise argparse.ArgumentTypeError(f"must be a port in 0..65535 (0: any free), got {text}")
-    return value
-
-
-def listen_address(text: str) -> str:
-    """An argparse type: an IP address to listen on (a name could resolve anywhere)."""
-    try:
-        return str(ipaddress.ip_address(text))
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"not an IP address: {text!r} (127.0.0.1 for this machine only, 0.0.0.0 for all)"
-        ) from None
 
 
 #: The zenoh session's settings: the flags of zenoh's own example programs.
@@ -140,6 +102,21 @@ def _add_view_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
+    """A simulated ROS4HRI robot in place of a JSON tracker, and its recording."""
+    parser.add_argument(
+        "--ros2", action="store_true",
+        help="a simulated ROS 2 robot running ROS4HRI instead: /tf (the body_<id> and "
+        "face_<id> frames in its camera's optical frame), /tf_static, /humans/*/tracked and "
+        "the persons linking a face and a body, anonymous ones recognised as known ones",
+    )  # fmt: skip
+    parser.add_argument(
+        "--record", type=Path, metavar="OUT",
+        help="with --ros2: also write the robot's topics into a new ROS 2 bag (OUT/, or "
+        "OUT/OUT.mcap for OUT.mcap), for facing-service replay and ROS tools",
+    )  # fmt: skip
+
+
 def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     add_settings_arguments(parser, ["namespace"])
     parser.add_argument(
@@ -147,42 +124,12 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--people",
-        type=_number(1, strict=False, integer=True),
+        type=number(1, strict=False, integer=True),
         default=5,
         help="people in the scene (5)",
     )
     parser.add_argument("--rate-hz", type=POSITIVE, default=30.0, help="poses per second (30)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (0)")
-
-
-def _finite(text: str) -> float:
-    """An argparse type: any finite number."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
-    return value
-
-
-def _field_of_view(text: str) -> float:
-    """An argparse type: a field of view a camera can have (179° read every face 9 cm away,
-    issue 74)."""
-    value, (low, high) = _number(0, strict=True)(text), FIELD_OF_VIEW_DEG
-    if not low <= value <= high:
-        raise argparse.ArgumentTypeError(
-            f"must be from {low:g} to {high:g} degrees (a "
-            f"camera's horizontal field of view), got {text}"
-        )
-    return value
-
-
-def _id_prefix(text: str) -> str:
-    """An argparse type: the start of a body id (a key chunk of letters, digits, _ or -)."""
-    if not keys.is_name(text + "1"):
-        raise argparse.ArgumentTypeError(f"not the start of an id: {text!r} ({keys.NAME_PATTERN})")
-    return text
 
 
 #: The camera's flags' defaults (by destination): a demo of simulated people refuses the
@@ -202,26 +149,26 @@ def _add_camera_arguments(parser: argparse.ArgumentParser) -> None:
         help="the camera's intrinsics: a ROS camera_info YAML or an OpenCV calibration file",
     )  # fmt: skip
     lens.add_argument(
-        "--fov-deg", type=_field_of_view,
+        "--fov-deg", type=field_of_view,
         help="without a calibration: the camera's horizontal field of view (default 65, a "
         "laptop's or a USB webcam's; every distance scales with it)",
     )  # fmt: skip
     parser.add_argument(
-        "--camera-pose", type=_finite, nargs=6, metavar=("X", "Y", "Z", "YAW", "PITCH", "ROLL"),
+        "--camera-pose", type=finite, nargs=6, metavar=("X", "Y", "Z", "YAW", "PITCH", "ROLL"),
         help="the camera's pose in --base-frame (metres, degrees; static_transform_publisher's "
         "order); default: at its origin, looking along x (x forward, y left, z up)",
     )  # fmt: skip
     parser.add_argument(
-        "--reach-m", type=_number(0.5, strict=False, most=20.0), metavar="METRES",
+        "--reach-m", type=number(0.5, strict=False, most=20.0), metavar="METRES",
         help="how far faces are looked for (default 5: across a room; 1.5: the whole frame "
         "only, about half the CPU; 8: smaller tiles, a far face found later)",
     )  # fmt: skip
     parser.add_argument(
-        "--max-faces", type=_number(1, strict=False, integer=True),
+        "--max-faces", type=number(1, strict=False, integer=True),
         help="faces followed at once (default 5)",
     )  # fmt: skip
     parser.add_argument(
-        "--id-prefix", type=_id_prefix,
+        "--id-prefix", type=id_prefix,
         help="the faces' ids are this and a count (default f: f1, f2, ...); two cameras "
         "publishing to one service need two prefixes",
     )  # fmt: skip
@@ -239,7 +186,7 @@ def _add_camera_command(commands: Any) -> None:
         "pip install 'facing-service[camera]'.",
     )
     source = camera.add_mutually_exclusive_group()
-    source.add_argument("--device", type=_number(0, strict=False, integer=True), default=0,
+    source.add_argument("--device", type=number(0, strict=False, integer=True), default=0,
                         help="camera index (default 0: /dev/video0)")  # fmt: skip
     source.add_argument(
         "--video", type=Path, metavar="FILE", help="a video file, played in real time"
@@ -251,7 +198,7 @@ def _add_camera_command(commands: Any) -> None:
     camera.add_argument("--images-fps", type=POSITIVE, default=5.0,
                         help="with --images: images a second (default 5)")  # fmt: skip
     for side, asked in (("width", 640), ("height", 480)):
-        camera.add_argument(f"--{side}", type=_number(1, strict=False, integer=True),
+        camera.add_argument(f"--{side}", type=number(1, strict=False, integer=True),
                             help=f"frame {side} asked of a camera (default {asked}); with "
                             "--images, the frames' (default: the first image's own)")  # fmt: skip
     camera.add_argument(
@@ -321,8 +268,8 @@ def build_parser() -> _Parser:
         "flags but -m/--mode: the mode is always router.",
     )
     add_settings_arguments(router, ["log_level"])
-    # the mode is always router, and a router waits for no router (issue 67: its help
-    # offered --exit-without-router)
+    # the mode is always router, and a router waits for no router (so its help does not
+    # offer --exit-without-router)
     add_settings_arguments(
         router, [f for f in ZENOH_FIELDS if f not in ("mode", "exit_without_router")]
     )
@@ -374,6 +321,8 @@ def build_parser() -> _Parser:
     )
     _add_scene_arguments(simulate)
     simulate.add_argument("--duration-s", type=POSITIVE, help="stop after this long")
+    _add_robot_arguments(simulate)
+    add_settings_arguments(simulate, ["ros_format", "ros_distro", "ros_domain_id", "ros_namespace"])
     add_zenoh_arguments(simulate)
 
     watch = commands.add_parser(
@@ -429,6 +378,7 @@ def build_parser() -> _Parser:
         "(default 0), a video file or a folder of images (played in a loop); the camera extra",
     )  # fmt: skip
     _add_camera_arguments(demo)
+    _add_robot_arguments(demo)
     add_settings_arguments(demo, ["threshold_deg"])
     demo.add_argument(
         "--view-port", type=port_number, default=8780,

@@ -13,11 +13,10 @@ import os
 import signal
 import sys
 import threading
-import time
 from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from types import FrameType
-from typing import NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 import zenoh
 from rich.console import Console
@@ -25,11 +24,11 @@ from rich.console import Console
 from .arguments import CAMERA_DEFAULTS, build_parser
 from .client import health
 from .client.client import FacingClient
-from .client.presence import ServiceWatch
-from .client.sim import Crowd, TrackerPublisher, nobody_heard, simulate
+from .client.sim import Crowd, TrackerPublisher, simulate
 from .client.watch import Watcher
 from .config.disclosure import zenoh_failure
 from .config.patience import open_patiently
+from .config.profiles import robot_wire
 from .config.session import waiting_for_router, zenoh_config
 from .config.settings import Settings
 from .config.sources import load_settings, source_of
@@ -40,6 +39,10 @@ from .shell.run import run_until
 from .tools.demo import Feed, run_demo
 from .tools.record import replay_refusal
 from .tools.router import router_config, serve
+from .tools.simulate import crowd_of, simulate_command
+
+if TYPE_CHECKING:
+    from .tools.ros_robot import RobotFeed
 
 log = logging.getLogger("facing_service")
 
@@ -142,49 +145,11 @@ def _inspect(args: argparse.Namespace) -> int:
     return inspect_robot(settings, args.seconds, args.base_frame)
 
 
-def _crowd(args: argparse.Namespace) -> Crowd:
-    """The simulated people, stamped from now on: a second run against a long-lived
-    service continues its clock (issue 74: every run started at 1700000000 s, and the
-    next was refused as out_of_order, said as a tracker's clock started over)."""
-    return Crowd(people=args.people, seed=args.seed, start_s=time.time())
-
-
 def _simulate(args: argparse.Namespace) -> int:
     settings = _session_settings(args)
     if settings is None:
         return 2
-    stop = _stop_on_signals()
-    key = keys.pose_key(settings.namespace, body_id="<id>", frame_id=args.base_frame)
-    until = f" for {args.duration_s:g} s" if args.duration_s else " until Ctrl-C"
-    print(f"simulating {args.people} people: poses on {key} at {args.rate_hz:g} Hz{until}")
-    try:
-        session = zenoh.open(zenoh_config(settings))
-    except zenoh.ZError as error:
-        print(zenoh_failure("simulate", error), file=sys.stderr)
-        return 1
-    watch = ServiceWatch(session, "simulate", settings.namespace, settings.connect, _warn)
-    with session, watch:
-        publish = TrackerPublisher(session, progress_every_s=5.0, say=_say)
-        try:
-            ticks = simulate(
-                publish,
-                _crowd(args),
-                args.base_frame,
-                settings.namespace,
-                args.rate_hz,
-                args.duration_s,
-                should_stop=stop.is_set,
-            )
-        finally:
-            publish.close()
-    print(
-        f"published {publish.poses} poses and {publish.deletes} deletes in {ticks} ticks, "
-        f"{publish.heard} heard by a subscriber"
-    )
-    if publish.poses and not publish.heard:  # sent to nowhere: not a success
-        print(nobody_heard("simulate", key, settings.namespace, settings.connect), file=sys.stderr)
-        return 1
-    return 0
+    return simulate_command(args, settings, _stop_on_signals(), _say)
 
 
 def _say(line: str) -> None:
@@ -284,33 +249,50 @@ def _demo(args: argparse.Namespace) -> int:
     if settings is None:
         return 2
     logging.basicConfig(level=logging.WARNING)
-    crowd = _crowd(args)
+    crowd = crowd_of(args)
 
-    def simulated(
-        publish: Callable[[str, bytes | None], None], should_stop: Callable[[], bool]
-    ) -> None:
-        simulate(publish, crowd, args.base_frame, settings.namespace, args.rate_hz,
-                 should_stop=should_stop)  # fmt: skip
+    def simulated(session: zenoh.Session, should_stop: Callable[[], bool]) -> None:
+        simulate(TrackerPublisher(session), crowd, args.base_frame, settings.namespace,
+                 args.rate_hz, should_stop=should_stop)  # fmt: skip
 
-    if args.camera is None and (strays := _camera_flags_given(args)):
-        print(f"facing-service demo: {' and '.join(strays)} only with --camera: the "
-              "simulated people have no camera", file=sys.stderr)  # fmt: skip
+    if refused := _demo_refusal(args):
+        print(f"facing-service demo: {refused}", file=sys.stderr)
         return 2
+    update: dict[str, object] = {"base_frame": args.base_frame}
+    if args.ros2:  # the embedded service reads the robot and answers on its topics
+        update |= {"input": "ros2", "output": "ros2"}
+    robot = _robot_feed(args, settings, crowd) if args.ros2 else None
     with nullcontext() if args.camera is None else _without_native_chatter():
-        feed = simulated if args.camera is None else _camera_feed(args, settings)
+        feed = robot or (simulated if args.camera is None else _camera_feed(args, settings))
         if isinstance(feed, int):
             return feed
-        seen_facing = run_demo(
-            settings.model_copy(update={"base_frame": args.base_frame}),
-            feed,
-            args.duration_s,
-            _stop_on_signals(),
-            args.svg,
-            args.view_port,
-        )
+        seen_facing = run_demo(settings.model_copy(update=update), feed, args.duration_s,
+                               _stop_on_signals(), args.svg, args.view_port)  # fmt: skip
     people = ", ".join(sorted(seen_facing, key=keys.natural_order)) or "nobody"
     print(f"faced the robot during the demo: {people}")
+    if robot is not None:
+        robot.report()
     return 0
+
+
+def _demo_refusal(args: argparse.Namespace) -> str | None:
+    """Why the demo's flags cannot go together (one line naming them), or None."""
+    if args.ros2 and args.camera is not None:
+        return "--ros2 or --camera: the people come from one of them"
+    if args.camera is None and (strays := _camera_flags_given(args)):
+        return f"{' and '.join(strays)} only with --camera: the simulated people have no camera"
+    if args.record is not None and not args.ros2:
+        return "--record only with --ros2 (a ROS 2 bag holds a robot's topics)"
+    from .tools.record import record_refusal  # no rosbags unless a bag is to be written
+
+    return None if args.record is None else record_refusal(args.record)
+
+
+def _robot_feed(args: argparse.Namespace, settings: Settings, crowd: Crowd) -> RobotFeed:
+    """``demo --ros2``'s people: a simulated ROS4HRI robot on the demo's router."""
+    from .tools.ros_robot import RobotFeed  # rosbags: for the ROS 2 demo only
+
+    return RobotFeed(robot_wire(settings), crowd, args.base_frame, args.rate_hz, args.record)
 
 
 def _without_native_chatter() -> AbstractContextManager[None]:
@@ -348,10 +330,8 @@ def _camera_feed(args: argparse.Namespace, settings: Settings) -> Feed | int:
         return feed
     print(f"demo: the people are the faces of {source.describe()}", flush=True)
 
-    def faces(
-        publish: Callable[[str, bytes | None], None], should_stop: Callable[[], bool]
-    ) -> None:
-        feed.run(publish, should_stop, lambda line: None)  # the view says who faces
+    def faces(session: zenoh.Session, should_stop: Callable[[], bool]) -> None:
+        feed.run(TrackerPublisher(session), should_stop, lambda line: None)  # the view says who
 
     return faces
 

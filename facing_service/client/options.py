@@ -13,8 +13,9 @@ from typing import Any, Literal, TypedDict
 import zenoh
 from pydantic import ConfigDict, Field, ValidationError, field_validator
 
+from ..config.fields import SessionChecks
 from ..config.session import insert, readable_file, zenoh_config
-from ..config.settings import SessionChecks, Settings
+from ..config.settings import Settings
 from ..contract import keys
 from ..contract.errors import SettingsError
 

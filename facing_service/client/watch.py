@@ -4,10 +4,9 @@ A top-down map around the robot (each person drawn where they stand, as an arrow
 their heading; people facing the robot highlighted and labelled) beside a table of id,
 facing, angle, distance and since when. ``render`` is pure (plain data in, a rich
 renderable out) so the view is tested without a terminal; ``Watcher`` gathers the data
-from zenoh. The rows are what the service says (its results and engagement levels),
-whatever its input; positions and headings come from the JSON poses when this session
-can read them (a result alone does not say where a person stands): on ROS 2 input, or
-under an identity that may read results only, people are listed but not drawn.
+from zenoh. The rows and the map are what the service publishes (its results, with where
+each person stands and faces, and engagement levels), whatever its input: JSON poses or
+a ROS 2 robot's topics.
 """
 
 from __future__ import annotations

@@ -61,6 +61,7 @@ PUBLIC_FIELDS = frozenset(
         "ros_distro",
         "ros_max_message_bytes",
         "ros_max_frames",
+        "ros_join_wait_s",
         "ros_domain_id",
         "ros_namespace",
         "output",

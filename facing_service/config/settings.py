@@ -11,18 +11,24 @@ from __future__ import annotations
 import os
 import re
 import socket
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
-from pydantic.json_schema import JsonDict
+from pydantic import ConfigDict, field_validator, model_validator
 
 from ..contract import keys
 from ..contract.poses import DEFAULT_MAX_PAYLOAD_BYTES
 from ..contract.robot import DEFAULT_MAX_FRAMES, DEFAULT_MAX_MESSAGE_BYTES, Distro
-from .disclosure import public_endpoint
-from .endpoints import endpoint_problem
+from .fields import (
+    ENGAGEMENT,
+    GROUPS,
+    HEADS,
+    ROS_IN,
+    ROS_OUT,
+    ZENOH,
+    SessionChecks,
+    flag,
+)
 
 LogLevel = Literal["DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL"]
 
@@ -31,73 +37,6 @@ def default_instance() -> str:
     """``<host name>-<pid>``, made a valid key chunk: unique per process on a network."""
     name = re.sub(r"[^A-Za-z0-9_.-]", "_", f"{socket.gethostname()}-{os.getpid()}")
     return name[-64:]
-
-
-SERVICE, ENGAGEMENT, HEADS = "service", "engagement levels", "heads: face frames, from ROS 2 input"
-GROUPS = "groups: who faces whom, F-formations"
-ROS_IN = "ROS 2 input: a robot's own /tf and /humans/* topics"
-ROS_OUT = "ROS 2 output: our results on the robot's own topics, beside the JSON keys"
-ZENOH = "zenoh session"
-
-
-def flag(
-    default: Any,
-    description: str,
-    group: str = SERVICE,
-    *,
-    short: str | None = None,
-    metavar: str | None = None,
-    shown: str | None = None,
-    default_factory: Callable[[], Any] | None = None,
-    **constraints: Any,
-) -> Any:
-    """A setting's field with its flag: its help (the description), group, short form,
-    metavar, and the default as the docs say it when the value itself would not
-    (``shown``). One call, so that type checkers see a plain default."""
-    extra: JsonDict = {"group": group, "short": short, "metavar": metavar, "shown": shown}
-    if default_factory is not None:
-        return Field(default_factory=default_factory, description=description,
-                     json_schema_extra=extra, **constraints)  # fmt: skip
-    return Field(default, description=description, json_schema_extra=extra, **constraints)
-
-
-class SessionChecks(BaseModel):
-    """The checks of what a zenoh session is made from, one for the service's
-    ``Settings`` and a client's ``ClientOptions`` alike (each declares the fields)."""
-
-    @field_validator("namespace", check_fields=False)
-    @classmethod
-    def _namespace(cls, value: str) -> str:
-        return keys.validate_namespace(value)
-
-    @field_validator("base_frame", "frame", check_fields=False)
-    @classmethod
-    def _frame(cls, value: str) -> str:
-        return keys.validate_frame_filter(value)
-
-    @field_validator("connect", "listen", check_fields=False)
-    @classmethod
-    def _endpoints(cls, value: list[str], info: Any) -> list[str]:
-        for endpoint in value:
-            if reason := endpoint_problem(endpoint, listen=info.field_name == "listen"):
-                raise ValueError(f"{public_endpoint(endpoint)}: {reason}")
-        return value
-
-    @field_validator("reconnect_s", check_fields=False)
-    @classmethod
-    def _reconnect(cls, value: list[float]) -> list[float]:
-        if len(value) != 2 or not 0 < value[0] <= value[1] <= 60:
-            raise ValueError("reconnect_s is FIRST,MOST seconds, 0 < FIRST <= MOST <= 60")
-        return value
-
-    @field_validator("cfg", check_fields=False)
-    @classmethod
-    def _cfg(cls, value: list[str]) -> list[str]:
-        for position, entry in enumerate(value, 1):
-            key, sep, _ = entry.partition(":")
-            if not (sep and key):  # the entry itself is not quoted: it may be a secret
-                raise ValueError(f"entry {position} is not KEY:VALUE")
-        return value
 
 
 class Settings(SessionChecks):
@@ -328,6 +267,15 @@ class Settings(SessionChecks):
         "transform naming one more is refused (`tf_too_many_frames`)",
         ROS_IN,
         gt=0,
+    )
+    ros_join_wait_s: float = flag(
+        0.25,
+        "a new face or body that no person links waits this long (its own stamps) before "
+        "it is a participant of its own, for a person manager to link it (no double at "
+        "each arrival); 0: at once, on a robot with no person manager",
+        ROS_IN,
+        ge=0,
+        le=5,
     )
     ros_domain_id: int = flag(
         0, "`ROS_DOMAIN_ID`, 0-232 (rmw_zenoh keys start with it)", ROS_IN, ge=0, le=232

@@ -16,6 +16,9 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
 - Each pose is tf2's lookup of that frame in the base frame at the latest common time,
   redone whenever a transform on its chain (or the base frame's) changes; a pose is
   emitted only when that time moves forward, so nothing already said is repeated.
+- A face or body that no person holds waits ``join_wait_ns`` of its own stamps before its
+  first results (``--ros-join-wait-s``): a person manager links a new face or body a
+  moment after its tracker lists it, and through another subscription.
 - First results are delayed, never lost: the lists and person links come through other
   subscriptions than /tf and may be handled after /tf that came after them (as may a
   /tf_static link), so when a subject's pose first becomes known, the poses its frame
@@ -25,15 +28,10 @@ Pure: messages in (as plain values), pose samples and losses out. The rules:
   the others refused as ``capacity``), at most ``max_ids`` person links of each kind
   (those of untracked persons are kept for when they come, and the oldest forgotten
   first), and the TF buffer's ``max_frames``.
-- Time going back (a recording replayed again, a robot's clock reset): ROS's TF listener
-  clears its buffer when its clock jumps back. Here the clock is the stamps: after
-  ``TIME_BACK_MESSAGES`` /tf messages in a row *from one publisher* (rmw_zenoh's GID, when
-  the caller knows it), spanning at least ``TIME_BACK_SPAN_S`` of receive time, whose every
-  transform is more than ``TIME_BACK_NS`` older than its frame's newest, the dynamic
-  transforms are cleared and every subject is lost, then comes back with the new times.
-  In a row: a stale or forged message between fresh ones clears nothing, and a burst of
-  forged ones cannot span the time while the robot streams. Clears are counted, and at
-  most one in ``CLEAR_MIN_INTERVAL_S`` (the others are counted as refused).
+- Time going back (a recording replayed again, a robot's clock reset; told as
+  ``time_back`` says): the dynamic transforms are cleared and every subject is lost,
+  then comes back with the new times. The /tf messages that went back are held meanwhile
+  (at most ``MAX_HELD_BACK``), the new timeline's first once it is told.
 - Links cannot amplify: a face or body frame is the pose of at most one person at a time
   (the one that linked it last), so 200 cloned person ids pointing at a real face make
   one stream of results, never 200. Frame names are bounded (``MAX_FRAME_NAME``,
@@ -59,6 +57,7 @@ from ..core.tf.buffer import TfBuffer
 from ..core.tf.errors import TfError
 from ..core.tf.geometry import RigidTransform
 from .participants import PERSONS, Participant, Presence, derive
+from .time_back import TimeBack
 
 #: tracked list topic -> (our subject prefix, the TF frame prefix of REP 155)
 KINDS = {
@@ -76,16 +75,7 @@ MAX_FIRST_RESULTS = 64
 #: Ids per list and person links per kind, unless the caller says (``--max-bodies``).
 DEFAULT_MAX_IDS = 10_000
 
-#: How far back a transform's stamp must be, for how many /tf messages in a row from one
-#: publisher, over how much receive time, for time to have gone back (a stream at 30 Hz
-#: says so within a third of a second).
-TIME_BACK_NS = NS_PER_S // 2
-TIME_BACK_MESSAGES = 3
-TIME_BACK_SPAN_S = 0.25
 MAX_HELD_BACK = 64  # /tf messages held while time going back is told (a burst: refused)
-#: At most one TF buffer clear in this long (a replay looping every few seconds is still
-#: followed; a flood of forged rewinds is not).
-CLEAR_MIN_INTERVAL_S = 2.0
 #: Longest frame name kept (ROS names have no limit; tf2 keeps every one it sees).
 MAX_FRAME_NAME = 256
 #: Said with a /tf_static transform refused because its frame is dynamic: seen on the
@@ -144,9 +134,13 @@ class People:
         *,
         max_ids: int = DEFAULT_MAX_IDS,
         max_frames: int = DEFAULT_MAX_FRAMES,
+        join_wait_ns: int = 0,
     ) -> None:
         self.base_frame = base_frame
         self.max_ids = max_ids
+        self.join_wait_ns = join_wait_ns
+        # a face or body nobody holds, not emitted yet -> the first stamp it could be
+        self._waiting: dict[str, int] = {}
         self.tf = TfBuffer(max_frames=max_frames)
         self._tracked: dict[str, set[str]] = {topic: set() for topic in KINDS}
         # person -> the id it links, per kind; oldest link first (the last one made wins)
@@ -157,13 +151,9 @@ class People:
         self._emitted_before: dict[str, int] = {}
         # Derived whole from the lists and links, when they change (see participants)
         self.presence: Presence = derive(self._tracked, self._links)
-        # /tf messages whose every transform went back in time: (publisher, count, since)
-        self._back_run: tuple[bytes | None, int, float | None] = (None, 0, None)
+        self._time_back = TimeBack()
         # its messages, held: the new timeline's first once time went back, else refused
         self._held_back: list[Sequence[TfInput]] = []
-        self._last_clear: float | None = None  # receive time of the last buffer clear
-        self.clears = 0  # TF buffer clears (time went back)
-        self.clears_refused = 0  # clears not made: within CLEAR_MIN_INTERVAL_S of the last
         self._base_chain: tuple[int, frozenset[str]] = (-1, frozenset())  # (tf.shape, chain)
 
     # -- inputs --------------------------------------------------------------------------
@@ -181,14 +171,16 @@ class People:
         update = Update()
         messages: list[Sequence[TfInput]] = [transforms]
         if not static:
-            back = self._time_back(transforms, publisher, received_s)
+            stamps = ((t.stamp, self.tf.newest(t.child)) for t in transforms)
+            back = self._time_back.observe(stamps, publisher, received_s)
             if back:
                 update.time_back_ns = back
                 update.lost = [s for s in self.subjects() if s in self._last]
                 self.tf.clear()
                 self._last.clear()
                 self._emitted_before.clear()  # older stamps are the new timeline
-            elif self._back_run[1] and len(self._held_back) < MAX_HELD_BACK:
+                self._waiting.clear()
+            elif self._time_back.under_way and len(self._held_back) < MAX_HELD_BACK:
                 self._held_back.append(transforms)  # evidence under way: not refused yet
                 return update
             messages, self._held_back = [*self._held_back, transforms], []
@@ -209,42 +201,6 @@ class People:
         if changed:
             self._resolve(self._concerned(changed), update)
         return update
-
-    def _time_back(
-        self, transforms: Sequence[TfInput], publisher: bytes | None, received_s: float | None
-    ) -> int:
-        """How far back time went, once it has (see the module's rules; 0: it has not)."""
-        back = []
-        for t in transforms:
-            if t.stamp is None:
-                continue  # no time at all: refused, and no sign of time going back
-            newest = self.tf.newest(t.child)
-            if newest is None or t.stamp >= newest - TIME_BACK_NS:
-                self._back_run = (None, 0, None)  # a fresh (or first) transform: time goes on
-                return 0
-            back.append(newest - t.stamp)
-        if not back:
-            return 0
-        who, count, since = self._back_run
-        if count == 0 or who != publisher:
-            who, count, since = publisher, 0, received_s
-        self._back_run = (who, count + 1, since)
-        if count + 1 < TIME_BACK_MESSAGES:
-            return 0
-        if received_s is not None and since is not None:
-            if received_s - since < TIME_BACK_SPAN_S:
-                return 0  # a burst: not yet a clock that went back
-            if (
-                self._last_clear is not None
-                and received_s - self._last_clear < CLEAR_MIN_INTERVAL_S
-            ):
-                self.clears_refused += 1
-                self._back_run = (None, 0, None)
-                return 0
-            self._last_clear = received_s
-        self._back_run = (None, 0, None)
-        self.clears += 1
-        return max(back)
 
     def _concerned(self, changed: set[str]) -> list[str]:
         """The subjects whose lookup a change of these frames can change: all of them when
@@ -305,6 +261,7 @@ class People:
         results emitted, after what was emitted for it before)."""
         before, self.presence = self.presence, derive(self._tracked, self._links)
         now = self.presence.participants
+        self._waiting = {s: t for s, t in self._waiting.items() if s in now}
         changed = [s for s, p in now.items() if before.participants.get(s) != p]
         self._resolve(changed, update)
         # lost: no longer there, or no longer reading the frame it was read from with
@@ -334,6 +291,16 @@ class People:
 
     # -- state -----------------------------------------------------------------------------
 
+    @property
+    def clears(self) -> int:
+        """TF buffer clears: time went back."""
+        return self._time_back.clears
+
+    @property
+    def clears_refused(self) -> int:
+        """Clears not made: time went back again too soon after the last."""
+        return self._time_back.clears_refused
+
     def subjects(self) -> list[str]:
         """Every participant tracked, by our name: each tracked person, and each tracked
         face or body that no tracked person holds (those that one does are its)."""
@@ -361,6 +328,8 @@ class People:
                 continue  # nothing newer than what was already emitted (another frame at
                 # the same time is: the tracker takes an equal stamp)
             stands = participant.stands if participant.stands != frame else None
+            if emitted is None and self._waits(subject, stamp):
+                continue
             if emitted is None:  # first known: what its frame already holds, emitted first
                 before = self._emitted_before.get(subject)
                 if before is not None and stamp <= before:
@@ -369,6 +338,19 @@ class People:
                 self._first_results(subject, frame, stands, stamp, before, update)
             self._last[subject] = (stamp, frame)
             update.poses.append(self._sample(subject, frame, stands, transform, stamp))
+
+    def _waits(self, subject: str, stamp: int) -> bool:
+        """Whether a face or body that no person holds waits before its first results,
+        ``join_wait_ns`` of its stamps (then emitted from its first): a person manager
+        links a new face after the face tracker lists it, and the face emitted meanwhile
+        as a participant of its own would be a double, lost a moment later."""
+        if not self.join_wait_ns or subject.startswith("person_"):
+            return False
+        first = self._waiting.setdefault(subject, stamp)
+        if stamp - first < self.join_wait_ns:
+            return True
+        del self._waiting[subject]
+        return False
 
     def _look_up(
         self, participant: Participant, update: Update

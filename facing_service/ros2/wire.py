@@ -65,6 +65,14 @@ class Wire:
     namespace: str = ""  # ROS namespace or bridge namespace, without slashes around
     distro: Distro = Distro.JAZZY  # the type hash form of the keys this wire writes
 
+    def describe(self) -> str:
+        """In words, as the commands that publish a robot's topics say where they go:
+        ``rmw_zenoh format (domain 0, no namespace, Jazzy's keys ...)``."""
+        where = f"domain {self.domain_id}, " if self.format is RosFormat.RMW_ZENOH else ""
+        namespace = f"namespace '{self.namespace}'" if self.namespace else "no namespace"
+        form = f", {self.distro.describe()}" if self.format is RosFormat.RMW_ZENOH else ""
+        return f"{self.format.value} format ({where}{namespace}{form})"
+
     def type_hash(self, typename: str) -> str:
         """What this wire writes for a type's hash, in data keys and liveliness tokens."""
         if self.distro is Distro.HUMBLE:

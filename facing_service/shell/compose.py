@@ -10,6 +10,7 @@ from collections.abc import Callable
 
 from ..config.profiles import head_profile, robot_wire, scene_params, tracker_for
 from ..config.settings import Settings
+from ..contract.stamps import NS_PER_S
 from ..core.silence import InputSilence, SilenceParams
 from ..core.social.scene import Scenes
 from ..ros2.wire import FormLearner
@@ -66,6 +67,7 @@ def robot_reading(settings: Settings) -> RobotReading:
         base_frame=s.ros_base_frame,
         max_ids=s.max_bodies,
         max_frames=s.ros_max_frames,
+        join_wait_ns=round(s.ros_join_wait_s * NS_PER_S),
         max_message_bytes=s.ros_max_message_bytes,
         head_threshold_deg=head_profile(s).threshold_deg,
         head_cone=s.head_cone,

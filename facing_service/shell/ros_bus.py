@@ -6,12 +6,15 @@ is pure and never sees a session).
   advanced subscribers, and the older generation's publication caches queried; see
   ``ros2.input`` for which robots need which);
 - ``RobotPublishers`` and ``TopicWriter``: our answers on the robot's topics, in its format
-  and each form it is answered in, with rmw_zenoh's liveliness tokens and attachments.
+  and each form it is answered in, with rmw_zenoh's liveliness tokens and attachments;
+- ``robot_topic_writer``: a robot's own topics, as a replayed or simulated robot
+  publishes them.
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
 import threading
 import time
 from collections.abc import Callable, Iterable
@@ -25,6 +28,7 @@ from ..contract.robot import DEFAULT_MAX_MESSAGE_BYTES
 from ..ros2 import types as ros2_types
 from ..ros2.input import TOPICS, RosSample, publication_cache_selector
 from ..ros2.wire import (
+    GID_SIZE,
     QOS_RELIABLE_VOLATILE,
     Form,
     FormLearner,
@@ -234,6 +238,33 @@ def _mangle(name: str) -> str:
     return name.replace("/", "%")
 
 
+def robot_topic_writer(
+    session: zenoh.Session, key: str, wire: Wire, cache_depth: int | None
+) -> TopicWriter:
+    """A writer publishing as a robot does (a replayed or a simulated one), with BLOCK: it
+    loses nothing. With ``cache_depth``, a transient-local topic as rmw_zenoh publishes
+    one: a zenoh-ext advanced publisher with a cache that deep and publisher detection, so
+    a subscriber that starts later still gets it."""
+    block = zenoh.CongestionControl.BLOCK
+    if cache_depth is not None:
+        entity: Any = zenoh.ext.declare_advanced_publisher(
+            session,
+            key,
+            encoding=CDR,
+            congestion_control=block,
+            cache=zenoh.ext.CacheConfig(cache_depth),
+            # Sequence numbers order the cache (as rmw_zenoh's publishers do), so the
+            # session needs no timestamping enabled.
+            sample_miss_detection=zenoh.ext.MissDetectionConfig(
+                heartbeat=None, sporadic_heartbeat=None
+            ),
+            publisher_detection=True,
+        )
+    else:
+        entity = session.declare_publisher(key, encoding=CDR, congestion_control=block)
+    return TopicWriter(entity, wire, os.urandom(GID_SIZE))
+
+
 class TopicWriter:
     """Puts samples on one topic's declared publisher (plain or zenoh-ext advanced) as the
     robot's format wants them: in rmw_zenoh's, each with its attachment in the robot's
@@ -255,6 +286,11 @@ class TopicWriter:
         if self._rmw:
             extra = attachment(self.sequence_number, time.time_ns(), self.gid, self.form.attachment)
         self._entity.put(payload, attachment=extra)
+
+    def matched(self) -> bool:
+        """Whether a subscriber matches this topic now (zenoh's matching status)."""
+        status: Any = self._entity.matching_status
+        return bool(status.matching)
 
     def undeclare(self) -> None:
         self._entity.undeclare()

@@ -60,6 +60,7 @@ class RobotReading:
     base_frame: str
     max_ids: int
     max_frames: int
+    join_wait_ns: int
     max_message_bytes: int
     head_threshold_deg: float
     head_cone: str
@@ -77,7 +78,10 @@ class RosInput:
         self.wire = robot.wire
         self.form = robot.form
         self.people = People(
-            reading.base_frame, max_ids=reading.max_ids, max_frames=reading.max_frames
+            reading.base_frame,
+            max_ids=reading.max_ids,
+            max_frames=reading.max_frames,
+            join_wait_ns=reading.join_wait_ns,
         )
         self.findings: dict[str, str] = {}  # replaced whole by the worker
         self.next_diagnosis: float | None = None  # when the worker checks next

@@ -12,15 +12,14 @@ from pathlib import Path
 import zenoh
 
 from ..client.client import FacingClient
-from ..client.sim import TrackerPublisher
 from ..client.watch import Watcher
 from ..config.settings import Settings
 from ..shell.service import FacingService
 from .loopback import endpoint, free_port, loopback_config
 
-#: What puts people into the demo: ``feed(publish, should_stop)`` publishes poses as a
-#: tracker would (``publish(key, None)``: a DELETE) until it is told to stop or has no more.
-Feed = Callable[[Callable[[str, bytes | None], None], Callable[[], bool]], object]
+#: What puts people into the demo: ``feed(session, should_stop)`` publishes on ``session``
+#: as a tracker (or a robot) would, until it is told to stop or has no more.
+Feed = Callable[[zenoh.Session, Callable[[], bool]], object]
 
 
 def run_demo(
@@ -64,9 +63,7 @@ def run_demo(
         def should_stop() -> bool:
             return stop.is_set() or (deadline is not None and time.monotonic() >= deadline)
 
-        feeder = threading.Thread(
-            target=feed, args=(TrackerPublisher(tracker), should_stop), daemon=True
-        )
+        feeder = threading.Thread(target=feed, args=(tracker, should_stop), daemon=True)
         feeder.start()
         try:
             watcher.live(lambda: feeder.is_alive() and not stop.is_set())

@@ -1,6 +1,7 @@
-"""``replay --record OUT``: what the service publishes on the robot's topics (``--output
-ros2``), written into a ROS 2 bag (sqlite3, or mcap when OUT ends in ``.mcap``) that ROS
-tools open afterwards.
+"""ROS 2 bags written: ``replay --record OUT``, what the service publishes on the robot's
+topics (``--output ros2``), and ``simulate --ros2 --record OUT``, a simulated robot's own
+topics; sqlite3, or mcap when OUT ends in ``.mcap``, which ROS tools open afterwards and
+``replay`` plays again.
 
 Samples are kept in memory while the replay runs and written, in arrival order, when the
 recording closes: a replay is bounded by its bag, and the writer then never runs on
@@ -11,7 +12,8 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import zenoh
@@ -48,12 +50,17 @@ def replay_refusal(bag: Path, record: Path | None) -> str | None:
         return (
             f"BAG {str(bag)!r}: not a rosbag2 (a folder with metadata.yaml, or its .db3 or .mcap)"
         )
-    if record is not None:
-        folder = bag_folder(record)
-        if folder.exists():
-            return f"--record {str(record)!r}: {folder} exists (a recording never overwrites)"
-        if not folder.parent.is_dir():
-            return f"--record {str(record)!r}: no such folder"
+    return None if record is None else record_refusal(record)
+
+
+def record_refusal(record: Path) -> str | None:
+    """Why ``--record OUT`` cannot be written (one line naming the flag), or None: a
+    recording never overwrites."""
+    folder = bag_folder(record)
+    if folder.exists():
+        return f"--record {str(record)!r}: {folder} exists (a recording never overwrites)"
+    if not folder.parent.is_dir():
+        return f"--record {str(record)!r}: no such folder"
     return None
 
 
@@ -88,19 +95,52 @@ class Recording:
 
     def close(self) -> tuple[int, int]:
         """Stop recording, write the bag: ``(messages, topics)``."""
-        from rosbags.rosbag2 import StoragePlugin, Writer
-
         for subscriber in self._subscribers:
             subscriber.undeclare()
         with self._lock:
             samples = sorted(self._samples, key=lambda s: s[2])
-        storage = StoragePlugin.MCAP if self.out.suffix == ".mcap" else StoragePlugin.SQLITE3
-        connections = {}
-        with Writer(self.path, version=8, storage_plugin=storage) as writer:
-            for topic, typename, timestamp, payload in samples:
-                if topic not in connections:
-                    connections[topic] = writer.add_connection(
-                        topic, typename, typestore=ros2_types.typestore()
-                    )
-                writer.write(connections[topic], timestamp, payload)
-        return len(samples), len(connections)
+        return write_bag(self.out, [BagMessage(*sample) for sample in samples])
+
+
+@dataclass(frozen=True, slots=True)
+class BagMessage:
+    """One message of a bag: its topic and type, when (ns), its CDR; ``latched``: on a
+    transient-local topic, so that a replay serves it from a cache as the robot did."""
+
+    topic: str
+    typename: str
+    timestamp_ns: int
+    cdr: bytes
+    latched: bool = False
+
+
+def write_bag(out: Path, messages: Sequence[BagMessage]) -> tuple[int, int]:
+    """A new rosbag2 of ``messages`` in their order: the folder ``bag_folder(out)``, in
+    mcap when ``out`` ends in ``.mcap``, else sqlite3. Returns ``(messages, topics)``."""
+    from rosbags.interfaces import (
+        Qos,
+        QosDurability,
+        QosHistory,
+        QosLiveliness,
+        QosReliability,
+        QosTime,
+    )
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    never = QosTime(sec=2147483647, nsec=4294967295)  # rosbag2's "infinite"
+    latched = Qos(QosHistory.KEEP_LAST, 1, QosReliability.RELIABLE,
+                  QosDurability.TRANSIENT_LOCAL, never, never, QosLiveliness.AUTOMATIC,
+                  never, False)  # fmt: skip
+    storage = StoragePlugin.MCAP if out.suffix == ".mcap" else StoragePlugin.SQLITE3
+    connections = {}
+    with Writer(bag_folder(out), version=8, storage_plugin=storage) as writer:
+        for message in messages:
+            if message.topic not in connections:
+                connections[message.topic] = writer.add_connection(
+                    message.topic,
+                    message.typename,
+                    typestore=ros2_types.typestore(),
+                    offered_qos_profiles=[latched] if message.latched else [],
+                )
+            writer.write(connections[message.topic], message.timestamp_ns, message.cdr)
+    return len(messages), len(connections)

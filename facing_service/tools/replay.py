@@ -11,17 +11,14 @@ publisher GID). Everything is sent with BLOCK: a replay loses nothing.
 
 from __future__ import annotations
 
-import os
 import sys
 import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import zenoh
-import zenoh.ext
 from rosbags.highlevel import AnyReader
 from rosbags.interfaces import Qos, QosDurability
 
@@ -30,8 +27,8 @@ from ..config.profiles import robot_wire
 from ..config.session import zenoh_config
 from ..config.settings import Settings
 from ..ros2 import types as ros2_types
-from ..ros2.wire import GID_SIZE, RosFormat, Wire
-from ..shell.ros_bus import CDR, TopicWriter
+from ..ros2.wire import Wire
+from ..shell.ros_bus import TopicWriter, robot_topic_writer
 from .record import Recording
 
 
@@ -44,26 +41,9 @@ class ReplayStats:
 
 
 def _writer(session: zenoh.Session, key: str, wire: Wire, qos: list[Qos]) -> TopicWriter:
-    """One topic's writer: advanced with a cache when the topic was recorded transient-local
-    (as rmw_zenoh publishes it), plain otherwise."""
-    block = zenoh.CongestionControl.BLOCK
-    if any(q.durability == QosDurability.TRANSIENT_LOCAL for q in qos):
-        entity: Any = zenoh.ext.declare_advanced_publisher(
-            session,
-            key,
-            encoding=CDR,
-            congestion_control=block,
-            cache=zenoh.ext.CacheConfig(max([q.depth for q in qos] + [1])),
-            # Sequence numbers order the cache (as rmw_zenoh's publishers do), so the
-            # session needs no timestamping enabled.
-            sample_miss_detection=zenoh.ext.MissDetectionConfig(
-                heartbeat=None, sporadic_heartbeat=None
-            ),
-            publisher_detection=True,
-        )
-    else:
-        entity = session.declare_publisher(key, encoding=CDR, congestion_control=block)
-    return TopicWriter(entity, wire, os.urandom(GID_SIZE))
+    """One topic's writer: with a cache when the topic was recorded transient-local."""
+    latched = [q.depth for q in qos if q.durability == QosDurability.TRANSIENT_LOCAL]
+    return robot_topic_writer(session, key, wire, max([*latched, 1]) if latched else None)
 
 
 class Replay:
@@ -126,10 +106,7 @@ def replay(
     """``facing-service replay``: play ``bag`` until it ends or ``stop``; with ``record``,
     also record what the service answers. Returns the exit code."""
     wire = robot_wire(settings)
-    where = f"domain {wire.domain_id}, " if wire.format is RosFormat.RMW_ZENOH else ""
-    namespace = f"namespace '{wire.namespace}'" if wire.namespace else "no namespace"
-    form = f", {wire.distro.describe()}" if wire.format is RosFormat.RMW_ZENOH else ""
-    print(f"replaying {bag} at {rate:g}x in {wire.format.value} format ({where}{namespace}{form})")
+    print(f"replaying {bag} at {rate:g}x in {wire.describe()}")
     try:
         with zenoh.open(zenoh_config(settings)) as session, Replay(session, bag, wire) as player:
             recording = Recording(session, wire, record) if record else None

@@ -24,9 +24,12 @@ TF, IDS = ros2_types.TF_MESSAGE, ros2_types.IDS_LIST
 
 def start(net, **settings):
     """A router, a service reading the robot through it (``settings`` on top), the robot
-    (rmw_zenoh Jazzy) and a consumer session: ``(endpoint, service, robot, consumer)``."""
+    (rmw_zenoh Jazzy) and a consumer session: ``(endpoint, service, robot, consumer)``.
+    A robot with no person manager: its bodies' results are counted from their first pose
+    (``ros_join_wait_s`` 0; the wait is tested in tests/ros2/test_people.py)."""
     router = net.router()
     ep = endpoint(router.port)
+    settings = {"ros_join_wait_s": 0.0, **settings}
     service = net.robot_service(ep, base_frame="base_link", **settings)
     robot = Robot(net.client(ep, mode="client"), rmw_zenoh.JAZZY_0_2_10)
     consumer = net.client(ep, mode="client")

@@ -88,6 +88,9 @@ def robot_site(net):
     made: list[Robot] = []
 
     def start(fmt: RosFormat = RosFormat.RMW_ZENOH, **settings):
+        # no person manager: each body's results from its first pose (the wait for one
+        # is tested in tests/ros2/test_people.py)
+        settings = {"ros_join_wait_s": 0.0, **settings}
         return net.robot_service(ep, base_frame="base_link", ros_format=fmt.value, **settings)
 
     def robot(release: Release = rmw_zenoh.JAZZY_0_2_10, **where) -> Robot:

@@ -306,3 +306,62 @@ def test_a_persons_face_found_again_under_a_new_id_keeps_its_engagement():
     stream("face_f2", 1.0, 9.3)
     levels = {e.body_id: e.level for e in core.engagements()}
     assert levels == {"person_p1": Level.ENGAGED}  # f2 a participant no more
+
+
+# -- a new face or body waits for a person manager to claim it ----------------------------
+
+WAIT = S // 4  # the service's default, --ros-join-wait-s 0.25
+
+
+def _stream_face(people: People, start_s: float, seconds: float) -> list:
+    """face_f1 at 30 Hz from ``start_s``: every update's poses."""
+    poses = []
+    for i in range(round(seconds * 30)):
+        at = start_s + i / 30
+        poses += people.on_tf(
+            [tf_in("base_link", "face_f1", at, (2.0, 0.0, 1.6))], static=False
+        ).poses
+    return poses
+
+
+def test_a_face_claimed_within_the_wait_is_never_a_participant_of_its_own():
+    """A face tracker lists the face, its person manager links it 0.1 s later (through
+    another subscription): before, face_f1 was emitted, then lost when the person took it
+    (a double at every arrival); with the wait, only the person, from the face's first pose."""
+    for wait, doubled in ((0, True), (WAIT, False)):
+        people = People("base_link", join_wait_ns=wait)
+        people.on_tracked("/humans/faces/tracked", ["f1"])
+        early = _stream_face(people, 1.0, 0.1)
+        people.on_person_link("anon_f1", "face_id", "f1")
+        update = people.on_tracked("/humans/persons/tracked", ["anon_f1"])
+        later = _stream_face(people, 1.1, 0.5)
+        assert ("face_f1" in update.lost) is doubled
+        assert {p.body_id for p in early} == ({"face_f1"} if doubled else set())
+        person = [p for p in update.poses + later if p.body_id == "person_anon_f1"]
+        if not doubled:  # nothing lost: from the face's first pose
+            assert person[0].pose.stamp == Time.of(1)
+        assert [p.pose.stamp for p in person] == sorted({p.pose.stamp for p in person})
+
+
+def test_a_face_nobody_claims_waits_then_is_emitted_from_its_first_pose():
+    people = People("base_link", join_wait_ns=WAIT)
+    people.on_tracked("/humans/faces/tracked", ["f1"])
+    updates = [
+        people.on_tf([tf_in("base_link", "face_f1", 1 + i / 30, (2.0, 0.0, 1.6))], static=False)
+        for i in range(30)
+    ]
+    # nothing until its own stamps span the wait (the 9th pose, 0.27 s after the first),
+    # then every pose since the first: none lost
+    first = next(i for i, update in enumerate(updates) if update.poses)
+    assert first == 8
+    stamps = [p.pose.stamp for update in updates for p in update.poses]
+    assert stamps == [Time(int((1 + i / 30) * S)) for i in range(30)]
+
+
+def test_a_person_is_never_kept_waiting():
+    people = People("base_link", join_wait_ns=WAIT)
+    people.on_tf([tf_in("base_link", "face_f1", 1, (2.0, 0.0, 1.6))], static=False)
+    people.on_tracked("/humans/faces/tracked", ["f1"])
+    people.on_person_link("ada", "face_id", "f1")
+    (pose,) = people.on_tracked("/humans/persons/tracked", ["ada"]).poses
+    assert pose.body_id == "person_ada" and pose.pose.stamp == Time.of(1)
