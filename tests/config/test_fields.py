@@ -4,17 +4,17 @@ a client's options (config/fields)."""
 from __future__ import annotations
 
 import pytest
-from pydantic import ValidationError
+from pydantic import Field, ValidationError
 
 from facing_service.config.fields import ROS_IN, SessionChecks, flag
 
 
 class Session(SessionChecks):
     namespace: str = "hri"
-    connect: list[str] = []
-    listen: list[str] = []
-    cfg: list[str] = []
-    reconnect_s: list[float] = [1.0, 4.0]
+    connect: list[str] = Field(default_factory=list)
+    listen: list[str] = Field(default_factory=list)
+    cfg: list[str] = Field(default_factory=list)
+    reconnect_s: list[float] = Field(default_factory=lambda: [1.0, 4.0])
     wait_s: float = flag(0.25, "how long", ROS_IN, ge=0, le=5)
 
 
