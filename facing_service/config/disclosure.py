@@ -45,6 +45,7 @@ PUBLIC_FIELDS = frozenset(
         "head_memory_s",
         "head_cone",
         "head_threshold_deg",
+        "head_facing_window_s",
         "head_falloff_deg",
         "head_engagement_tau_s",
         "head_dwell_s",

@@ -68,7 +68,13 @@ def head_profile(settings: Settings) -> Profile:
         model=Model.EVIDENCE if evidence else body.model,
         memory_s=s.head_memory_s,
     )
-    return Profile(s.head_threshold_deg, s.hysteresis_deg, s.head_cone == "3d", engagement)
+    return Profile(
+        s.head_threshold_deg,
+        s.hysteresis_deg,
+        s.head_cone == "3d",
+        engagement,
+        s.head_facing_window_s,
+    )
 
 
 def scene_params(settings: Settings) -> SceneParams:

@@ -168,6 +168,15 @@ class Settings(SessionChecks):
         gt=0.0,
         lt=180.0,
     )
+    head_facing_window_s: float = flag(
+        0.4,
+        "a face faces by the median of its angles over this long (their stamps), not its "
+        "last pose's alone: a face tracker's angle swings from frame to frame; a turn is "
+        "said about half of it later. 0 (with --hysteresis-deg 0): the rule pose by pose",
+        HEADS,
+        ge=0.0,
+        le=2.0,
+    )
     head_falloff_deg: float = flag(
         20.0,
         "a face's engagement score reaches 0 this far beyond its cone",

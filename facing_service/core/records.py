@@ -14,7 +14,7 @@ from ..contract.keys import BodyRef
 from ..contract.levels import Level
 from ..contract.poses import Pose
 from ..contract.schemas import FrameFacing, facing_state_json
-from ..contract.stamps import Time
+from ..contract.stamps import NS_PER_S, Time
 from . import detector
 from .engagement import Engagement, EngagementParams, Zone, zone
 
@@ -50,6 +50,11 @@ class Profile:
     hysteresis_deg: float
     cone3d: bool
     engagement: EngagementParams
+    #: Decide on the median angle of the poses this long back (their stamps), not the
+    #: last pose's alone (0: pose by pose). A face tracker's angle swings tens of degrees
+    #: from frame to frame, which no cone's hysteresis holds; the median follows what
+    #: most poses say, a turn about half the window later.
+    facing_window_s: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -120,6 +125,7 @@ class Track:
     profile: Profile
     engagement: Engagement = field(default_factory=Engagement)
     engagement_published: float = float("-inf")  # the caller's clock, at the last update
+    recent: tuple[tuple[int, float], ...] = ()  # (stamp, angle) of the facing window
 
     def engagement_update(self, previous: Level | None) -> EngagementUpdate:
         """The body's engagement as published (``previous``: the level it changed from)."""
@@ -144,6 +150,7 @@ class Track:
             self.profile,
             self.engagement,
             self.engagement_published,
+            self.recent,
         )
 
 
@@ -197,6 +204,33 @@ def frame_facing(
         bodies_facing=sorted(facing),
         bodies_tracked=sorted(tracked),
     )
+
+
+#: Most poses a facing window holds (a flood of poses must not make each decision cost
+#: more): 2 s at 30 Hz.
+MAX_WINDOW = 64
+
+
+def windowed(
+    recent: tuple[tuple[int, float], ...],
+    stamp: int,
+    angle: float | None,
+    window_s: float,
+    threshold_deg: float,
+    was_facing: bool,
+) -> tuple[bool, tuple[tuple[int, float], ...]]:
+    """Facing by the median angle of the poses in ``window_s`` up to ``stamp`` (this one,
+    at ``angle``, included; an undefined angle counts as 180°), and the window kept. A
+    face becomes facing when more than half its poses are inside ``threshold_deg``, and
+    stays so while half of them are: a tracker alternating between two estimates, as
+    many in as out, changes nothing either way."""
+    since = stamp - window_s * NS_PER_S
+    kept = [a for a in recent[-(MAX_WINDOW - 1) :] if a[0] > since]
+    kept.append((stamp, 180.0 if angle is None else angle))
+    angles = sorted(a[1] for a in kept)
+    n = len(angles)
+    median = angles[(n - 1) // 2] if was_facing else angles[n // 2]
+    return median < threshold_deg, tuple(kept)
 
 
 def decide(

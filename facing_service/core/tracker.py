@@ -29,6 +29,7 @@ from .records import (
     Track,
     decide,
     frame_facing,
+    windowed,
 )
 
 #: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
@@ -198,17 +199,20 @@ class Tracker:
         for sample in samples:
             track = tracks.get(sample.body)
             p = profiles[sample.profile]
-            widened = track is not None and track.state.facing
             pose = sample.pose
             t, q, threshold = pose.translation, pose.rotation, p.threshold_deg
-            r, angle, distance, facing = detector.classify_one(
-                t, q, threshold + p.hysteresis_deg if widened else threshold, p.cone3d
-            )
+            was = track is not None and track.state.facing
+            applied = threshold + p.hysteresis_deg if was else threshold
+            r, angle, distance, facing = detector.classify_one(t, q, applied, p.cone3d)
+            recent: tuple[tuple[int, float], ...] = ()
+            if p.facing_window_s > 0.0:
+                facing, recent = windowed(track.recent if track else (), pose.stamp, angle,
+                                          p.facing_window_s, applied, was)  # fmt: skip
             # fmt: off
             state = BodyState(sample.body, pose.stamp, facing, angle, distance, r, threshold,
                               t, detector.heading_deg(q))
             # fmt: on
-            update = self._store(sample, state, p, now, track)
+            update = self._store(sample, state, p, now, track, recent)
             if update is not None:
                 changes.engagement.append(update)
             changes.results.append(state)
@@ -222,12 +226,19 @@ class Tracker:
         ]
         reported = [p.threshold_deg for p in profiles]
         states = decide(samples, thresholds, profiles, reported)
-        for sample, state, profile in zip(samples, states, profiles, strict=True):
+        together = zip(samples, states, profiles, thresholds, strict=True)
+        for sample, state, profile, applied in together:
             track = self._tracks.get(sample.body)
-            update = self._store(sample, state, profile, now, track)
+            recent: tuple[tuple[int, float], ...] = ()
+            if profile.facing_window_s > 0.0:
+                was, window = track is not None and track.state.facing, profile.facing_window_s
+                facing, recent = windowed(track.recent if track else (), state.stamp,
+                                          state.angle_deg, window, applied, was)  # fmt: skip
+                state = replace(state, facing=facing)
+            update = self._store(sample, state, profile, now, track, recent)
             if update is not None:
                 changes.engagement.append(update)
-        changes.results.extend(states)
+            changes.results.append(state)
 
     def lose(
         self, bodies: BodyRef | Iterable[BodyRef], now: float, *, time_went_back: bool = False
@@ -361,15 +372,16 @@ class Tracker:
         profile: Profile,
         now: float,
         track: Track | None,
+        recent: tuple[tuple[int, float], ...],
     ) -> EngagementUpdate | None:
-        """Keep the new state (``track``: the body's, None when new); the engagement update
-        to publish, if one is due."""
+        """Keep the new state (``track``: the body's, None when new) and its facing window;
+        the engagement update to publish, if one is due."""
         key = sample.body
         if track is None:
-            track = self._tracks[key] = Track(sample.pose, now, state, profile)
+            track = self._tracks[key] = Track(sample.pose, now, state, profile, recent=recent)
         else:  # in place: the body's engagement carries over
             track.pose, track.last_seen, track.state = sample.pose, now, state
-            track.profile = profile
+            track.profile, track.recent = profile, recent
         self._tracks.move_to_end(key)
         update = self._engage(track, state, now)
         frame = self._frames.get(sample.frame_id)
