@@ -34,6 +34,7 @@ from ..contract.errors import FacingError
 from ..contract.schemas import FacingState, GroupState
 from ..contract.stamps import Time
 from .client import FacingClient
+from .condition import InputCondition
 
 #: Arrows for a heading in the map (base x is up, base y is left), every 45 degrees.
 _ARROWS = "↑↖←↙↓↘→↗"
@@ -86,16 +87,20 @@ def render(
     elsewhere: dict[str, int] | None = None,
     groups: Sequence[GroupState] = (),
     legend: str | None = LEGEND + ENGAGEMENT_LEGENDS["service"],
+    note: str | None = None,
 ) -> RenderableType:
     """The map and the table for one instant; ``elsewhere``: people tracked in other
     frames (frame -> how many), said when this frame has nobody; ``groups``: the frame's
     F-formations (each centre drawn ``o``, each member's group in the table); ``legend``
-    under the table (None: none)."""
+    under the table (None: none); ``note``: what the service's input gives now, when it
+    is not heard (``condition.input_note``), said above the table."""
     canvas = _map(people, radius_m, width, height, groups)
     table = _table(people, frame_id, groups, legend)
     facing = sum(1 for p in people if p.facing)
     title = f"{facing} of {len(people)} facing the robot (R); 1 m rings; x up, y left"
     parts: list[RenderableType] = [Panel(canvas, title=title, expand=False)]
+    if note is not None:
+        parts.append(Text(note, style="bold red"))
     others = {f: n for f, n in (elsewhere or {}).items() if f != frame_id and n}
     if not people and others:
         said = ", ".join(f"{f} ({n})" for f, n in sorted(others.items()))
@@ -236,6 +241,7 @@ class Watcher:
         self._levels: dict[str, str] = {}
         self._frames: dict[str, int] = {}  # frame -> people tracked there (aggregates)
         self.legend = LEGEND + ENGAGEMENT_LEGENDS["service"]  # the service's mode: ask_frames
+        self.condition = InputCondition(client)  # asked by ask_frames, and while live
         # Already tracked when the view opened: their decision began before it, so held
         # is "at least"; anyone else's first result is when their decision began.
         self._there_before = set(client.bodies(frame)) if frame != keys.ALL_FRAMES else set()
@@ -263,7 +269,9 @@ class Watcher:
         published on every change; this answers at once), and how it decides engagement
         (its status: the legend explains that mode's)."""
         with contextlib.suppress(FacingError, zenoh.ZError):
-            modes = {str(s.config.get("engagement", "service")) for s in self.client.status()}
+            statuses = self.client.status()
+            self.condition.refresh(statuses)
+            modes = {str(s.config.get("engagement", "service")) for s in statuses}
             if len(modes) == 1 and (mode := modes.pop()) in ENGAGEMENT_LEGENDS:
                 self.legend = LEGEND + ENGAGEMENT_LEGENDS[mode]
         with contextlib.suppress(zenoh.ZError):
@@ -340,9 +348,11 @@ class Watcher:
         """The screen; ``size`` (columns, lines): fitted to a terminal of that size."""
         groups, people, elsewhere = self.client.groups(self.frame), self.people(), self.frames()
 
+        note = self.condition.note
+
         def draw(width: int, height: int, legend: str | None) -> RenderableType:
             return render(people, self.frame, width=width, height=height,
-                          elsewhere=elsewhere, groups=groups, legend=legend)  # fmt: skip
+                          elsewhere=elsewhere, groups=groups, legend=legend, note=note)  # fmt: skip
 
         return draw(41, 19, self.legend) if size is None else fitted(draw, self.legend, *size)
 
@@ -352,17 +362,19 @@ class Watcher:
         Not a terminal (a file, a pipe): a whole frame every ``FRAME_S`` as it goes, where
         rich's live display wrote nothing until the end (issue 74)."""
         console = Console()
-        if not console.is_terminal:
-            self._write_frames(console, keep_going, period_s)
-            return
-        with Live(self.view(console.size), console=console,
-                  refresh_per_second=1 / period_s) as screen:  # fmt: skip
-            while keep_going():
-                time.sleep(period_s)
+        self.condition.start()
+        try:
+            if not console.is_terminal:
+                self._write_frames(console, keep_going, period_s)
+                return
+            with Live(self.view(console.size), console=console,
+                      refresh_per_second=1 / period_s) as screen:  # fmt: skip
+                while keep_going():
+                    time.sleep(period_s)
+                    screen.update(self.view(console.size))
                 screen.update(self.view(console.size))
-            screen.update(self.view(console.size))
-        if not screen.console.is_terminal:  # (a terminal gets its line break from Live)
-            screen.console.line()
+        finally:
+            self.condition.close()
 
     def _write_frames(
         self, console: Console, keep_going: Callable[[], bool], period_s: float

@@ -33,6 +33,11 @@ def run_view(
             bool(client.live_instances),
             watcher.frames(),
             client.greetings(frame),
+            watcher.condition.note,
         )
 
-    serve(model, host, port, stopping, started)
+    watcher.condition.start()
+    try:
+        serve(model, host, port, stopping, started)
+    finally:
+        watcher.condition.close()

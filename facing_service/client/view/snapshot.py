@@ -25,9 +25,11 @@ def snapshot(
     service_live: bool,
     elsewhere: Mapping[str, int],
     greetings: Sequence[Greeting] = (),
+    input_note: str | None = None,
 ) -> dict[str, Any]:
     """The page's model: the frame, its people (nearest first, bounded), groups (with where
-    to join each), who faces whom, where to greet whom, whether a service is alive, and
+    to join each), who faces whom, where to greet whom, whether a service is alive, what
+    its input gives when it is not heard (its people held: ``condition.input_note``), and
     the frames that have people."""
     nearest = sorted(people, key=lambda p: (math.hypot(p.x, p.y), natural_order(p.body_id)))
     drawn = nearest[:MAX_DRAWN]
@@ -35,6 +37,7 @@ def snapshot(
     return {
         "frame": frame,
         "service": "live" if service_live else "lost",
+        "input": input_note,
         "people": [
             {
                 "id": p.body_id,

@@ -134,8 +134,9 @@ function draw(model) {
     notes.push("nobody in this frame; people are tracked in " +
                others.map(([f, n]) => `${f} (${n})`).join(", ") + ": view --base-frame " + others[0][0]);
   document.getElementById("note").textContent = notes.join("; ");
-  setConnection(model.service === "live" ? "connected" : "disconnected",
-                model.service === "live" ? "connected" : "disconnected: no service answers");
+  if (model.service !== "live") setConnection("disconnected", "disconnected: no service answers");
+  else if (model.input) setConnection("held", "connected; " + model.input);
+  else setConnection("connected", "connected");
 }
 
 function setConnection(state, text) {
