@@ -88,6 +88,11 @@ STATIC_INTO_DYNAMIC = (
 )
 
 
+def harmless(refused: str) -> bool:
+    """Whether a refusal (its ``what``) is one the message itself calls harmless."""
+    return refused.endswith(STATIC_INTO_DYNAMIC)
+
+
 def _name_too_long(t: TfInput) -> str | None:
     """Frame names are sender-chosen and tf2 keeps every one: bounded here."""
     if len(t.parent) > MAX_FRAME_NAME or len(t.child) > MAX_FRAME_NAME:

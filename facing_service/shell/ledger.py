@@ -78,7 +78,8 @@ COUNTERS = (
 
 class RejectionLog:
     """Summarizes rejections in the log at most every period, with the first offending key
-    and detail of each reason seen since the last summary."""
+    and detail of each reason seen since the last summary: a WARNING, or INFO when every
+    one of them was harmless (counted all the same, but nothing for an operator to do)."""
 
     def __init__(self, clock: Callable[[], float]) -> None:
         self._clock = clock
@@ -86,11 +87,13 @@ class RejectionLog:
         self._first: dict[Rejection, str] = {}
         self._last_summary = clock()
         self._first_at = self._last_summary  # when the first rejection of a summary came
+        self._worrying = 0  # rejections since the summary that were not harmless
 
-    def add(self, reason: Rejection, key: str, detail: str) -> None:
+    def add(self, reason: Rejection, key: str, detail: str, harmless: bool = False) -> None:
         if not self._since_summary:
             self._first_at = self._clock()
         self._since_summary[reason] += 1
+        self._worrying += not harmless
         if reason not in self._first:
             self._first[reason] = cut(f"{key}: {detail}", FIRST_SAID)
 
@@ -107,7 +110,8 @@ class RejectionLog:
             f"{reason.value}={n} (first: {self._first[reason]})"
             for reason, n in sorted(self._since_summary.items(), key=lambda kv: kv[0].value)
         )
-        log.warning(
+        log.log(
+            logging.WARNING if self._worrying else logging.INFO,
             "rejected %s in the last %.0f s: %s",
             counted(sum(self._since_summary.values()), "sample", "samples"),
             max(now - self._first_at, 1.0),  # since the first of them (issue 74: since the
@@ -115,6 +119,7 @@ class RejectionLog:
         )
         self._since_summary.clear()
         self._first.clear()
+        self._worrying = 0
         self._last_summary = now
 
 
@@ -130,9 +135,9 @@ class Ledger:
 
     # -- the worker's side ---------------------------------------------------------------
 
-    def reject(self, reason: Rejection, key: str, detail: str) -> None:
+    def reject(self, reason: Rejection, key: str, detail: str, harmless: bool = False) -> None:
         self.rejected[reason] += 1
-        self.rejection_log.add(reason, key, detail)
+        self.rejection_log.add(reason, key, detail, harmless)
 
     def count(self, name: str, n: int = 1) -> None:
         self.decided[name] += n

@@ -23,7 +23,7 @@ from ..contract.schemas import Ros2Status
 from ..core.records import PoseSample
 from ..ros2.diagnosis import RobotWatch, names
 from ..ros2.input import RosSample, reading, route
-from ..ros2.people import People, Update
+from ..ros2.people import People, Update, harmless
 from ..ros2.types import TF_MESSAGE
 from ..ros2.wire import read_attachment
 from .inputs import Loss
@@ -149,7 +149,7 @@ class RosInput:
         self.read_whole += 1
         topic = self.topic(item.key)  # decoded: named as the robot names it
         for reason, what in update.refused:
-            self._ledger.reject(Rejection(reason), topic, what)
+            self._ledger.reject(Rejection(reason), topic, what, harmless(what))
         if update.unresolved:
             self._ledger.count("tf_lookups_unresolved", update.unresolved)
         poses.extend(update.poses)

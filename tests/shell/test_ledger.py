@@ -119,6 +119,21 @@ def test_rejections_are_summarized_at_most_once_per_period(caplog):
     assert ledger.status(Outbox(), **IDENTITY).rejected["schema"] == 1000
 
 
+def test_a_summary_of_harmless_rejections_only_is_info_not_a_warning(caplog):
+    """Every replay of the shared two-person recording began with a WARNING about a
+    /tf_static transform refused, which the line itself called harmless."""
+    clock = Clock()
+    ledger = Ledger(clock)
+    caplog.set_level(logging.INFO, logger="facing_service")
+    ledger.reject(Rejection.TF_OLD_DATA, "/tf_static", "a -> b (harmless)", harmless=True)
+    ledger.rejection_log.maybe_log(force=True)
+    ledger.reject(Rejection.TF_OLD_DATA, "/tf_static", "a -> b (harmless)", harmless=True)
+    ledger.reject(Rejection.SCHEMA, "hri/bodies/a/pose/cam", "header: Field required")
+    ledger.rejection_log.maybe_log(force=True)
+    assert [r.levelno for r in caplog.records] == [logging.INFO, logging.WARNING]
+    assert ledger.status(Outbox(), **IDENTITY).rejected["tf_old_data"] == 2  # counted all
+
+
 def test_the_status_schema_names_every_counter_in_order():
     """ServiceStatus.counters' description is what a consumer reads: it lists them all."""
     from facing_service.contract.schemas import ServiceStatus
