@@ -2,7 +2,7 @@
 
 The public names are loaded when first used (PEP 562): the command line's entry point
 imports this package before it can catch Ctrl-C, and the client's imports (zenoh, numpy)
-took ~0.3 s in which a Ctrl-C printed a traceback (issue 59)."""
+took ~0.3 s in which a Ctrl-C printed a traceback."""
 
 from __future__ import annotations
 

@@ -311,7 +311,7 @@ def _camera_flags_given(args: argparse.Namespace) -> list[str]:
 def _camera_feed(args: argparse.Namespace, settings: Settings) -> Feed | int:
     """``demo --camera``'s feed, or the exit code after one line saying why there is none
     (no extra, no such camera or file, a bad calibration): the camera was asked for, so a
-    typo is said and ends the demo rather than showing other people (issue 67)."""
+    typo is said and ends the demo rather than showing other people."""
     from .camera.extra import missing_extra
 
     if missing := missing_extra():
@@ -351,7 +351,7 @@ def _export_schemas(args: argparse.Namespace) -> int:
 def _with_suggestions(unknown: Sequence[str], flags: Sequence[str]) -> str:
     """The words a command did not take, each misspelt flag with the nearest it takes (as
     a misspelt FACING_ variable gets one) after the values that followed it (``--threshold
-    30 (did you mean --threshold-deg?)``, not before the 30: issue 74)."""
+    30 (did you mean --threshold-deg?)``, not before the 30)."""
     said: list[str] = []
     hint = ""
     for word in unknown:

@@ -1,6 +1,6 @@
 """The ``facing-service`` command's entry point, kept light: a Ctrl-C while the command's
 modules are still being imported (zenoh, numpy, pydantic: ~0.7 s) ends it quietly, as one
-later does, instead of printing a traceback from importlib (issue 59)."""
+later does, instead of printing a traceback from importlib."""
 
 from __future__ import annotations
 

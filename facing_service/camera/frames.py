@@ -162,7 +162,7 @@ def _images(source: Source, sleep: Callable[[float], None]) -> Generator[Image, 
 
 def frame_size(source: Source, images: list[Image]) -> tuple[int, int]:
     """The size of a folder's frames: the one asked for, else the first image's (a
-    calibration is then judged against the images as they are, issue 74). Images of
+    calibration is then judged against the images as they are). Images of
     another size are fitted onto it, said once: a calibration holds for one size."""
     first = images[0].shape[1], images[0].shape[0]
     width, height = source.width or first[0], source.height or first[1]

@@ -33,7 +33,7 @@ Publish = Callable[[str, bytes | None], None]
 
 
 #: How far faces are looked for by default: across a room, where the person to attract
-#: stands in the doorway (issue 69), at about twice the CPU of faces near alone.
+#: stands in the doorway, at about twice the CPU of faces near alone.
 DEFAULT_REACH_M = 5.0
 #: A face's width (m): the average adult's, the size every distance here comes from.
 FACE_WIDTH_M = 0.15
@@ -42,7 +42,7 @@ FACE_WIDTH_M = 0.15
 def farthest_reach_m(camera: Intrinsics) -> float:
     """How far a face can be and still be found: at the detector's smallest tile (its
     own input, ``DETECTOR_PX``), ``DETECTOR_FACE_PX`` wide in the frame. A longer
-    ``--reach-m`` would ask for tiles smaller than the detector takes (issue 74)."""
+    ``--reach-m`` would ask for tiles smaller than the detector takes."""
     return FACE_WIDTH_M * camera.fx / DETECTOR_FACE_PX
 
 
@@ -109,7 +109,7 @@ class CameraFeed:
         self._frames: Generator[Image, None, None] | None = frames(options.source)
         try:
             # The first frame's size is known once the source opens: a calibration for
-            # another aspect is refused now, in one line, not at the first face (issue 67).
+            # another aspect is refused now, in one line, not at the first face.
             self._first: Image | None = next(self._frames, None)
             self._camera = None if self._first is None else _intrinsics(
                 self._first, calibration, options.fov_deg
@@ -216,7 +216,7 @@ def _payload(face_id: str, frame: str, stamp: Time, head: HeadPose) -> bytes:
 class _FacingLines:
     """One line when a face appears, turns toward the camera or away, or leaves: the
     service's own rule (``classify_one``, the angle in the ground plane) at its threshold,
-    with its hysteresis (issue 74: a face at the threshold flickered 19° facing, 20° not,
+    with its hysteresis (a face at the threshold flickered 19° facing, 20° not,
     20° facing, where the service said facing throughout)."""
 
     threshold_deg: float

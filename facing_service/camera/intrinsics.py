@@ -26,7 +26,7 @@ DISTORTION_COUNTS = (4, 5, 8, 12, 14)
 #: The horizontal (and vertical) fields of view a pinhole camera can have (degrees): a
 #: telephoto's few degrees to a wide lens's; past 170° a lens is a fisheye, which the
 #: pinhole model does not describe (fx = 5 px at 640 wide is 178°: every face read 9 cm
-#: away, issue 74).
+#: away).
 FIELD_OF_VIEW_DEG = (10.0, 170.0)
 #: How far apart fx and fy may be (their ratio): a camera's pixels are square or nearly
 #: (anamorphic lenses squeeze 1.33 to 2, and are not what faces are filmed with).

@@ -8,7 +8,7 @@ a robot meets people at one to four metres, where faces are 30-100 px wide. The 
 detector is made for those (MediaPipe: up to 5 m); on a crop scaled up around each face,
 the mesh then sees a face it was made for.
 
-Why regions of the frame (issue 69): the detector sees a 192x192 copy of what it is given,
+Why regions of the frame: the detector sees a 192x192 copy of what it is given,
 so on a whole 1280x720 frame a face 75 px wide (2 m with a 65° camera) is 11 px to it and
 found one time in seven; on a tile of 384 px a face 30 px wide (5 m) is 15 px, and found
 (measured: ``python -m benchmarks.camera``). So each frame the detector looks at the whole

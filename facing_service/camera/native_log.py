@@ -6,7 +6,7 @@ drops those lines and passes everything else, our own lines and its errors inclu
 
 The thread that passes lines on writes to a descriptor of its own, closed by itself when
 the pipe ends: one it still writes to is never closed under it and reused by a file opened
-next (issue 67). Should it fail, it puts fd 2 back as it was and passes the rest through
+next. Should it fail, it puts fd 2 back as it was and passes the rest through
 as it is, so a writer to fd 2 never blocks on a pipe nobody reads.
 """
 
@@ -49,7 +49,7 @@ def without_native_chatter() -> Iterator[None]:
 def _pass_on(reader: int, target: int) -> None:
     """Each line read from ``reader`` but the chatter, to ``target``; both closed at the
     end. On a failure, fd 2 is ``target`` again and the rest is passed as it comes: the
-    unwritten part of the line at hand first, once (issue 74: a whole line after a
+    unwritten part of the line at hand first, once (a whole line after a
     partial write said its start twice, and the last line again after a failed read)."""
     owed = b""  # read and to be passed, not yet written
     try:

@@ -142,7 +142,7 @@ class FacingClient:
         found = wait_for_service(session, self.namespace, self.timeout_s, self._seen_alive)
         with self._lock:
             # A token heard after the wait's last look, before this, asked no re-seed
-            # (issue 74): the seed below is its, as for one the wait found.
+            # the seed below is its, as for one the wait found.
             self._seeding = True
             found = found or bool(self._bodies.live)
         if found:
@@ -322,7 +322,7 @@ class FacingClient:
 
     def _register(self, name: ClientEvent, callback: C, current: Iterable[object] = ()) -> C:
         """Keep ``callback`` for the ``name`` events; report ``current`` to it at once.
-        Only on an open client: one never opened would never call it (issue 59), and
+        Only on an open client: one never opened would never call it, and
         nothing is missed by registering after open(), as what holds is reported."""
         self._open_session()
         self._on.setdefault(name, []).append(callback)

@@ -82,7 +82,7 @@ def namespaces_with_service(session: zenoh.Session, timeout: float = 0.5) -> lis
 def no_service_seen(session: zenoh.Session, namespace: str, where: Sequence[str]) -> str:
     """Why a session saw no facing service in ``namespace``, in one line: nothing reached
     at all (no router or peer), or no service in that namespace (and those that have one):
-    issue 59, a wrong namespace was blamed on the router."""
+    a wrong namespace was once blamed on the router."""
     at = f" at {public_endpoints(where)}" if where else ""
     info = session.info
     if not list(info.routers_zid()) and not list(info.peers_zid()):
@@ -169,7 +169,7 @@ def _flags_to_try(settings: Settings) -> str:
 
 def summary(status: ServiceStatus, reach: str) -> str:
     """One line of a service's status: what an operator reads (``--json`` for all), with
-    which instance answered and how it was reached (issue 59: a plain check found some
+    which instance answered and how it was reached (a plain check found some
     other service on the host by scouting, and said only "ok")."""
     frames = ", ".join(f"{n} in {f}" for f, n in sorted(status.bodies_tracked.items()))
     listens = ", ".join(map(str, status.config.get("listen") or []))

@@ -72,7 +72,7 @@ class ClientOptions(SessionChecks):
     @field_validator("connect", "listen", "cfg", mode="before")
     @classmethod
     def _one_is_a_list_of_one(cls, value: Any) -> Any:
-        """``connect="tcp/host:7447"`` as ``connect=["tcp/host:7447"]`` (issue 74: "Input
+        """``connect="tcp/host:7447"`` as ``connect=["tcp/host:7447"]`` ("Input
         should be a valid list"; a string is never a list of its characters here)."""
         return [value] if isinstance(value, str) else value
 

@@ -1,7 +1,7 @@
 """Whether a facing service is there to hear a publishing command, said while it runs.
 
 ``simulate`` and ``camera`` publish as a tracker would; with a wrong endpoint or namespace
-they said so only at their end (issue 67), and a webcam has no end. ``run`` warns within
+they said so only at their end, and a webcam has no end. ``run`` warns within
 a second and ``health`` within its time-out: these say it after a short grace, once, with
 what to try, and say again once a service appears.
 """

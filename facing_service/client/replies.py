@@ -40,7 +40,7 @@ def facing_states(
             raise QueryRefused(error.error, error.detail)
         refusal = UnknownFrame(error.error, error.detail)
         if refusal.nothing_tracked:  # an empty service reading any frame: nobody there yet
-            continue  # (issue 74: a robot app that starts before its tracker)
+            continue  # (a robot app that starts before its tracker)
         unknown.append(refusal)
     if unknown and len(unknown) == answers:
         raise unknown[0]
@@ -56,7 +56,7 @@ def facing_states(
 def waited(started: float, timeout_s: float) -> str:
     """How long a question that got no answer was waited for, since ``started``
     (``time.monotonic()``): zenoh ends one that nothing reachable can answer at once
-    (issue 67: NoService after 0.0 s said "within 2 s")."""
+    (NoService after 0.0 s said "within 2 s")."""
     took = time.monotonic() - started
     if took >= timeout_s / 2:
         return f"within {timeout_s:g} s"

@@ -234,7 +234,7 @@ class TrackerPublisher:
     """Publishes as a body tracker should: poses with BLOCK (zenoh's default, DROP, loses
     them on the sending side under load), ``None`` as a DELETE. Counts what went out, and
     how much of it a subscriber heard (zenoh's matching status, one declared publisher per
-    body: issue 59, poses sent to nowhere were reported as published), and with
+    body: poses sent to nowhere were once reported as published), and with
     ``progress_every_s`` says so (``say``) that often."""
 
     def __init__(
@@ -290,7 +290,7 @@ class TrackerPublisher:
 
 def nobody_heard(command: str, key: str, namespace: str, connect: list[str]) -> str:
     """The line a command says when no subscriber heard any pose it published on ``key``
-    (to ``connect``'s endpoints): sent to nowhere is not a success (issue 59)."""
+    (to ``connect``'s endpoints): sent to nowhere is not a success."""
     where = public_endpoints(connect)
     return (
         f"facing-service {command}: no subscriber heard any pose on {key}: is a facing "

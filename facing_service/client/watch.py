@@ -175,7 +175,7 @@ def fitted(
     lines: int,
 ) -> RenderableType:
     """``draw(map_width, map_rows, legend)`` made to fit a terminal of ``columns`` x
-    ``lines`` with every person's row (issue 67: on 80x24 the table's rows were cut after
+    ``lines`` with every person's row (on 80x24 the table's rows were cut after
     its header): measured with the smallest map, the legend goes first, then the map
     takes what is left, between MAP_ROWS' bounds (odd: the robot on the middle row)."""
     low, high = MAP_ROWS
@@ -324,8 +324,8 @@ class Watcher:
         with self._lock:
             since = dict(self._since)
             levels = dict(self._levels)
-        people = []  # one a participant: the service says a person's face and body as it
-        for body_id, state in states.items():  # (issue 75)
+        people = []  # one a participant: the service says a person's face and body as one
+        for body_id, state in states.items():
             changed = since.get(body_id)
             people.append(
                 PersonView(
@@ -360,7 +360,7 @@ class Watcher:
         """Redraw in the terminal every ``period_s`` while ``keep_going()``, fitted to its
         size (read each time: a resized window refits); the last frame stays on screen.
         Not a terminal (a file, a pipe): a whole frame every ``FRAME_S`` as it goes, where
-        rich's live display wrote nothing until the end (issue 74)."""
+        rich's live display wrote nothing until the end."""
         console = Console()
         self.condition.start()
         try:

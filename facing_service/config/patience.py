@@ -40,7 +40,7 @@ def open_interruptibly(open_: Callable[[], T]) -> T:
     """What ``open_`` returns once zenoh has opened, for a command that waits no longer
     than its own timeout and says nothing meanwhile (``health``): Ctrl-C raises
     KeyboardInterrupt on the caller's thread within 0.1 s, where zenoh.open held it in
-    native code for the whole connect timeout (issue 74: 15.6 s)."""
+    native code for the whole connect timeout (15.6 s)."""
 
     def until_opened(opened: threading.Event) -> bool:
         while not opened.wait(0.1):  # a KeyboardInterrupt comes between two waits

@@ -121,7 +121,7 @@ def _given(flag: Any) -> bool:
 
 def source_of(field: str, flags: Mapping[str, Any], environ: Mapping[str, str]) -> str:
     """What set ``field``, as ``load_settings`` chose: its flag, else its variable when
-    set (an error about the value names it: issue 74, FACING_CFG's were said as --cfg)."""
+    set (an error about the value names it: FACING_CFG's were once said as --cfg)."""
     if not _given(flags.get(field)) and environ.get(env_name(field)):
         return env_name(field)
     return flag_name(field)

@@ -2,7 +2,7 @@
 consumers compare, so the contract's own (a client reads it without the engagement
 machine).
 
-One type wherever a level is handed out (issue 67: a callback's ``event.level`` was the
+One type wherever a level is handed out (a callback's ``event.level`` was the
 string ``"ENGAGED"``, ``engagement()`` gave ``Level``): it orders and compares as hri_msgs'
 number, prints as its name (an IntEnum's ``str()`` is the number from Python 3.11 on), is
 made from either (``Level("ENGAGED") is Level(3) is Level.ENGAGED``), and still equals its
@@ -10,7 +10,7 @@ name, so code written when ``event.level`` was a string keeps its meaning instea
 silently comparing False. On the wire it is the name.
 
 Equal to both its number and its name, it can hash as only one: it hashes as its name
-(issue 74: ``level in {"ENGAGED", "ENGAGING"}`` was False and ``{"ENGAGED": ...}.get(level)``
+(``level in {"ENGAGED", "ENGAGING"}`` was False and ``{"ENGAGED": ...}.get(level)``
 None, where the string code it promises to keep meant True), so a set or dict keyed by
 names finds it, as one keyed by levels does; one keyed by bare numbers does not (compare
 with ``int(level)`` there). Formatted with a number's spec (``{level:d}``) it is its

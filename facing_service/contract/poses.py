@@ -129,8 +129,8 @@ class Rejection(str, Enum):
 class Pose:
     """A validated pose: its stamp, and plain tuples the core can stack into arrays; unit
     quaternion. ``stance``: where the same human stands (translation, rotation), when this
-    pose is where they look from another frame (a ROS 4HRI person's face, its body apart:
-    issue 75); None when the two are one."""
+    pose is where they look from another frame (a ROS4HRI person's face, its body
+    apart); None when the two are one."""
 
     stamp: Time
     translation: tuple[float, float, float]

@@ -216,8 +216,8 @@ class Greeting(BaseModel):
 
 
 class OfAFrame(BaseModel):
-    """What is said of a whole base frame names it ``frame_id``, as results do (issue 67:
-    groups and gazing said ``frame`` alone); ``frame``, its first name, is said too for
+    """What is said of a whole base frame names it ``frame_id``, as results do (groups
+    and gazing once said ``frame`` alone); ``frame``, its first name, is said too for
     the consumers that read it, and is enough on input."""
 
     frame_id: str = Field(default="", description="The base frame, named as results name it.")
@@ -268,7 +268,7 @@ class FrameGazing(OfAFrame):
 
 
 class InputHealth(BaseModel):
-    """Whether the service hears its input (issue 76): a link that stalls is held, and
+    """Whether the service hears its input: a link that stalls is held, and
     said here, in the log and by ``health``."""
 
     last_heard_s: float | None = Field(

@@ -74,7 +74,7 @@ class Time(int):
 
     def __str__(self) -> str:
         """As a person reads a stamp, in a log line or an error: seconds, to the
-        nanosecond (issue 74: ``Time.of(1700000000, 33333248)``, the repr, was said)."""
+        nanosecond (``Time.of(1700000000, 33333248)``, the repr, was said)."""
         return f"{self.sec}.{self.nanosec:09d} s"
 
     def __format__(self, spec: str) -> str:

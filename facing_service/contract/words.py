@@ -1,4 +1,4 @@
-"""How the service's lines say a count: "1 body", "3 bodies" (issue 67: "1 bodies")."""
+"""How the service's lines say a count: "1 body", "3 bodies", never "1 bodies"."""
 
 from __future__ import annotations
 

@@ -38,7 +38,7 @@ exponentially weighted average with time constant ``steady_tau_s``); the score i
 by 1 while the direction stays within ``steady_deg`` of it, falling to 0 at twice that.
 Off (``steady_deg`` None) unless asked for.
 
-**A soft vote** (heads, issue 52): hri_engagement's rule votes every tick whether the face
+**A soft vote** (heads): hri_engagement's rule votes every tick whether the face
 is within its wide field and near enough, and engages on the mean of the last 10 s. Here
 the vote is whether the face is within ``vote_deg`` of the robot, kept as an exponentially
 weighted share of recent samples (time constant ``vote_tau_s``, starting from 0, so it

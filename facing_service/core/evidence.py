@@ -1,4 +1,4 @@
-"""Soft evidence that accumulates (issue 61): no angle gate decides alone.
+"""Soft evidence that accumulates: no angle gate decides alone.
 
 Pure; the clock is the caller's (seconds). Each pose votes ``v = 2 * score - 1`` in
 [-1, 1] from the facing score (``engagement.facing_score``: 1 inside the cone, falling

@@ -76,7 +76,7 @@ class TurnSnapshot:
 
     def people(self, frame_id: str) -> tuple[list[Person], Time]:
         """A frame's people, as the scene sees them (where each stands, and where they look
-        from when that is another frame: issue 75), and their newest stamp."""
+        from when that is another frame), and their newest stamp."""
         poses = self.poses(frame_id)
         levels = self.levels
         people = [

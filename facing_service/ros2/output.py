@@ -18,7 +18,7 @@ Topics (under ``--ros-namespace``; messages from the upstream ``.msg`` files in 
     /humans/interactions/gazing              hri_msgs/msg/Gaze
         each pair (sender faces receiver; "" is the robot) when it starts facing.
     /humans/interactions/groups/<id>/join    geometry_msgs/msg/PoseStamped
-        where the robot should stand to join a group it is not in (issue 53): on the
+        where the robot should stand to join a group it is not in: on the
         group's ring, facing into it; every period while the group has room, the
         publisher undeclared when it no longer has (or the robot joined, or it dissolved).
         A PoseStamped in the base frame is what a navigation goal is (Nav2's

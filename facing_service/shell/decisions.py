@@ -151,7 +151,7 @@ class Decisions:
     def _ingest(self, poses: list[PoseSample], now: float) -> None:
         """The poses, and those of trackers whose clock started over (a new life: lost,
         then followed on the new clock), in one transaction; what they decided is counted
-        once it holds. Before (issue 67), the restart's part ran after the first part was
+        once it holds. Before, the restart's part ran after the first part was
         counted and kept: a bug in it had ``flush`` go over every pose again, counting the
         first part twice and refusing its poses as out of order."""
         steps: list[Changes] = []

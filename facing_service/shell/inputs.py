@@ -105,7 +105,7 @@ class JsonInput:
     first pose until it is lost, so that poses arrive on a cached route.
 
     With a fixed base frame, poses in the other frames are watched for until the first
-    pose in that frame arrives (issue 67: ``--base-frame base_lnk`` dropped every pose
+    pose in that frame arrives (``--base-frame base_lnk`` dropped every pose
     without a word): each is refused as ``other_frame``, and the frames they come in are
     said once. The watch then stops, so it costs nothing once poses flow."""
 

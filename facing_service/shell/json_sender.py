@@ -36,7 +36,7 @@ _PER_BODY = (Kind.RESULT, Kind.ENGAGEMENT)
 class Heard:
     """Whether a subscriber matches the result keys, and whether one appeared that the
     worker has yet to say the current results to: written by zenoh's matching listener,
-    read by the worker, both under one small lock (issue 67: two plain attributes written
+    read by the worker, both under one small lock (two plain attributes written
     by two threads in an order that mattered lost a join between the worker's check and
     its clear). ``results`` is true until zenoh says otherwise, so nothing is skipped
     before the listener is in place. Each appearance has a number of its own, so what the

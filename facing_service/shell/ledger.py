@@ -114,7 +114,7 @@ class RejectionLog:
             logging.WARNING if self._worrying else logging.INFO,
             "rejected %s in the last %.0f s: %s",
             counted(sum(self._since_summary.values()), "sample", "samples"),
-            max(now - self._first_at, 1.0),  # since the first of them (issue 74: since the
+            max(now - self._first_at, 1.0),  # since the first of them (since the
             parts,  # last summary, minutes before the first, was said)
         )
         self._since_summary.clear()

@@ -1,7 +1,7 @@
 """Another facing service in this one's namespace whose frames overlap: said in the log.
 
 Two services reading the same poses answer twice: every result arrives twice on
-``NS/bodies/*/facing/*`` and nothing said so (issue 67). Services in one namespace are
+``NS/bodies/*/facing/*`` and nothing said so. Services in one namespace are
 fine when sharded by frame (``--base-frame map`` beside ``--base-frame camera_left``).
 Each service holds a liveliness token, so each learns when another appears (the newer one
 from the token's history): it then asks the statuses in the namespace and warns, once per

@@ -94,7 +94,7 @@ def _nothing_matched(
 ) -> tuple[list[tuple[str, bytes]], QueryError | None]:
     """A query that names one frame (its last chunk) and matched nothing still gets an
     answer, so "no service", "nobody there" and "wrong frame" differ: a frame this service
-    knows (has seen, or reads alone: ``served``, before anyone is there, issue 74)
+    knows (has seen, or reads alone: ``served``, before anyone is there)
     answers with its empty list (groups, who faces whom, the frame's facing list) or, on
     per-body keys, ``empty_frame`` (nobody there) or ``not_tracked`` (others are); any
     other ``unknown_frame``, naming the frames tracked.

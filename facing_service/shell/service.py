@@ -81,7 +81,7 @@ CLOSE_JOIN_S = 1.0
 def query_spaces(namespace: str) -> dict[QuerySpace, str]:
     """Each query space's key expression. Every frame, even with a fixed --base-frame: a
     query on another frame (a typo) is answered unknown_frame, naming this service's
-    frames, not left unanswered (issue 59: the client then said [] where docs promise an
+    frames, not left unanswered (the client then said [] where docs promise an
     error)."""
     body_space, frame_space = keys.result_queryables(namespace)
     return {

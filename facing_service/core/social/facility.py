@@ -1,6 +1,6 @@
 """Which candidate o-space centres to open, and who joins which: GCFF's energy (each
 person's unary cost at a centre plus a fixed cost per centre opened) minimised, the same
-whatever order people come in or what they are called (issue 77).
+whatever order people come in or what they are called.
 
 With no pairwise terms, GCFF's energy is the facility-location problem. GCFF solves it by
 alpha-expansion; here by greedy closing, whose ties decide more than they seem: the two

@@ -8,19 +8,19 @@ front of them; people are assigned to groups minimising the squared distance of 
 to their group's centre plus a fixed cost per group (the minimum description length,
 ``mdl``) plus a penalty for a member hidden behind another member as seen from the centre;
 centres are refitted as their members' mean, and the assignment is solved again until it
-settles. Here each person's stride is their own (issue 60: the o-space is a ring whose
+settles. Here each person's stride is their own (the o-space is a ring whose
 size follows from its people): it reaches the point of their heading as far from the
 nearest person ahead (within ``cone_deg``) as from themselves, the centre of a ring both
 stand on, kept within ``[stride_min, stride_max]`` (nobody ahead: the least); GCFF's fixed
 stride is the case ``stride_min = stride_max``. Lengths are metres by default; with a
 ``RoomScale`` they are the room's unit (its people's nearest-neighbour spacing), the rule
-of issues 41 to 51, measured and not shipped (docs/groups.md).
+measured in earlier rounds and not shipped (docs/groups.md).
 
 The assignment is GCFF's energy (unary costs plus a cost per label) minimised by greedy
 label removal and reassignment rather than alpha-expansion (``facility``: with no pairwise
 terms that is the facility-location problem), its ties broken by the energy and by place,
 never by the order people are listed in: the same people are grouped alike whatever they
-are called (issue 77).
+are called.
 
 GCFF's visibility penalty is kept, in its units: ``100 ** (cos * d_k / d_j)`` cm² when
 member k stands behind member j (cosine of the angle between them, from the centre,
@@ -63,7 +63,7 @@ class GroupParams:
     mdl: float = 1.5  # the cost of one more group (GCFF's MDL), in the unit squared
     # The ring: the stride is to the point of one's heading as far from the nearest person
     # ahead as from oneself (``stride_k * d / cos(angle)``, d/2 straight across): the
-    # centre of a ring both stand on, whatever its size and count (issue 60). Off: the
+    # centre of a ring both stand on, whatever its size and count. Off: the
     # stride is ``stride_k * d``, as if that person stood straight ahead.
     ring: bool = True
 
@@ -77,7 +77,7 @@ class ScaleParams:
     # how far people stand in a conversation is proxemics, not a fraction of how crowded
     # the room is; the learnt unit (a floor of 0.5 or 0.7 m, a cap of 1.5 m) won on the
     # shared sequences but lost on rooms kept outside, and its gain on the worst held-out
-    # sequence is inside its interval (issue 60, docs/groups.md).
+    # sequence is inside its interval (docs/groups.md).
     min_m: float = 1.0
     max_m: float = 1.0
     default_m: float = 1.0  # nobody near anybody yet

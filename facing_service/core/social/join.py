@@ -1,5 +1,5 @@
 """Where the robot should stand to join a group: a place on the group's ring, clear of
-everyone, facing into its o-space (issue 53). Pure numpy, metres and radians in one base
+everyone, facing into its o-space. Pure numpy, metres and radians in one base
 frame.
 
 Kendon's F-formation is a ring of people around a shared space (the o-space) that they
@@ -18,7 +18,7 @@ all face; a newcomer joins by taking a place on that ring where there is room. S
 4. **Which place**: the clear places form free arcs; each arc offers its middle (the
    middle of the gap between the people on either side of it). The group says which: the
    room it leaves is its widest free arc, as a person joining takes it wherever they came
-   from (issue 68: the arc nearest the robot won, so the place depended on where the
+   from (the arc nearest the robot won, so the place depended on where the
    robot happened to be, by up to 0.5 m in a sequence's median). Where the robot stands only
    breaks near-ties: among arcs at least ``tie`` of the widest, the nearest. None is
    clear: the group has no room, and no place is said.

@@ -1,5 +1,5 @@
 """What the last seconds say about a frame's people: each person's heading, and each pair
-being in one conversation (issue 70).
+being in one conversation.
 
 A robot sees a stream. A conversation lasts minutes; one reading's heading is noise (an
 estimate flickering between neighbours, a tracker's 90-degree steps), and one frame's
@@ -80,8 +80,8 @@ class SceneMemory:
         """``period_s``: how often the scene is worked out while the memory settles. A
         step counts at most ``MAX_GAP_S`` (a stall is no evidence) or half again the
         period, whichever is longer: capped at 0.5 s, a scene worked out once a second
-        (``--group-rate-hz 1``) said a pair after 4 s of a 4 s memory, at 0.25 Hz 16 s
-        (issue 74), where half the memory is promised."""
+        (``--group-rate-hz 1``) said a pair after 4 s of a 4 s memory, at 0.25 Hz 16 s,
+        where half the memory is promised."""
         self.params = params
         self._longest_step = max(MAX_GAP_S, 1.5 * period_s)
         self._ids: list[str] = []
@@ -123,7 +123,7 @@ class SceneMemory:
         if span <= 0:
             return labels
         # An exact tie (newcomers, undecided) goes the newest frame's way; the linkage's
-        # own ties to the nearer pair, then by place (issue 77: by id, the same room was
+        # own ties to the nearer pair, then by place (by id, the same room was
         # grouped otherwise when its people were called otherwise).
         apart = np.hypot(*(where[:, None, :] - where[None, :, :]).transpose(2, 0, 1))
         share = self._together / span + self._was * TIE - NEARER * apart

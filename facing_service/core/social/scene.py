@@ -7,7 +7,7 @@ most once a ``period_s`` (pairwise work is O(N²)), on its ``max_people`` neares
 (the rest counted in ``left_out``), and said only when it changed: a pair that starts or
 stops facing (with the facing rule's hysteresis), a grouping that has held ``hold_s``.
 
-Where the robot should stand (issue 53): for each group it is not in, the place on the
+Where the robot should stand: for each group it is not in, the place on the
 group's ring to join it (``core.social.join``); for each person ENGAGING or ENGAGED and in no
 group as said (never one of a group said beside it), a place in front of them at
 ``greet_m``, facing them. Both follow the people
@@ -58,7 +58,7 @@ class SceneParams:
     max_people: int  # the people of one frame considered (nearest the robot first)
     join: JoinParams = field(default_factory=JoinParams)  # where to stand to join a group
     greet_m: float = 1.2  # how far in front of a person the robot stands to greet them
-    # What the last seconds say (issue 70): headings and pairs as evidence over time.
+    # What the last seconds say: headings and pairs as evidence over time.
     memory: MemoryParams = field(default_factory=MemoryParams)
 
 
@@ -66,7 +66,7 @@ class SceneParams:
 class Person:
     """One participant: where they stand (groups, where to stand) and, when it is another
     frame, where they look from (``look``: a ROS4HRI person's face beside its body; who
-    faces whom reads it, issue 75)."""
+    faces whom reads it)."""
 
     id: str
     translation: tuple[float, float, float]
@@ -206,7 +206,7 @@ class FrameScene:
             self._seen_seated(before, found)
         # A greeting is for a person in no group *as said*: the groups said lag this
         # reading by ``hold_s``, so a person alone in it may still be in a said group
-        # (issue 59: one answer held a group of p3 and the robot, and a greeting for p3).
+        # (one answer held a group of p3 and the robot, and a greeting for p3).
         grouped = {m for group in self.tracker.groups.values() for m in group.members}
         greetings = tuple(g for g in greetings if g.body_id not in grouped)
         first_or_cut = not self.said_once or left_out != self.left_out
@@ -215,7 +215,7 @@ class FrameScene:
         gazing_changed = first_or_cut or gazing != self.gazing
         # The newest stamp behind the scene, kept while nothing changes too: people who
         # stood still and then left are said gone at their last pose's stamp, not at the
-        # stamp of the last change (issue 46). Never back: a person with the newest stamp
+        # stamp of the last change. Never back: a person with the newest stamp
         # leaving does not make the scene older than what was said.
         self.stamp = max(self.stamp, stamp)
         self.greetings = greetings  # they follow the people: no change of their own

@@ -1,5 +1,5 @@
 """The place a member who just left a group stood in: the room the group leaves for a
-newcomer, kept while it stays clear and by the group (issue 68).
+newcomer, kept while it stays clear and by the group.
 
 A robot watches a stream: when a group's member walks away, the group keeps its id and
 the place they stood in is, for a while, the gap a person joining would take. Worked
@@ -48,7 +48,7 @@ class Vacancies:
         computation ``found``, and where everyone stands (``where``): a group that kept its
         id but lost members (others may have joined it) leaves the place the member stood
         in; several leaving in one update leave the one nearest the robot (the frame's
-        origin: the least way to go), whatever they are called (issue 74: the largest id
+        origin: the least way to go), whatever they are called (the largest id
         was taken for "the last")."""
         for gid, group in groups.items():
             old = before.get(gid)
