@@ -276,10 +276,12 @@ def build_parser() -> _Parser:
 
     replay = commands.add_parser(
         "replay",
-        help="play a ROS 2 bag (.db3 or .mcap) onto zenoh as the robot published it",
-        description="Messages go out unchanged at the recorded pace (times --rate), in "
-        "rmw_zenoh's format or the bridge's; transient-local topics (/tf_static...) are "
-        "served from publication caches, so a service started meanwhile still gets them.",
+        help="play a ROS 2 bag (.db3 or .mcap), or a session 'record' kept, onto zenoh",
+        description="A ROS 2 bag: its messages go out unchanged at the recorded pace (times "
+        "--rate), in rmw_zenoh's format or the bridge's; transient-local topics "
+        "(/tf_static...) are served from publication caches, so a service started meanwhile "
+        "still gets them. A session kept by 'record' (an MCAP file): its poses and their "
+        "DELETEs, into --namespace; with --record, this run is kept likewise.",
     )
     replay.add_argument("bag", type=Path, help="a rosbag2 folder, or its .db3/.mcap file")
     replay.add_argument("--rate", type=POSITIVE, default=1.0, help="speed factor (default 1)")
@@ -287,12 +289,29 @@ def build_parser() -> _Parser:
         "--record",
         type=Path,
         metavar="OUT",
-        help="write what the service publishes on the robot's topics (run --output ros2) "
-        "into a new ROS 2 bag, which is a folder: OUT/ (sqlite3), or for OUT.mcap the "
-        "folder OUT/ holding OUT.mcap and its metadata.yaml",
+        help="a ROS 2 bag: write what the service publishes on the robot's topics (run "
+        "--output ros2) into a new ROS 2 bag, which is a folder: OUT/ (sqlite3), or for "
+        "OUT.mcap the folder OUT/ holding OUT.mcap and its metadata.yaml; a session: keep "
+        "this run as a new session file OUT.mcap, as 'record' does",
     )
-    add_settings_arguments(replay, ["ros_format", "ros_distro", "ros_domain_id", "ros_namespace"])
+    add_settings_arguments(
+        replay, ["namespace", "ros_format", "ros_distro", "ros_domain_id", "ros_namespace"]
+    )
     add_zenoh_arguments(replay)
+
+    record = commands.add_parser(
+        "record",
+        help="keep a running session as MCAP: poses, results, levels, groups, status",
+        description="Subscribe to everything in the namespace (the tracker's poses and all the "
+        "service publishes) and write it as it comes into a new MCAP file, each key a topic, "
+        "JSON with the contract's JSON Schemas, the status once a second: for the Foxglove app, "
+        "and for 'replay OUT.mcap', which plays its poses into a service again. The foxglove "
+        "extra: pip install 'facing-service[foxglove]'.",
+    )
+    record.add_argument("out", type=Path, metavar="OUT.mcap", help="the new file")
+    record.add_argument("--duration-s", type=POSITIVE, help="stop after this long")
+    add_settings_arguments(record, ["namespace"])
+    add_zenoh_arguments(record)
 
     inspect = commands.add_parser(
         "inspect",

@@ -39,6 +39,7 @@ from .shell.run import run_until
 from .tools.demo import Feed, run_demo
 from .tools.record import replay_refusal
 from .tools.router import router_config, serve
+from .tools.session_replay import is_session
 from .tools.simulate import crowd_of, simulate_command
 
 if TYPE_CHECKING:
@@ -124,6 +125,13 @@ def _router(args: argparse.Namespace) -> int:
 
 
 def _replay(args: argparse.Namespace) -> int:
+    if is_session(args.bag):  # kept by `record`, not a ROS 2 bag
+        settings = _session_settings(args)
+        if settings is None:
+            return 2
+        from .tools.session_command import replay_session
+
+        return replay_session(args, settings, _stop_on_signals())
     refused = replay_refusal(args.bag, args.record)
     if refused:
         print(f"facing-service replay: {refused}", file=sys.stderr)
@@ -134,6 +142,15 @@ def _replay(args: argparse.Namespace) -> int:
     from .tools.replay import replay  # rosbags: only for the commands that read bags
 
     return replay(settings, args.bag, args.rate, args.record, _stop_on_signals())
+
+
+def _record(args: argparse.Namespace) -> int:
+    settings = _session_settings(args)
+    if settings is None:
+        return 2
+    from .tools.session_command import record_command  # the foxglove extra, when there
+
+    return record_command(args, settings, _stop_on_signals())
 
 
 def _inspect(args: argparse.Namespace) -> int:
@@ -376,6 +393,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "health": _health,
         "router": _router,
         "replay": _replay,
+        "record": _record,
         "inspect": _inspect,
         "simulate": _simulate,
         "watch": _watch,

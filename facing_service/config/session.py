@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
@@ -16,7 +17,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import zenoh
 
 from ..contract.errors import SettingsError
-from .disclosure import public_cfg_entry
+from .disclosure import public_cfg_entry, zenoh_failure
 
 if TYPE_CHECKING:
     from .settings import Settings
@@ -188,3 +189,12 @@ def waiting_for_router(settings: Settings) -> Settings:
         return settings
     wait = ["connect/timeout_ms:-1", "connect/exit_on_failure:false"]
     return settings.model_copy(update={"cfg": [*wait, *settings.cfg]})
+
+
+def opened(conf: zenoh.Config, command: str) -> zenoh.Session | None:
+    """A session of ``conf``, or None after the one line saying why zenoh refused it."""
+    try:
+        return zenoh.open(conf)
+    except zenoh.ZError as error:
+        print(zenoh_failure(command, error), file=sys.stderr)
+        return None

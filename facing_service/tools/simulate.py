@@ -10,15 +10,14 @@ import threading
 import time
 from collections.abc import Callable
 
-import zenoh
-
 from ..client.presence import ServiceWatch
 from ..client.sim import Crowd, TrackerPublisher, nobody_heard, simulate
-from ..config.disclosure import public_endpoints, zenoh_failure
+from ..config.disclosure import public_endpoints
 from ..config.profiles import robot_wire
-from ..config.session import zenoh_config
+from ..config.session import opened, zenoh_config
 from ..config.settings import Settings
 from ..contract import keys
+from ..contract.words import for_how_long
 
 
 def crowd_of(args: argparse.Namespace) -> Crowd:
@@ -39,12 +38,9 @@ def simulate_command(
               "robot's topics; the JSON poses are not recorded)", file=sys.stderr)  # fmt: skip
         return 2
     key = keys.pose_key(settings.namespace, body_id="<id>", frame_id=args.base_frame)
-    until = f" for {args.duration_s:g} s" if args.duration_s else " until Ctrl-C"
+    until = for_how_long(args.duration_s)
     print(f"simulating {args.people} people: poses on {key} at {args.rate_hz:g} Hz{until}")
-    try:
-        session = zenoh.open(zenoh_config(settings))
-    except zenoh.ZError as error:
-        print(zenoh_failure("simulate", error), file=sys.stderr)
+    if (session := opened(zenoh_config(settings), "simulate")) is None:
         return 1
     watch = ServiceWatch(session, "simulate", settings.namespace, settings.connect, _warn)
     with session, watch:
@@ -81,13 +77,10 @@ def _robot(args: argparse.Namespace, settings: Settings, stop: threading.Event) 
         print(f"facing-service simulate: {refused}", file=sys.stderr)
         return 2
     wire = robot_wire(settings)
-    until = f" for {args.duration_s:g} s" if args.duration_s else " until Ctrl-C"
+    until = for_how_long(args.duration_s)
     print(f"simulating a ROS4HRI robot with {args.people} people in {wire.describe()}: /tf, "
           f"/tf_static and /humans/* at {args.rate_hz:g} Hz{until}", flush=True)  # fmt: skip
-    try:
-        session = zenoh.open(zenoh_config(settings))
-    except zenoh.ZError as error:
-        print(zenoh_failure("simulate", error), file=sys.stderr)
+    if (session := opened(zenoh_config(settings), "simulate")) is None:
         return 1
     with session:
         robot = SimulatedRobot(session, wire, args.record)

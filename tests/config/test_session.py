@@ -39,3 +39,18 @@ def test_zenoh_config_from_flags_and_cfg(tmp_path):
 def test_zenoh_config_refuses_unknown_keys():
     with pytest.raises(SettingsError, match="--cfg no/such/key"):
         zenoh_config(load_settings({"cfg": ["no/such/key:1"]}, {}))
+
+
+def test_a_session_zenoh_refuses_is_said_in_one_line_naming_the_command(capsys):
+    import zenoh
+
+    from facing_service.config.session import opened
+
+    conf = zenoh.Config()
+    conf.insert_json5("mode", '"client"')
+    conf.insert_json5("connect/endpoints", '["tcp/127.0.0.1:1"]')
+    conf.insert_json5("scouting/multicast/enabled", "false")
+    conf.insert_json5("connect/timeout_ms", "0")
+    assert opened(conf, "record") is None
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith("facing-service record: cannot open the zenoh session: ")
