@@ -117,6 +117,20 @@ def _add_robot_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
 
 
+def _add_serving_arguments(parser: argparse.ArgumentParser, port: int, whose: str) -> None:
+    """A view that serves (``view``, ``foxglove``): what it reads, where it listens."""
+    _add_view_arguments(parser)
+    parser.add_argument(
+        "--host", type=listen_address, default="127.0.0.1",
+        help="address to listen on (default 127.0.0.1: this machine only)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--port", type=port_number, default=port,
+        help=f"port to listen on (default {port}{whose}; 0: any free port, said when it starts)",
+    )  # fmt: skip
+    add_zenoh_arguments(parser)
+
+
 def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     add_settings_arguments(parser, ["namespace"])
     parser.add_argument(
@@ -371,16 +385,19 @@ def build_parser() -> _Parser:
         "watch: on a laptop, through a robot's router, in a container. Listens on "
         "127.0.0.1 unless --host says otherwise; nothing is fetched from the internet.",
     )
-    _add_view_arguments(view)
-    view.add_argument(
-        "--host", type=listen_address, default="127.0.0.1",
-        help="address to listen on (default 127.0.0.1: this machine only)",
-    )  # fmt: skip
-    view.add_argument(
-        "--port", type=port_number, default=8780,
-        help="port to listen on (default 8780; 0: any free port, said when it starts)",
-    )  # fmt: skip
-    add_zenoh_arguments(view)
+    _add_serving_arguments(view, 8780, "")
+
+    fox = commands.add_parser(
+        "foxglove",
+        help="the scene live in the Foxglove app, over Foxglove's WebSocket protocol",
+        description="Serve what a running service decides to the Foxglove app (Open "
+        "connection, Foxglove WebSocket): people where they stand with their facing cones "
+        "coloured by level and labels, groups and their members, who faces whom, where to "
+        "join and greet, the robot, in the base frame (/facing/scene), each person's frame "
+        "(/facing/tf) and the page's model (/facing/model). A client of the service's keys "
+        "like view. The foxglove extra: pip install 'facing-service[foxglove]'.",
+    )
+    _add_serving_arguments(fox, 8765, ", Foxglove's")
 
     demo = commands.add_parser(
         "demo",

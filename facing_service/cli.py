@@ -226,25 +226,40 @@ def _watch(args: argparse.Namespace) -> int:
 
 
 def _view(args: argparse.Namespace) -> int:
-    stop = _stop_on_signals()
-    client = _viewer(args, "view", stop)
-    if isinstance(client, int):
-        return client
     from .client.view.live import run_view  # aiohttp: loaded by the command that serves
 
+    return _serve(args, "view", run_view, "the live page is on {} (Ctrl-C ends it)")
+
+
+def _foxglove(args: argparse.Namespace) -> int:
+    from .tools.session_record import missing_extra
+
+    if missing := missing_extra():
+        print(f"facing-service foxglove: {missing}", file=sys.stderr)
+        return 2
+    from .tools.foxglove_live import serve_scene
+
+    return _serve(args, "foxglove", serve_scene,
+                  "the scene is served on {}: in the Foxglove app, Open connection → Foxglove "
+                  "WebSocket, that URL (Ctrl-C ends it)")  # fmt: skip
+
+
+def _serve(args: argparse.Namespace, command: str, serve: Callable[..., None], said: str) -> int:
+    """A view that serves what a running service says (``view``, ``foxglove``): until
+    Ctrl-C, saying where once it listens (``said`` with the address)."""
+    stop = _stop_on_signals()
+    client = _viewer(args, command, stop)
+    if isinstance(client, int):
+        return client
     try:
-        run_view(client, args.base_frame, args.host, args.port, stop, _say_page)
+        serve(client, args.base_frame, args.host, args.port, stop, lambda at: _say(said.format(at)))
     except OSError as error:
-        print(f"facing-service view: --host {args.host} --port {args.port}: {error.strerror}",
-              file=sys.stderr)  # fmt: skip
+        print(f"facing-service {command}: --host {args.host} --port {args.port}: "
+              f"{error.strerror or error}", file=sys.stderr)  # fmt: skip
         return 1
     finally:
         client.close()
     return 0
-
-
-def _say_page(url: str) -> None:
-    _say(f"the live page is on {url} (Ctrl-C ends it)")
 
 
 def _camera(args: argparse.Namespace) -> int:
@@ -398,6 +413,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "simulate": _simulate,
         "watch": _watch,
         "view": _view,
+        "foxglove": _foxglove,
         "demo": _demo,
         "camera": _camera,
         "export-schemas": _export_schemas,

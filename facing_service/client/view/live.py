@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
+from typing import Any
 
 from ..client import FacingClient
 from ..watch import Watcher
@@ -21,23 +22,31 @@ def run_view(
     started: Callable[[str], None] = lambda url: None,
 ) -> None:
     """Serve the page for ``frame`` until ``stopping`` (blocking)."""
-    watcher = Watcher(client, frame)
-    watcher.ask_frames()
-
-    def model() -> dict:
-        return snapshot(
-            frame,
-            watcher.people(),
-            client.groups(frame),
-            client.gazing(frame),
-            bool(client.live_instances),
-            watcher.frames(),
-            client.greetings(frame),
-            watcher.condition.note,
-        )
-
+    watcher = watching(client, frame)
     watcher.condition.start()
     try:
-        serve(model, host, port, stopping, started)
+        serve(lambda: page_model(watcher), host, port, stopping, started)
     finally:
         watcher.condition.close()
+
+
+def watching(client: FacingClient, frame: str) -> Watcher:
+    """What gathers the page's data for ``frame``, asked at once what it cannot hear."""
+    watcher = Watcher(client, frame)
+    watcher.ask_frames()
+    return watcher
+
+
+def page_model(watcher: Watcher) -> dict[str, Any]:
+    """The page's model now (``snapshot``), from what the watcher and its client hold."""
+    client, frame = watcher.client, watcher.frame
+    return snapshot(
+        frame,
+        watcher.people(),
+        client.groups(frame),
+        client.gazing(frame),
+        bool(client.live_instances),
+        watcher.frames(),
+        client.greetings(frame),
+        watcher.condition.note,
+    )
