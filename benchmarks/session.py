@@ -56,41 +56,41 @@ def _stream(router: str, people: int, hz: float, seconds: float) -> TrackerPubli
 
 
 def cost(people: int, hz: float, seconds: float, repeat: int) -> dict[str, Any]:
-    """The service's CPU % without and with a recorder, alternated."""
-    runs: dict[str, list[float]] = {"bare": [], "recorded": []}
+    """The service's CPU %: alone (nobody reads what it publishes, so zenoh sends nothing
+    on), with a plain subscriber to the whole namespace (a robot app reading results: what
+    a deployment has anyway), and with a recorder; alternated."""
+    kinds = ("alone", "read", "recorded")
+    runs: dict[str, list[float]] = {kind: [] for kind in kinds}
     with deployment() as (router, pid), tempfile.TemporaryDirectory() as scratch:
         for i in range(repeat):
-            for kind in ("bare", "recorded"):
-                out = Path(scratch) / f"{kind}{i}.mcap"
-                recorder = (
-                    running_cli(
-                        "record",
-                        str(out),
-                        "-m",
-                        "client",
-                        "-e",
-                        router,
-                        *LOOPBACK_FLAGS,
-                        capture=False,
-                    )
-                    if kind == "recorded"
-                    else _nothing()
-                )
-                with recorder:
+            for kind in kinds:
+                with _beside(kind, router, Path(scratch) / f"{kind}{i}.mcap"):
                     time.sleep(1.0)
                     before, started = cpu_seconds(pid), time.monotonic()
                     _stream(router, people, hz, seconds)
                     used = cpu_seconds(pid) - before
                     runs[kind].append(100.0 * used / (time.monotonic() - started))
                 print(f"{kind:>9} run {i + 1}: the service at {runs[kind][-1]:.1f} % of a CPU")
-    bare, recorded = statistics.median(runs["bare"]), statistics.median(runs["recorded"])
-    return {"runs": runs, "bare_pct": round(bare, 1), "recorded_pct": round(recorded, 1),
-            "ratio": round(recorded / bare, 3)}  # fmt: skip
+    median = {kind: statistics.median(runs[kind]) for kind in kinds}
+    return {"runs": runs, **{f"{k}_pct": round(v, 1) for k, v in median.items()},
+            "recorded_over_read": round(median["recorded"] / median["read"], 3),
+            "recorded_over_alone": round(median["recorded"] / median["alone"], 3)}  # fmt: skip
 
 
 @contextmanager
-def _nothing() -> Iterator[None]:
-    yield None
+def _beside(kind: str, router: str, out: Path) -> Iterator[None]:
+    """Beside the service: nothing, a plain subscriber to the namespace, or a recorder."""
+    if kind == "recorded":
+        with running_cli("record", str(out), "-m", "client", "-e", router, *LOOPBACK_FLAGS,
+                         capture=False):  # fmt: skip
+            yield
+    elif kind == "read":
+        with zenoh.open(loopback_config(connect=[router], mode="client")) as reader:
+            heard = reader.declare_subscriber("hri/**", lambda sample: None)
+            yield
+            heard.undeclare()
+    else:
+        yield
 
 
 def _record(router: str, out: Path, feed: Any) -> None:
