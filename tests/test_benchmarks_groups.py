@@ -136,3 +136,26 @@ def test_the_order_harness_counts_frames_grouped_otherwise_and_groups_listed_tog
     assert changed([pair] * 4, by_place, orders=3) == 0
     assert listed_together([pair])[0] == 1.0
     assert first_look_f1([pair], orders=2) == (1.0, 1.0)  # the pair found, however listed
+
+
+def test_the_exact_assignment_is_the_optimum_of_small_rooms():
+    """benchmarks.groups.exact's integer program against every subset of open centres
+    (each person then at their cheapest open one), on 200 random small rooms."""
+    import itertools
+
+    import numpy as np
+
+    from benchmarks.groups.exact import exact
+
+    rng = np.random.default_rng(84)
+    for _ in range(200):
+        n, m = int(rng.integers(1, 7)), int(rng.integers(1, 6))
+        unary, mdl = rng.uniform(0.0, 3.0, (n, m)), float(rng.uniform(0.1, 2.0))
+        best = min(
+            unary[:, list(opened)].min(axis=1).sum() + mdl * len(opened)
+            for k in range(1, m + 1)
+            for opened in itertools.combinations(range(m), k)
+        )
+        labels = exact(unary, mdl, np.arange(m))
+        found = unary[np.arange(n), labels].sum() + mdl * len(set(labels.tolist()))
+        assert found == pytest.approx(best, abs=1e-6)
