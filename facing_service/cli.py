@@ -173,10 +173,6 @@ def _say(line: str) -> None:
     print(line, flush=True)
 
 
-def _warn(line: str) -> None:
-    print(line, file=sys.stderr, flush=True)
-
-
 def _viewer(args: argparse.Namespace, command: str, stop: threading.Event) -> FacingClient | int:
     """The open client a view of ``--base-frame`` reads (``watch``, ``view``), or the
     exit code when the settings or the session are refused (said in one line). A live

@@ -12,9 +12,9 @@ from collections.abc import Sequence
 import zenoh
 
 from ..contract.errors import FacingError
-from ..contract.schemas import INPUT_BROKEN, ServiceStatus
+from ..contract.schemas import ServiceStatus
 from .client import FacingClient
-from .health import ask
+from .health import ask, broken_findings
 
 #: How often the status is asked, and how long an answer is waited for.
 PERIOD_S = 1.0
@@ -32,16 +32,16 @@ def input_note(statuses: Sequence[ServiceStatus]) -> str | None:
                 f"input silent for {heard.last_heard_s or 0.0:.1f} s: {people} held as last "
                 "heard, not current (lost once each passes --hold-silent-s)"
             )
-        findings = status.ros2.findings if status.ros2 is not None else {}
-        if broken := sorted(set(findings) & INPUT_BROKEN):
-            return f"no results from the robot: {broken[0]}: {findings[broken[0]]}"
+        if (broken := broken_findings(status)) and status.ros2 is not None:
+            return f"no results from the robot: {broken[0]}: {status.ros2.findings[broken[0]]}"
     return None
 
 
 class InputCondition:
     """The latest ``input_note`` of the client's services, asked every ``PERIOD_S`` once
     ``start``-ed; ``close`` stops and joins the thread (before the client's session
-    closes: a thread still inside a query as the process ends aborts it)."""
+    closes: a thread still inside a query as the process ends aborts it). As a context,
+    asked while the block runs."""
 
     def __init__(self, client: FacingClient) -> None:
         self.client = client
@@ -70,3 +70,10 @@ class InputCondition:
         if self._thread is not None:
             self._thread.join(ASK_TIMEOUT_S + PERIOD_S)
             self._thread = None
+
+    def __enter__(self) -> InputCondition:
+        self.start()
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.close()

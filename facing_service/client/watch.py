@@ -362,8 +362,7 @@ class Watcher:
         Not a terminal (a file, a pipe): a whole frame every ``FRAME_S`` as it goes, where
         rich's live display wrote nothing until the end."""
         console = Console()
-        self.condition.start()
-        try:
+        with self.condition:
             if not console.is_terminal:
                 self._write_frames(console, keep_going, period_s)
                 return
@@ -373,8 +372,6 @@ class Watcher:
                     time.sleep(period_s)
                     screen.update(self.view(console.size))
                 screen.update(self.view(console.size))
-        finally:
-            self.condition.close()
 
     def _write_frames(
         self, console: Console, keep_going: Callable[[], bool], period_s: float

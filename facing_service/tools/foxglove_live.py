@@ -44,28 +44,26 @@ def serve_scene(
                                        context=context)  # fmt: skip
     except RuntimeError as error:  # the SDK's error for an address in use
         raise OSError(str(error)) from error
-    scene = SceneUpdateChannel(SCENE, context=context)
-    tf = FrameTransformsChannel(TF, context=context)
-    model_channel = foxglove.Channel(MODEL, context=context)
-    started(f"ws://{host}:{server.port}")
-    watcher.condition.start()
-    shown: set[str] = set()
-    said = None
     try:
-        while not stopping.wait(PERIOD_S):
-            model = page_model(watcher)
-            text = json.dumps(model, sort_keys=True)
-            if text == said:
-                continue
-            said = text
-            now = time.time_ns()
-            stamp = Timestamp(sec=now // 1_000_000_000, nsec=now % 1_000_000_000)
-            message, shown = update(model, shown, stamp)
-            scene.log(message, log_time=now)
-            tf.log(FrameTransforms(transforms=transforms(model, stamp)), log_time=now)
-            model_channel.log(model, log_time=now)
+        scene = SceneUpdateChannel(SCENE, context=context)
+        tf = FrameTransformsChannel(TF, context=context)
+        model_channel = foxglove.Channel(MODEL, context=context)
+        started(f"ws://{host}:{server.port}")
+        shown: set[str] = set()
+        said = None
+        with watcher.condition:
+            while not stopping.wait(PERIOD_S):
+                model = page_model(watcher)
+                if (text := json.dumps(model, sort_keys=True)) == said:
+                    continue
+                said = text
+                now = time.time_ns()
+                stamp = Timestamp(sec=now // 1_000_000_000, nsec=now % 1_000_000_000)
+                message, shown = update(model, shown, stamp)
+                scene.log(message, log_time=now)
+                tf.log(FrameTransforms(transforms=transforms(model, stamp)), log_time=now)
+                model_channel.log(model, log_time=now)
     finally:
-        watcher.condition.close()
         server.stop()
 
 

@@ -23,11 +23,8 @@ def run_view(
 ) -> None:
     """Serve the page for ``frame`` until ``stopping`` (blocking)."""
     watcher = watching(client, frame)
-    watcher.condition.start()
-    try:
+    with watcher.condition:
         serve(lambda: page_model(watcher), host, port, stopping, started)
-    finally:
-        watcher.condition.close()
 
 
 def watching(client: FacingClient, frame: str) -> Watcher:
