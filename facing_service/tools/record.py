@@ -54,13 +54,18 @@ def replay_refusal(bag: Path, record: Path | None) -> str | None:
 
 
 def record_refusal(record: Path) -> str | None:
-    """Why ``--record OUT`` cannot be written (one line naming the flag), or None: a
-    recording never overwrites."""
-    folder = bag_folder(record)
-    if folder.exists():
-        return f"--record {str(record)!r}: {folder} exists (a recording never overwrites)"
-    if not folder.parent.is_dir():
-        return f"--record {str(record)!r}: no such folder"
+    """Why ``--record OUT`` (a ROS 2 bag: the folder ``bag_folder(OUT)``) cannot be
+    written, or None."""
+    return new_path_refusal("--record", record, bag_folder(record))
+
+
+def new_path_refusal(flag: str, given: Path, made: Path) -> str | None:
+    """Why a recording asked for as ``flag given`` cannot make ``made`` (one line naming
+    the flag), or None: a recording never overwrites, and its folder must be there."""
+    if made.exists():
+        return f"{flag} {str(given)!r}: {made} exists (a recording never overwrites)"
+    if not made.parent.is_dir():
+        return f"{flag} {str(given)!r}: no such folder"
     return None
 
 

@@ -15,6 +15,7 @@ import zenoh
 from ..config.session import opened, zenoh_config
 from ..config.settings import Settings
 from ..contract.words import for_how_long
+from .record import new_path_refusal
 from .session_record import SessionRecorder, missing_extra
 
 
@@ -22,11 +23,7 @@ def out_refusal(flag: str, out: Path) -> str | None:
     """Why a new session file cannot be written at ``out`` (naming ``flag``), or None."""
     if out.suffix != ".mcap":
         return f"{flag} {str(out)!r}: a session is an .mcap file"
-    if out.exists():
-        return f"{flag} {str(out)!r}: it exists (a recording never overwrites)"
-    if not out.parent.is_dir():
-        return f"{flag} {str(out)!r}: no such folder"
-    return None
+    return new_path_refusal(flag, out, out)
 
 
 def _session_for(
