@@ -13,7 +13,7 @@ import json
 import math
 import random
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import cast
@@ -207,11 +207,9 @@ def simulate(
     when it stops (a tracker that stops says its people are gone: a service would
     otherwise read the stop as a stalled link and hold them). Returns the ticks published.
     ``clock`` and ``sleep`` pace it (tests give their own, so they need not wait)."""
-    period = 1.0 / rate_hz
-    started = clock()
     ticks = 0
     try:
-        while not should_stop() and (duration_s is None or ticks * period < duration_s):
+        for period in paced(rate_hz, duration_s, should_stop, clock, sleep):
             tick = crowd.step(period)
             for pose in tick.poses:
                 publish(
@@ -221,13 +219,30 @@ def simulate(
             for body_id in tick.lost:
                 publish(keys.pose_key(namespace, body_id=body_id, frame_id=frame_id), None)
             ticks += 1
-            delay = started + ticks * period - clock()
-            if delay > 0:
-                sleep(delay)
     finally:
         for body_id in crowd.present():
             publish(keys.pose_key(namespace, body_id=body_id, frame_id=frame_id), None)
     return ticks
+
+
+def paced(
+    rate_hz: float,
+    duration_s: float | None,
+    should_stop: Callable[[], bool],
+    clock: Callable[[], float] = time.monotonic,
+    sleep: Callable[[float], None] = time.sleep,
+) -> Iterator[float]:
+    """Ticks at ``rate_hz`` in real time until ``duration_s`` or ``should_stop()``: yields
+    the period for each tick's work, then sleeps until the next is due (a tick that ran
+    late is caught up, not skipped)."""
+    period = 1.0 / rate_hz
+    started = clock()
+    ticks = 0
+    while not should_stop() and (duration_s is None or ticks * period < duration_s):
+        yield period
+        ticks += 1
+        if (delay := started + ticks * period - clock()) > 0:
+            sleep(delay)
 
 
 class TrackerPublisher:

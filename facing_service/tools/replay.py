@@ -29,6 +29,7 @@ from ..config.settings import Settings
 from ..ros2 import types as ros2_types
 from ..ros2.wire import Wire
 from ..shell.ros_bus import TopicWriter, robot_topic_writer
+from .pace import RecordedPace
 from .record import Recording
 
 
@@ -64,16 +65,13 @@ class Replay:
     ) -> ReplayStats:
         """Play every message; ``on_message(topic, recorded time ns)`` after each one."""
         stats = ReplayStats()
-        started = time.monotonic()
         with AnyReader([self.bag], default_typestore=ros2_types.typestore()) as reader:
             stats.duration_s = reader.duration / 1e9
-            first = reader.start_time
+            pace = RecordedPace(rate, reader.start_time)
             for connection, timestamp, raw in reader.messages():
                 if should_stop():
                     break
-                due = started + (timestamp - first) / 1e9 / rate
-                if (wait := due - time.monotonic()) > 0:
-                    time.sleep(wait)
+                pace.wait(timestamp)
                 publisher = self._publishers.get(connection.topic)
                 if publisher is None:
                     key = self.wire.key(connection.topic, connection.msgtype)
@@ -85,7 +83,7 @@ class Replay:
                 if on_message is not None:
                     on_message(connection.topic, timestamp)
         stats.topics = len(self._publishers)
-        stats.elapsed_s = time.monotonic() - started
+        stats.elapsed_s = pace.elapsed_s()
         return stats
 
     def close(self) -> None:

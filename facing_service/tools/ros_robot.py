@@ -12,7 +12,7 @@ from pathlib import Path
 
 import zenoh
 
-from ..client.sim import Crowd
+from ..client.sim import Crowd, paced
 from ..ros2.wire import Wire
 from ..shell.ros_bus import TopicWriter, robot_topic_writer
 from .record import BagMessage, bag_folder, write_bag
@@ -69,20 +69,14 @@ class SimulatedRobot:
     ) -> RobotRun:
         """The scene in real time until ``duration_s`` or ``should_stop``, then its people
         gone (empty lists)."""
-        period = 1.0 / rate_hz
-        started = time.monotonic()
         self.send(scene.start())
         try:
-            while not should_stop() and (
-                duration_s is None or self.run.ticks * period < duration_s
-            ):
+            for period in paced(rate_hz, duration_s, should_stop):
                 self.send(scene.step(period))
                 self._persons.update(scene.persons())
                 self.run.ticks += 1
                 if not self.run.heard and (tf := self._writers.get("/tf")) is not None:
                     self.run.heard = tf.matched()
-                if (delay := started + self.run.ticks * period - time.monotonic()) > 0:
-                    time.sleep(delay)
         finally:
             self.send(scene.stop())
         self.run.persons = len(self._persons)

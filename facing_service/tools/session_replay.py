@@ -7,13 +7,13 @@ what it publishes now (``--record``: this run's, into a second file)."""
 from __future__ import annotations
 
 import json
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 import zenoh
 
+from .pace import RecordedPace
 from .session_mcap import DELETES, PROFILE, is_input
 
 MAGIC = b"\x89MCAP0\r\n"
@@ -75,14 +75,12 @@ def play(
     """Send the recording's inputs on ``session`` into ``namespace``."""
     recorded, inputs = recorded_inputs(path)
     played = SessionReplayed()
-    started, first = time.monotonic(), None
+    pace = RecordedPace(rate)
     block = zenoh.CongestionControl.BLOCK
     for log_time, key, payload in inputs:
         if should_stop():
             break
-        first = log_time if first is None else first
-        if (wait := started + (log_time - first) / 1e9 / rate - time.monotonic()) > 0:
-            time.sleep(wait)
+        pace.wait(log_time)
         key = namespace + key[len(recorded) :]
         if payload is None:
             session.delete(key, congestion_control=block)
@@ -91,6 +89,6 @@ def play(
             session.put(key, payload, encoding=zenoh.Encoding.APPLICATION_JSON,
                         congestion_control=block)  # fmt: skip
             played.poses += 1
-        played.duration_s = (log_time - first) / 1e9
-    played.elapsed_s = time.monotonic() - started
+        played.duration_s = pace.recorded_s(log_time)
+    played.elapsed_s = pace.elapsed_s()
     return played
