@@ -102,41 +102,37 @@ def person(p: Mapping[str, Any], frame: str, stamp: Timestamp) -> SceneEntity:
     )  # fmt: skip
 
 
-def entities(model: Mapping[str, Any], stamp: Timestamp) -> list[SceneEntity]:
-    """Every entity of the page's model (``snapshot``), in its frame."""
+def entities(model: Mapping[str, Any], stamp: Timestamp) -> dict[str, SceneEntity]:
+    """Every entity of the page's model (``snapshot``), in its frame, by id."""
     frame = model["frame"]
     where = {p["id"]: (p["x"], p["y"]) for p in model["people"]}
     where[""] = (0.0, 0.0)  # the robot, in who faces whom
-    out = [SceneEntity(timestamp=stamp, frame_id=frame, id="robot",
-                       cubes=[CubePrimitive(pose=_pose(0.0, 0.0, 0.3),
-                                            size=Vector3(x=0.5, y=0.4, z=0.6),
-                                            color=_colour((0.2, 0.2, 0.3)))],
-                       arrows=[_arrow(0.0, 0.0, 0.0, (0.2, 0.2, 0.3))])]  # fmt: skip
-    out += [person(p, frame, stamp) for p in model["people"]]
+    out: dict[str, SceneEntity] = {}
+
+    def add(id_: str, **primitives: Any) -> None:
+        out[id_] = SceneEntity(timestamp=stamp, frame_id=frame, id=id_, **primitives)
+
+    add("robot", cubes=[CubePrimitive(pose=_pose(0.0, 0.0, 0.3), size=Vector3(x=0.5, y=0.4, z=0.6),
+                                      color=_colour((0.2, 0.2, 0.3)))],
+        arrows=[_arrow(0.0, 0.0, 0.0, (0.2, 0.2, 0.3))])  # fmt: skip
+    for p in model["people"]:
+        out[f"person/{p['id']}"] = person(p, frame, stamp)
     for g in model["groups"]:
         centre = (g["centre"]["x"], g["centre"]["y"])
         ends = [where[m] for m in g["members"] if m in where] + ([(0.0, 0.0)] if g["robot"] else [])
-        lines = [_line([centre, end], GROUP, LinePrimitiveLineType.LineList) for end in ends]
         join = g.get("join")
         arrows = [] if not join else [_arrow(join["x"], join["y"], join["yaw"], PLACE)]
-        out.append(SceneEntity(timestamp=stamp, frame_id=frame, id=f"group/{g['id']}",
-                               lines=lines, arrows=arrows))  # fmt: skip
+        lines = [_line([centre, end], GROUP, LinePrimitiveLineType.LineList) for end in ends]
+        add(f"group/{g['id']}", arrows=arrows, lines=lines)
     for greeting in model["greetings"]:
         place = greeting["place"]
-        arrow = _arrow(place["x"], place["y"], place["yaw"], PLACE)
-        out.append(SceneEntity(timestamp=stamp, frame_id=frame,
-                               id=f"greet/{greeting['body_id']}", arrows=[arrow]))  # fmt: skip
+        add(f"greet/{greeting['body_id']}",
+            arrows=[_arrow(place["x"], place["y"], place["yaw"], PLACE)])  # fmt: skip
     for pair in model["gazing"]:  # (the model's pairs are between people it shows)
         ends = [where[pair["sender"]], where[pair["receiver"]]]
-        out.append(SceneEntity(timestamp=stamp, frame_id=frame,
-                               id=_gaze_id(pair),
-                               lines=[_line(ends, (0.3, 0.3, 0.3))]))  # fmt: skip
+        add(f"gaze/{pair['sender'] or 'robot'}/{pair['receiver'] or 'robot'}",
+            lines=[_line(ends, (0.3, 0.3, 0.3))])  # fmt: skip
     return out
-
-
-def _gaze_id(pair: Mapping[str, str]) -> str:
-    """``gaze/<sender>/<receiver>``, the robot named ``robot`` (the contract's "")."""
-    return f"gaze/{pair['sender'] or 'robot'}/{pair['receiver'] or 'robot'}"
 
 
 def update(
@@ -145,13 +141,9 @@ def update(
     """The scene now, with a deletion for each entity of ``before`` no longer in it (a
     person who left); and the ids it holds."""
     now = entities(model, stamp)
-    ids = {"robot"} | {f"person/{p['id']}" for p in model["people"]}
-    ids |= {f"group/{g['id']}" for g in model["groups"]}
-    ids |= {f"greet/{g['body_id']}" for g in model["greetings"]}
-    ids |= {_gaze_id(pair) for pair in model["gazing"]}
     gone = [SceneEntityDeletion(timestamp=stamp, type=SceneEntityDeletionType.MatchingId, id=i)
-            for i in sorted(before - ids)]  # fmt: skip
-    return SceneUpdate(deletions=gone, entities=now), ids
+            for i in sorted(before - now.keys())]  # fmt: skip
+    return SceneUpdate(deletions=gone, entities=list(now.values())), set(now)
 
 
 def transforms(model: Mapping[str, Any], stamp: Timestamp) -> list[FrameTransform]:
