@@ -125,7 +125,7 @@ class Track:
     profile: Profile
     engagement: Engagement = field(default_factory=Engagement)
     engagement_published: float = float("-inf")  # the caller's clock, at the last update
-    recent: tuple[tuple[int, float], ...] = ()  # (stamp, angle) of the facing window
+    recent: Window = ()  # (stamp, angle) of the facing window
 
     def engagement_update(self, previous: Level | None) -> EngagementUpdate:
         """The body's engagement as published (``previous``: the level it changed from)."""
@@ -206,19 +206,31 @@ def frame_facing(
     )
 
 
+#: A facing window: (stamp, angle) of a body's poses, oldest first.
+Window = tuple[tuple[int, float], ...]
 #: Most poses a facing window holds (a flood of poses must not make each decision cost
 #: more): 2 s at 30 Hz.
 MAX_WINDOW = 64
 
 
+def through_window(
+    track: Track | None, profile: Profile, stamp: int, angle: float | None, threshold_deg: float
+) -> tuple[bool, Window]:
+    """``windowed`` for a body's new pose (``track``: the body's, None when new), at
+    ``threshold_deg`` (its hysteresis applied), with a window in its ``profile``."""
+    was_facing = track is not None and track.state.facing
+    recent = track.recent if track is not None else ()
+    return windowed(recent, stamp, angle, profile.facing_window_s, threshold_deg, was_facing)
+
+
 def windowed(
-    recent: tuple[tuple[int, float], ...],
+    recent: Window,
     stamp: int,
     angle: float | None,
     window_s: float,
     threshold_deg: float,
     was_facing: bool,
-) -> tuple[bool, tuple[tuple[int, float], ...]]:
+) -> tuple[bool, Window]:
     """Facing by the median angle of the poses in ``window_s`` up to ``stamp`` (this one,
     at ``angle``, included; an undefined angle counts as 180°), and the window kept. A
     face becomes facing when more than half its poses are inside ``threshold_deg``, and

@@ -27,9 +27,10 @@ from .records import (
     PoseSample,
     Profile,
     Track,
+    Window,
     decide,
     frame_facing,
-    windowed,
+    through_window,
 )
 
 #: How long a deleted body's last stamp is remembered (caller's clock): late poses of it
@@ -204,10 +205,9 @@ class Tracker:
             was = track is not None and track.state.facing
             applied = threshold + p.hysteresis_deg if was else threshold
             r, angle, distance, facing = detector.classify_one(t, q, applied, p.cone3d)
-            recent: tuple[tuple[int, float], ...] = ()
-            if p.facing_window_s > 0.0:
-                facing, recent = windowed(track.recent if track else (), pose.stamp, angle,
-                                          p.facing_window_s, applied, was)  # fmt: skip
+            recent: Window = ()
+            if p.facing_window_s > 0.0:  # (a call per pose only where there is a window)
+                facing, recent = through_window(track, p, pose.stamp, angle, applied)
             # fmt: off
             state = BodyState(sample.body, pose.stamp, facing, angle, distance, r, threshold,
                               t, detector.heading_deg(q))
@@ -229,11 +229,11 @@ class Tracker:
         together = zip(samples, states, profiles, thresholds, strict=True)
         for sample, state, profile, applied in together:
             track = self._tracks.get(sample.body)
-            recent: tuple[tuple[int, float], ...] = ()
+            recent: Window = ()
             if profile.facing_window_s > 0.0:
-                was, window = track is not None and track.state.facing, profile.facing_window_s
-                facing, recent = windowed(track.recent if track else (), state.stamp,
-                                          state.angle_deg, window, applied, was)  # fmt: skip
+                facing, recent = through_window(
+                    track, profile, state.stamp, state.angle_deg, applied
+                )
                 state = replace(state, facing=facing)
             update = self._store(sample, state, profile, now, track, recent)
             if update is not None:
@@ -372,7 +372,7 @@ class Tracker:
         profile: Profile,
         now: float,
         track: Track | None,
-        recent: tuple[tuple[int, float], ...],
+        recent: Window,
     ) -> EngagementUpdate | None:
         """Keep the new state (``track``: the body's, None when new) and its facing window;
         the engagement update to publish, if one is due."""
