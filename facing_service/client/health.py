@@ -199,8 +199,13 @@ def input_broken(status: ServiceStatus) -> str | None:
     that nothing can be read or looked up), or None: what ``--require-input`` fails on."""
     if (heard := status.input) is not None and heard.silent:
         return "its input is silent"
-    broken = sorted(set(status.ros2.findings) & INPUT_BROKEN) if status.ros2 else []
+    broken = broken_findings(status)
     return f"its ROS 2 input: {', '.join(broken)}" if broken else None
+
+
+def broken_findings(status: ServiceStatus) -> list[str]:
+    """The ROS 2 findings that leave nobody's results (``INPUT_BROKEN``), sorted."""
+    return sorted(set(status.ros2.findings) & INPUT_BROKEN) if status.ros2 else []
 
 
 #: A zenoh config file for the health check's own identity (``--health-config``).
