@@ -38,7 +38,7 @@ from facing_service.config.settings import Settings
 from facing_service.contract.keys import BodyRef
 from facing_service.contract.poses import Pose, yaw_rotation
 from facing_service.contract.stamps import NS_PER_S, Time
-from facing_service.core.records import Changes, PoseSample
+from facing_service.core.records import PoseSample
 
 from .. import results_file
 from . import replayed
@@ -63,18 +63,9 @@ def facing_timelines(
     service with ``--head-facing-window-s window_s`` runs."""
     tracker = tracker_for(Settings(head_facing_window_s=window_s))
     said: dict[str, list[tuple[int, bool]]] = {}
-
-    def collect(changes: Changes) -> None:
+    for changes in replayed.driven(recording, tracker):
         for state in changes.results:
             said.setdefault(state.body_id, []).append((int(state.stamp), state.facing))
-
-    for step in recording.steps:
-        if step.poses:
-            collect(tracker.ingest(step.poses, step.now_s))
-        if step.lost:
-            collect(tracker.lose(step.lost, step.now_s, time_went_back=step.time_went_back))
-        for call in tracker.timed(step.now_s):
-            collect(call())
     return said
 
 

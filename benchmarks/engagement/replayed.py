@@ -4,7 +4,7 @@ tracker a service with its settings runs, on the recording's clock."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -14,6 +14,7 @@ from facing_service.contract.keys import BodyRef
 from facing_service.contract.levels import Level
 from facing_service.contract.poses import Rejected
 from facing_service.core.records import Changes, PoseSample
+from facing_service.core.tracker import Tracker
 from facing_service.ros2.input import RosSample, route
 from facing_service.ros2.people import People
 from facing_service.ros2.wire import Wire
@@ -77,22 +78,26 @@ def events(
     """The engagement events (stamp ns, body, level) a service with ``settings`` says
     (with ``research``: its head's research knobs set)."""
     tracker = research_tracker(settings, research or {})
-    said: list[tuple[int, str, Level]] = []
+    return [
+        (int(update.stamp), update.body_id, update.level)
+        for changes in driven(recording, tracker)
+        for update in changes.engagement
+        if update.previous is not None
+    ]
 
-    def collect(changes: Changes) -> None:
-        for update in changes.engagement:
-            if update.previous is not None:
-                said.append((int(update.stamp), update.body_id, update.level))
 
+def driven(recording: Recording, tracker: Tracker) -> Iterator[Changes]:
+    """What ``tracker`` says, call by call, fed the recording as the service feeds it:
+    each step's poses, then its losses, then what time alone makes due, on the
+    recording's clock."""
     for step in recording.steps:
         now = step.now_s
         if step.poses:
-            collect(tracker.ingest(step.poses, now))
+            yield tracker.ingest(step.poses, now)
         if step.lost:
-            collect(tracker.lose(step.lost, now, time_went_back=step.time_went_back))
+            yield tracker.lose(step.lost, now, time_went_back=step.time_went_back)
         for call in tracker.timed(now):
-            collect(call())
-    return said
+            yield call()
 
 
 def rows(
