@@ -79,8 +79,8 @@ def run(main: Callable[[], int | None]) -> NoReturn:
     """Run an example's ``main`` and exit with its status; Ctrl-C, or a reader that has
     gone, ends it quietly (each ``with`` block has closed its session by then), not with
     a traceback."""
-    signal.signal(signal.SIGINT, signal.default_int_handler)
-    try:
+    try:  # a Ctrl-C still pending from the imports is raised by this very switch
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         code = main()
     except KeyboardInterrupt:
         code = 0

@@ -124,6 +124,22 @@ def test_ctrl_c_ends_every_example_quietly_and_the_tracker_deletes_its_people(ne
     }
 
 
+def test_a_ctrl_c_pending_from_the_imports_ends_an_example_quietly():
+    """A Ctrl-C that arrived while the imports loaded is raised by the very switch of
+    handlers in ``run`` (seen in CI: a KeyboardInterrupt traceback from
+    ``signal.signal``); it must end the example as quietly as one inside ``main``."""
+    script = (
+        "import signal, sys; sys.path.insert(0, sys.argv[1]); import common\n"
+        "def pending(*_): raise KeyboardInterrupt\n"
+        "common.signal.signal = pending\n"
+        "common.run(lambda: 3)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script, str(EXAMPLES)], capture_output=True, text=True, timeout=60
+    )
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+
+
 def test_the_subscriber_prints_a_body_straight_below_the_robot(net):
     """Issue 63, defect 5: ``distance_m`` is null when the robot is straight above a
     person (the README says so) and subscribe.py formatted it with ``:.1f``: a traceback
