@@ -1,21 +1,28 @@
 """Which candidate o-space centres to open, and who joins which: GCFF's energy (each
-person's unary cost at a centre plus a fixed cost per centre opened) minimised, the same
-whatever order people come in or what they are called.
+person's unary cost at a centre plus a fixed cost per centre opened) minimised exactly,
+the same whatever order people come in or what they are called.
 
-With no pairwise terms, GCFF's energy is the facility-location problem. GCFF solves it by
-alpha-expansion; here by greedy closing, whose ties decide more than they seem: the two
-votes of the nearest pair always save as much closed, and the one kept decides who else
-joins. Those ties went by index, so by the order people were listed in (and, through the
-service's listing, by what they were called). Now a tie goes to the energy's side: the
-label closed is the one farther from everyone, the one kept can serve more; then by place
-(``place_rank``), never by index. Costs within ``TIE`` of each other are equal (the same
-sums taken in another order differ in their last bits).
+With no pairwise terms, GCFF's energy is the facility-location problem. GCFF lowers it by
+alpha-expansion, which moves many people at once but may stop short of the lowest; a
+greedy pass (closing one label at a time) stopped shorter still, keeping pairs where the
+lowest energy is a ring (GDet's rings of four to six). Here it is solved exactly, in
+two steps:
 
-Compared on small random rooms against every subset of centres and on the shared streams
-(docs/groups.md): a local search after the pass (single opens, closes and swaps) and
-trying each tied label to its end both reach the lowest energy more often, and neither
-groups better (the method's parameters were chosen with this pass); the second costs 3.4
-times the scene. Not shipped.
+- **Apart.** Nobody pays more at a centre than at their cheapest plus the cost of a
+  label: opening their cheapest would be lower. So a person only ever joins a centre
+  within ``mdl`` of their cheapest, and people who share no such centre, even through
+  others, are independent problems (in a room, each conversation and its neighbours).
+- **Every set.** Each independent part of up to ``MAX_EXACT`` centres is solved by
+  trying every set of open centres (``2**k`` sets, built one centre at a time in numpy:
+  each set's costs are a smaller set's with one centre more). A part with more (a packed
+  crowd all within reach of each other) falls back to greedy closing, the way it was
+  solved before: its energy is not the lowest there, and is counted
+  (``benchmarks.groups.exact``).
+
+Ties never read the order people are listed in: of sets as low (within ``TIE``: the
+same sums taken in another order differ in their last bits), the fewest centres, then
+the lowest ranks (``place_rank``: each centre's place); each person then takes their
+cheapest open centre, ties to the lowest rank.
 """
 
 from __future__ import annotations
@@ -25,19 +32,84 @@ from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
 
 #: Costs (the unit squared) this close are equal.
 TIE = 1e-9
+#: The most centres of one independent part solved by trying every set of them (2**14
+#: sets: about a millisecond); more, and the part is solved greedily.
+MAX_EXACT = 14
 
 
 def assign(unary: FloatArray, mdl: float, rank: IntArray) -> IntArray:
-    """Facility location: labels minimising the sum of unary costs plus ``mdl`` per label
-    used (GCFF's energy). Greedy, from every label open: close the label whose closing
-    saves most (its ``mdl``, less what its people pay more at their next cheapest open
-    label), while one does; of labels saving as much, the one farthest from everyone
-    (each person's cost capped at ``mdl``: only those who might join count), then the
-    lowest ``rank``. Then everyone takes their cheapest open label, ties to the lowest
-    ``rank`` (its centre's place)."""
+    """Facility location: labels (column indices) minimising the sum of ``unary`` costs
+    (people by candidate centres) plus ``mdl`` per label used: GCFF's energy. ``rank``:
+    each centre's place, the tie-break that reads no names."""
+    labels = np.empty(len(unary), dtype=np.int64)
+    for people, cols in independent(unary, mdl):
+        if len(cols) == 1:  # one centre they all might join: nothing to choose
+            labels[people] = cols[0]
+            continue
+        part = unary[np.ix_(people, cols)]
+        solve = lowest if len(cols) <= MAX_EXACT else greedy
+        labels[people] = take(part, solve(part, mdl, rank[cols]), rank[cols], cols)
+    return labels
+
+
+def take(unary: FloatArray, opened: IntArray, rank: IntArray, cols: IntArray) -> IntArray:
+    """Each person's label once ``opened`` columns are open: their cheapest, ties to the
+    lowest ``rank``; ``cols``: the label each column stands for."""
+    result: IntArray = cols[opened][_cheapest(unary[:, opened], rank[opened])]
+    return result
+
+
+def independent(unary: FloatArray, mdl: float) -> list[tuple[IntArray, IntArray]]:
+    """The problem's independent parts: each a set of people and the centres any of them
+    might join (within ``mdl`` of their cheapest); no centre is in two parts."""
+    n = len(unary)
+    usable = unary <= unary.min(axis=1, keepdims=True) + mdl + TIE
+    shared = (usable.astype(np.int32) @ usable.T.astype(np.int32)) > 0  # (n, n)
+    part = np.arange(n)
+    while True:  # each person takes the least index it reaches: one per part, at the end
+        reached = np.where(shared, part[None, :], n).min(axis=1)
+        if np.array_equal(reached, part):
+            break
+        part = reached
+    order = np.argsort(part, kind="stable")
+    split = np.flatnonzero(np.diff(part[order])) + 1
+    return [
+        (people, np.flatnonzero(usable[people].any(axis=0)))
+        for people in np.split(order.astype(np.int64), split)
+    ]
+
+
+def lowest(unary: FloatArray, mdl: float, rank: IntArray) -> IntArray:
+    """The open columns of least energy, every set of them tried (``2**k`` for ``k``
+    columns; ``k`` small); of sets as low, the fewest, then the lowest ranks."""
+    n, k = unary.shape
+    cheapest = np.empty((n, 1 << k))  # [person, set]: what they pay at its cheapest
+    cheapest[:, 0] = np.inf
+    size = np.zeros(1 << k, dtype=np.int64)
+    for b in range(k):  # the sets with centre b as their highest: a smaller set plus b
+        np.minimum(cheapest[:, : 1 << b], unary[:, b : b + 1], out=cheapest[:, 1 << b : 2 << b])
+        size[1 << b : 2 << b] = size[: 1 << b] + 1
+    energy = cheapest.sum(axis=0) + mdl * size
+    tied = np.flatnonzero(energy <= energy.min() + TIE)
+    chosen = min(tied.tolist(), key=lambda s: (size[s], sorted(rank[_bits(s, k)].tolist())))
+    return _bits(chosen, k)
+
+
+def _bits(subset: int, k: int) -> IntArray:
+    """The columns in ``subset`` (a bit set over ``k`` columns)."""
+    return np.flatnonzero((subset >> np.arange(k)) & 1).astype(np.int64)
+
+
+def greedy(unary: FloatArray, mdl: float, rank: IntArray) -> IntArray:
+    """The open columns greedy closing leaves, from every column open: close the one whose
+    closing saves most (its ``mdl``, less what its people pay more at their next cheapest
+    open column), while one does; of columns saving as much, the one farthest from
+    everyone (each person's cost capped at ``mdl``: only those who might join count), then
+    the lowest ``rank``. Not the lowest energy: for a part too large for ``lowest``."""
     n, m = unary.shape
     open_ = np.ones(m, dtype=bool)
     rows = np.arange(n)
@@ -55,9 +127,7 @@ def assign(unary: FloatArray, mdl: float, rank: IntArray) -> IntArray:
             far = np.minimum(unary[:, tied], mdl).sum(axis=0)
             tied = tied[far >= far.max() - TIE]
         open_[tied[np.argmin(rank[tied])]] = False
-    cols = np.flatnonzero(open_)
-    chosen: IntArray = cols[_cheapest(unary[:, cols], rank[cols])].astype(np.int64)
-    return chosen
+    return np.flatnonzero(open_).astype(np.int64)
 
 
 def _cheapest(costs: FloatArray, rank: IntArray) -> IntArray:
