@@ -89,8 +89,8 @@ def candidates() -> list[Candidate]:
     person's stride from the nearest ahead, a fixed cost per group); GCFF's (one stride);
     and both in the room's unit, learnt over the last 10 or 60 s, kept at least 0.5 m or
     0.7 m (a dense crowd's spacing is not its groups': issue 51)."""
-    per_person = [
-        GroupParams(k, lo, hi, 70.0, mdl)
+    per_person = [  # the stride as if the nearest ahead stood straight ahead (ring off)
+        GroupParams(k, lo, hi, 70.0, mdl, ring=False)
         for k, (lo, hi), mdl in itertools.product(
             (0.4, 0.5), ((0.2, 0.5), (0.25, 0.75)), (0.6, 0.8, 1.0, 1.5, 2.0, 3.0)
         )
@@ -102,10 +102,14 @@ def candidates() -> list[Candidate]:
     rooms = [ScaleParams(window_s=w, min_m=m, max_m=1.5) for w in (10.0, 60.0) for m in (0.5, 0.7)]
     # The ring (issue 60): the o-space centre both stand on, a radius from the people's own
     # spacing and count; bounds in metres from a pair at arm's length to a circle of eight.
+    # Chosen again with the exact assignment over a wider grid (its stride's share, two
+    # more bounds, one more cost): 56 sets.
     ring = [
-        GroupParams(0.5, lo, hi, 70.0, mdl, ring=True)
-        for (lo, hi), mdl in itertools.product(
-            ((0.25, 1.0), (0.3, 1.5)), (0.6, 0.8, 1.0, 1.5, 2.0, 3.0)
+        GroupParams(k, lo, hi, 70.0, mdl, ring=True)
+        for k, (lo, hi), mdl in itertools.product(
+            (0.4, 0.5),
+            ((0.25, 1.0), (0.3, 1.5), (0.25, 1.25), (0.2, 1.0)),
+            (0.6, 0.8, 1.0, 1.2, 1.5, 2.0, 3.0),
         )
     ]
     return (

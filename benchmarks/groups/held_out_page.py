@@ -39,7 +39,8 @@ def _params(c: dict[str, Any]) -> str:
     if g["stride_min"] == g["stride_max"]:
         stride = f"stride {g['stride_min']:g}"
     elif g.get("ring"):
-        stride = f"the ring's centre, within [{g['stride_min']:g}, {g['stride_max']:g}]"
+        stride = (f"the ring's centre ({g['stride_k']:g} of the reach), within "
+                  f"[{g['stride_min']:g}, {g['stride_max']:g}]")  # fmt: skip
     else:
         stride = f"stride {g['stride_k']:g}x [{g['stride_min']:g}, {g['stride_max']:g}]"
     return f"{stride}, MDL {g['mdl']:g}, unit {unit}"

@@ -16,11 +16,11 @@ stride is the case ``stride_min = stride_max``. Lengths are metres by default; w
 ``RoomScale`` they are the room's unit (its people's nearest-neighbour spacing), the rule
 measured in earlier rounds and not shipped (docs/groups.md).
 
-The assignment is GCFF's energy (unary costs plus a cost per label) minimised by greedy
-label removal and reassignment rather than alpha-expansion (``facility``: with no pairwise
-terms that is the facility-location problem), its ties broken by the energy and by place,
-never by the order people are listed in: the same people are grouped alike whatever they
-are called.
+The assignment is GCFF's energy (unary costs plus a cost per label) at its lowest for
+each round's centres (``facility``: with no pairwise terms that is the facility-location
+problem, solved exactly where GCFF's alpha-expansion and the greedy pass before it could
+stop above it), its ties broken by the energy and by place, never by the order people are
+listed in: the same people are grouped alike whatever they are called.
 
 GCFF's visibility penalty is kept, in its units: ``100 ** (cos * d_k / d_j)`` cm² when
 member k stands behind member j (cosine of the angle between them, from the centre,
