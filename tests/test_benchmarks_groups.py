@@ -159,3 +159,70 @@ def test_the_exact_assignment_is_the_optimum_of_small_rooms():
         labels = exact(unary, mdl, np.arange(m))
         found = unary[np.arange(n), labels].sum() + mdl * len(set(labels.tolist()))
         assert found == pytest.approx(best, abs=1e-6)
+
+
+def test_the_global_context_rule_solved_directly_is_gtcgs_recursion():
+    """benchmarks.groups.dominant decides the global-context rule from the set's
+    equilibrium; GTCG computes Pavan and Pelillo's weight by its recursion (``CalcWeight``,
+    written out here as in xwasco/GTCG): the same decision on every random set whose
+    members all weigh more than 0."""
+    import numpy as np
+
+    from benchmarks.groups.dominant import outsider_would_stay
+
+    def w(a: np.ndarray, members: list[int], i: int) -> float:
+        rest = [j for j in members if j != i]
+        if not rest:
+            return 1.0
+        return sum((a[i, j] - a[rest[0], j]) * w(a, rest, j) for j in rest)
+
+    rng = np.random.default_rng(84)
+    checked = 0
+    for _ in range(300):
+        a = rng.uniform(0, 1, (7, 7))
+        a = (a + a.T) / 2
+        np.fill_diagonal(a, 0)
+        members = [int(i) for i in rng.choice(7, int(rng.integers(1, 5)), replace=False)]
+        if any(w(a, members, i) <= 0 for i in members):
+            continue
+        recursion = any(w(a, [*members, j], j) >= 0 for j in range(7) if j not in members)
+        assert outsider_would_stay(a, members) == recursion
+        checked += 1
+    assert checked > 100
+
+
+def test_dominant_sets_find_two_pairs_apart_and_leave_the_loner():
+    """Two pairs facing each other 1 m apart, 4 m between the pairs, one person alone
+    facing away: two groups, the loner in none, whatever order they are listed in."""
+    import numpy as np
+
+    from benchmarks.groups.dominant import DominantParams, affinity, dominant_sets
+
+    where = np.array([[0, 0], [1, 0], [5, 0.3], [6, 0], [3, 4]], dtype=float)
+    heading = np.array([0, np.pi, 0.1, np.pi, np.pi / 2])
+    for order in ([0, 1, 2, 3, 4], [4, 3, 1, 2, 0]):
+        labels = dominant_sets(affinity(where[order], heading[order], DominantParams(1.0, 0.1)))
+        named = {frozenset(np.array(order)[labels == g].tolist()) for g in set(labels.tolist())}
+        assert named == {frozenset({0, 1}), frozenset({2, 3}), frozenset({4})}
+
+
+def test_a_pair_on_a_ring_it_faces_and_a_pair_one_behind_the_other():
+    """benchmarks.groups.pair_ring: two facing each other, and two of a triangle facing its
+    centre, stand on a ring they face (0°); one behind the other facing the same way on
+    none (over 90°)."""
+    import numpy as np
+
+    from benchmarks.groups.pair_ring import ring_error
+
+    pair = np.array([[0.0, 0.0], [1.0, 0.0]])
+    assert ring_error(pair, np.array([0.0, np.pi])) < 0.5
+    assert ring_error(pair, np.array([np.pi / 3, 2 * np.pi / 3])) < 0.5
+    assert ring_error(pair, np.array([np.pi, np.pi])) > 90
+
+
+def test_the_dominant_sets_page_is_the_results():
+    from benchmarks.groups import dominant
+
+    assert dominant.main(["--page", "--check"]) == 0, (
+        "regenerate: python -m benchmarks.groups.dominant --page"
+    )
