@@ -45,6 +45,7 @@ from facing_service.core.social.join import JoinParams, chosen, offered
 from .. import paths, results_file
 from ..sections import generate
 from .join_page import tables
+from .pair_ring import ring_error
 from .sequence_frame import Frame
 from .sequences import SEQUENCES, SHARED, load
 
@@ -60,7 +61,7 @@ ROBOTS = tuple(
     for r, a in [(d, a) for d in (2.0, 4.0) for a in (0, 90, 180, 270)] + [(30, 45), (30, 225)]
 )
 #: Issue 53's rule and parameters: the free arc nearest the robot.
-BEFORE = JoinParams(tie=0.0)
+BEFORE = JoinParams(tie=0.0, min_radius_m=0.0)
 
 
 @dataclass(frozen=True)
@@ -127,8 +128,9 @@ def core(case: Case, p: JoinParams) -> list[Place]:
 def pair_sides(cs: Sequence[Case]) -> dict[str, int]:
     """Of the cases where two members remain: how many put the left-out member more along
     the pair's axis than beside it, how many have headings pointing to a side (their facing
-    vectors' sum across the axis), and how many of those point to the member's side."""
-    pairs = along = pointing = right = 0
+    vectors' sum across the axis), how many of those point to the member's side, and how
+    many stand on a ring both face within 45 and 60 degrees (``pair_ring``)."""
+    pairs = along = pointing = right = ring_45 = ring_60 = 0
     for c in cs:
         if len(c.members) != 2:
             continue
@@ -138,11 +140,14 @@ def pair_sides(cs: Sequence[Case]) -> dict[str, int]:
         truth = c.truth - (a + b) / 2
         facing = float(np.column_stack([np.cos(c.headings), np.sin(c.headings)]).sum(0) @ across)
         pairs += 1
+        error = ring_error(c.members, c.headings)
+        ring_45, ring_60 = ring_45 + (error <= 45), ring_60 + (error <= 60)
         along += abs(truth @ axis) > abs(truth @ across)
         if abs(facing) > 1e-6:
             pointing += 1
             right += (facing > 0) == (truth @ across > 0)
-    return {"pairs": pairs, "along": int(along), "pointing": pointing, "right_side": int(right)}
+    return {"pairs": pairs, "along": int(along), "pointing": pointing, "right_side": int(right),
+            "ring_45": int(ring_45), "ring_60": int(ring_60)}  # fmt: skip
 
 
 def one_gap(case: Case, p: JoinParams) -> bool:
@@ -205,12 +210,15 @@ def figures(found: Sequence[Place], all_cases: Sequence[Case], rng: random.Rando
 def grid() -> list[JoinParams]:
     """The settings compared: the o-space's stride, the clearance (a share of the members'
     spacing; never under 0.3 m, a body's width: a fact about people, not searched), and
-    what a near-tie is (arcs within a tenth of the widest, or equal widths only). The rule
+    what a near-tie is (arcs within a tenth of the widest, or equal widths only), and the
+    ring's least radius (none, or 0.4 m: two people face to face 0.8 m apart). The rule
     itself is not searched: the place is the group's, the robot only breaks ties (issue
     68); issue 53's rule (every arc a tie, the nearest taken) is the "before" beside it."""
     return [
-        JoinParams(stride_k=s, clearance_k=c, tie=t)
-        for s, c, t in itertools.product((0.5, 0.7, 1.0), (0.6, 0.7, 0.8), (0.9, 1.0))
+        JoinParams(stride_k=s, clearance_k=c, tie=t, min_radius_m=r)
+        for s, c, t, r in itertools.product(
+            (0.5, 0.7, 1.0), (0.6, 0.7, 0.8), (0.9, 1.0), (0.0, 0.4)
+        )
     ]
 
 

@@ -45,27 +45,14 @@ def tables(results: dict[str, Any]) -> list[str]:
         )
     if "live" in results:
         lines += ["", *_live_table(results["live"])]
-    lines += [
-        "",
-        "Where two members remain (every such case above): the left-out member more along"
-        " the pair's axis than beside it, and the pair's headings pointing to the member's"
-        " side (of the cases where they point to a side):",
-        "",
-        "| sequence | two remain | along the axis | headings point to a side | to the right side |",
-        "| --- | ---: | ---: | ---: | ---: |",
-    ]
-    for s, r in results["sequences"].items():
-        ps = r["pair_sides"]
-        lines.append(
-            f"| {s} | {ps['pairs']} | {ps['along']} | {ps['pointing']}"
-            f" | {ps['right_side']} ({ps['right_side'] / max(ps['pointing'], 1):.0%}) |"
-        )
+    lines += ["", *_pair_table(results)]
     d = results["chosen_on_all"]
     lines += [
         "",
         f"Overall median (the set chosen on all six): {results['overall_median_m']:.2f} m."
         f" The shipped set: stride {d['stride_k']:g}x the members' spacing, clearance"
         f" {d['clearance_k']:g}x their nearest spacing and at least {d['min_clearance_m']:g} m,"
+        f" the ring at least {d.get('min_radius_m', 0.0):g} m,"
         + (
             " the widest free arc, the robot breaking exact ties."
             if d["tie"] == 1
@@ -97,5 +84,29 @@ def _live_table(live: dict[str, Any]) -> list[str]:
             f"| {s} | {r['cases']} | {st['placed']:.0%} | {_m(st['median_m'])}"
             f" | {_m(st['robot_spread_m'])} | {wa['placed']:.0%} | {_m(wa['median_m'])}"
             f" | {_m(r['centroid_median_m'])} | {_m(r['naive_slot_median_m'])} |"
+        )
+    return lines
+
+
+def _pair_table(results: dict[str, Any]) -> list[str]:
+    """What the remaining pair says, per sequence."""
+    lines = [
+        "Where two members remain (every such case above): the left-out member more along"
+        " the pair's axis than beside it, the pair's headings pointing to the member's"
+        " side (of the cases where they point to a side), and the pair on a ring (0.25 to"
+        " 2 m) both face within 45° and within 60° of its centre (`pair_ring.py`: what the"
+        " pair alone says of a group):",
+        "",
+        "| sequence | two remain | along the axis | headings point to a side | to the right side"
+        " | a ring both face, 45° | 60° |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: |",
+    ]
+    for s, r in results["sequences"].items():
+        ps = r["pair_sides"]
+        ring_45, ring_60 = (ps[k] / max(ps["pairs"], 1) for k in ("ring_45", "ring_60"))
+        lines.append(
+            f"| {s} | {ps['pairs']} | {ps['along']} | {ps['pointing']}"
+            f" | {ps['right_side']} ({ps['right_side'] / max(ps['pointing'], 1):.0%})"
+            f" | {ring_45:.0%} | {ring_60:.0%} |"
         )
     return lines

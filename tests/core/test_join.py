@@ -125,3 +125,19 @@ def test_a_group_beside_another_is_joined_on_its_own_free_side():
     for robot in ((6.0, 0.0), (0.0, 0.0), (3.0, 5.0)):
         pose = join_pose(members, headings, neighbours, robot, P)
         assert pose is not None and pose.x < 3.0, robot
+
+
+def test_two_people_a_hand_apart_leave_a_place_at_a_conversations_distance():
+    """Synth's pairs 0.2 m apart, turned 120° to each other: their ring is 0.1 m across
+    the centre, too small for anyone (no place was given); the ring is at least
+    ``min_radius_m``, so a place is, that far from the centre and clear of both."""
+    members = np.array([[-3.0, 0.1], [-3.0, -0.1]])
+    headings = np.radians([240.0, 120.0])
+    assert join_pose(members, headings, np.zeros((0, 2)), (0.0, 0.0),
+                     JoinParams(min_radius_m=0.0)) is None  # fmt: skip
+    pose = join_pose(members, headings, np.zeros((0, 2)), (0.0, 0.0), P)
+    assert pose is not None
+    centre, radius = o_space(members, headings, P)
+    assert radius == P.min_radius_m == 0.4
+    assert math.hypot(pose.x - centre[0], pose.y - centre[1]) == pytest.approx(0.4)
+    assert np.hypot(*(members - [pose.x, pose.y]).T).min() >= P.min_clearance_m

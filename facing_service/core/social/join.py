@@ -10,7 +10,8 @@ all face; a newcomer joins by taking a place on that ring where there is room. S
    place moved ``stride_k`` times the members' mean spacing along their heading). The
    centroid alone is wrong for an open arc (two people side by side facing a third place);
    the votes alone are wrong for coarse headings (annotated to 90°).
-2. **The ring** is the members' mean distance from that centre.
+2. **The ring** is the members' mean distance from that centre (never under
+   ``min_radius_m``).
 3. **Room**: a place on the ring is clear when nobody (member or not) stands closer to it
    than the members stand to each other (``clearance_k`` times their median nearest
    spacing, at least ``min_clearance_m``): the robot is no closer to anyone than a person
@@ -50,6 +51,10 @@ class JoinParams:
     steps: int = 72  # places looked at around the ring (every 5°)
     widen: tuple[float, ...] = (1.0, 1.15)  # no room on the ring: a step back
     tie: float = 1.0  # arcs at least this share of the widest: a near-tie, the robot's nearest
+    # The ring is never smaller than this (m): people who stand close (two of a group a
+    # hand apart) leave no place on a ring that small; a newcomer stands at a conversation's
+    # distance from its centre.
+    min_radius_m: float = 0.4
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,7 +75,7 @@ def o_space(positions: FloatArray, headings: FloatArray, p: JoinParams) -> tuple
     facing = np.column_stack([np.cos(headings), np.sin(headings)])
     votes = positions + p.stride_k * spacing * facing
     centre = 0.5 * (positions.mean(axis=0) + votes.mean(axis=0))
-    radius = float(np.hypot(*(positions - centre).T).mean())
+    radius = max(float(np.hypot(*(positions - centre).T).mean()), p.min_radius_m)
     return centre, radius
 
 
