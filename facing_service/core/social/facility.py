@@ -32,7 +32,6 @@ from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
-BoolArray = NDArray[np.bool_]
 
 #: Costs (the unit squared) this close are equal.
 TIE = 1e-9
