@@ -55,3 +55,12 @@ def add(path: Path, key: str, value: Any, command: str, parameters: Mapping[str,
     results[key] = value
     results[f"{key}_provenance"] = provenance(command, parameters)
     path.write_text(json.dumps(results, indent=2) + "\n")
+
+
+def report(lines: list[str], results: Mapping[str, Any], out: Path | None, command: str,
+           parameters: Mapping[str, Any]) -> int:  # fmt: skip
+    """A benchmark's end: its tables printed, its results written to ``out`` when asked."""
+    print("\n".join(lines))
+    if out is not None:
+        write(out, results, command, parameters)
+    return 0

@@ -226,10 +226,8 @@ def main(argv: list[str] | None = None) -> int:
         return generate(paths.DOCS / "groups.md", RESULTS, BEGIN, END, tables, args.check,
                         "python -m benchmarks.groups.dominant --page")  # fmt: skip
     results = evaluate()
-    print("\n".join(tables(results)))
-    if args.out is not None:
-        results_file.write(args.out, results, "python -m benchmarks.groups.dominant", vars(args))
-    return 0
+    command = "python -m benchmarks.groups.dominant"
+    return results_file.report(tables(results), results, args.out, command, vars(args))
 
 
 if __name__ == "__main__":

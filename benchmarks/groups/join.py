@@ -429,10 +429,8 @@ def main(argv: list[str] | None = None) -> int:
     results = evaluate()
     if args.live:
         results["live"] = evaluate_live(args.live)
-    print("\n".join(tables(results)))
-    if args.out is not None:
-        results_file.write(args.out, results, "python -m benchmarks.groups.join", vars(args))
-    return 0
+    command = "python -m benchmarks.groups.join"
+    return results_file.report(tables(results), results, args.out, command, vars(args))
 
 
 if __name__ == "__main__":

@@ -90,23 +90,25 @@ def _live_table(live: dict[str, Any]) -> list[str]:
 
 def _pair_table(results: dict[str, Any]) -> list[str]:
     """What the remaining pair says, per sequence."""
-    lines = [
+    intro = (
         "Where two members remain (every such case above): the left-out member more along"
         " the pair's axis than beside it, the pair's headings pointing to the member's"
         " side (of the cases where they point to a side), and the pair on a ring (0.25 to"
         " 2 m) both face within 45° and within 60° of its centre (`pair_ring.py`: what the"
-        " pair alone says of a group):",
-        "",
+        " pair alone says of a group):"
+    )
+    header = (
         "| sequence | two remain | along the axis | headings point to a side | to the right side"
-        " | a ring both face, 45° | 60° |",
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: |",
-    ]
-    for s, r in results["sequences"].items():
-        ps = r["pair_sides"]
-        ring_45, ring_60 = (ps[k] / max(ps["pairs"], 1) for k in ("ring_45", "ring_60"))
-        lines.append(
-            f"| {s} | {ps['pairs']} | {ps['along']} | {ps['pointing']}"
-            f" | {ps['right_side']} ({ps['right_side'] / max(ps['pointing'], 1):.0%})"
-            f" | {ring_45:.0%} | {ring_60:.0%} |"
-        )
-    return lines
+        " | a ring both face, 45° | 60° |"
+    )
+    rows = [_pair_row(s, r["pair_sides"]) for s, r in results["sequences"].items()]
+    return [intro, "", header, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |", *rows]
+
+
+def _pair_row(sequence: str, ps: dict[str, int]) -> str:
+    ring_45, ring_60 = (ps[k] / max(ps["pairs"], 1) for k in ("ring_45", "ring_60"))
+    right = ps["right_side"] / max(ps["pointing"], 1)
+    return (
+        f"| {sequence} | {ps['pairs']} | {ps['along']} | {ps['pointing']}"
+        f" | {ps['right_side']} ({right:.0%}) | {ring_45:.0%} | {ring_60:.0%} |"
+    )
