@@ -270,24 +270,29 @@ def test_run_in_client_mode_waits_for_its_router_and_says_so(tmp_path):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("viewer", [("watch",), ("view", "--port", "0")])
-def test_a_live_viewer_waits_for_its_router_like_run(viewer):
+def test_a_live_viewer_waits_for_its_router_like_run(viewer, tmp_path):
     """Issue 55: watch and view in client mode exited 1 when the router was not up yet,
-    while run waited; a live viewer now waits too, says so, and opens once it answers."""
+    while run waited; a live viewer now waits too, says so, and opens once it answers.
+    The router starts once the viewer has said it waits (a fixed 2 s was too short for a
+    loaded machine's start: the router was up before the viewer first looked, seen in CI)."""
     port = free_port()
     ep = endpoint(port)
     # retrying every 0.2 s (zenoh's own 1 s doubling to 4 s could outwait the test)
     flags = ("-m", "client", "-e", ep, "--no-multicast-scouting", "--reconnect-s", "0.2,0.2")
-    with running_cli(*viewer, *flags) as proc:
-        time.sleep(2.0)
-        assert proc.poll() is None, proc.communicate()[0]
+    said = tmp_path / "output.txt"
+    with said.open("w") as out, running_cli(*viewer, *flags, capture=False, stdout=out) as proc:
+        wait_until(lambda: "still waiting for a router at " + ep in said.read_text(), 60,
+                   "the viewer saying it waits for its router")  # fmt: skip
+        assert proc.poll() is None, said.read_text()
         router = Router(str(loopback_config(listen=[ep], mode="router")), port).start()
         try:
             time.sleep(4.0)  # the session opens, the client looks for a service (2 s)
-            assert proc.poll() is None, proc.communicate()[0]
+            assert proc.poll() is None, said.read_text()
         finally:
             proc.send_signal(signal.SIGTERM)
-            output, _ = proc.communicate(timeout=10)
+            proc.wait(timeout=10)
             router.stop()
+    output = said.read_text()
     assert proc.returncode == 0, output
     assert "still waiting for a router at " + ep in output
     assert "Traceback" not in output
