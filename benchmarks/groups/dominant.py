@@ -46,10 +46,9 @@ from facing_service.core.social.groups import GroupParams
 from .. import paths, results_file
 from ..sections import generate
 from .held_out import RESULTS as GROUPS_RESULTS
-from .held_out import WIDER, run
+from .held_out import people_grouped, recorded_and_wider, run, with_robot, without_dataset
 from .scoring import Scores, choose, difference, f1_of, interval, scores
 from .sequence_frame import Frame
-from .sequences import SEQUENCES, load
 
 APERTURE_DEG = 160.0
 BINS = 20
@@ -150,23 +149,12 @@ def dominant_sets(a: np.ndarray) -> np.ndarray:
 
 
 def found(frames: Sequence[Frame], p: DominantParams) -> list[list[frozenset[int]]]:
-    """The groups of each frame, the robot at the origin facing +x a participant (as
-    ``held_out.run`` has it), left out of what is scored."""
-    out = []
-    for f in frames:
-        positions = np.vstack([f.positions, [[0.0, 0.0]]])
-        labels = dominant_sets(affinity(positions, np.append(f.headings, 0.0), p))
-        said = [
-            frozenset(f.ids[i] for i in np.flatnonzero(labels == g) if i < len(f.ids))
-            for g in np.unique(labels)
-        ]
-        out.append([g for g in said if len(g) > 1])
-    return out
+    """The groups of each frame, the robot a participant as ``held_out.run`` has it."""
+    return [people_grouped(f, dominant_sets(affinity(*with_robot(f), p))) for f in frames]
 
 
 def evaluate() -> dict[str, Any]:
-    recorded = {s: load(s) for s in SEQUENCES}
-    data = recorded | {s + "*": [f.wider(WIDER) for f in frames] for s, frames in recorded.items()}
+    recorded, data = recorded_and_wider()
     options = [DominantParams(L, s) for L, s in itertools.product(LENGTHS_M, SIGMAS)]
     table: Scores = {}
     for i, p in enumerate(options):
@@ -177,8 +165,7 @@ def evaluate() -> dict[str, Any]:
     rng = random.Random(84)
     out: dict[str, Any] = {"settings": len(options), "sequences": {}}
     for s, frames in recorded.items():
-        training = [t for o in SEQUENCES if SEQUENCES[o] != SEQUENCES[s] for t in (o, o + "*")]
-        i = choose(table, range(len(options)), training)
+        i = choose(table, range(len(options)), without_dataset(s))
         rule = shipped["preferred"]
         theirs = GroupParams(**shipped["sequences"][s][rule]["dataset"]["groups"])
         base = scores(frames, run(frames, theirs), 2 / 3)

@@ -62,8 +62,7 @@ def energy(frame: Frame, labels: np.ndarray, p: GroupParams) -> float:
         return 0.0
     points = grouping.votes(frame.positions, frame.headings, p)
     centre = grouping.centres(points, labels)
-    unary = grouping._unary(frame.positions, points, centre, p.mdl)
-    return float(unary[np.arange(len(labels)), labels].sum() + p.mdl * (labels.max() + 1))
+    return assignment_energy(grouping._unary(frame.positions, points, centre, p.mdl), labels, p.mdl)
 
 
 def greedy(unary: np.ndarray, mdl: float, rank: np.ndarray) -> np.ndarray:

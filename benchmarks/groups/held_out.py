@@ -49,6 +49,7 @@ from .sequences import GCFF_MEDIAN, GCFF_ONE_SET, GCFF_TUNED, SEQUENCES, SHARED,
 
 RESULTS = paths.RESULTS / "groups.json"
 PAGE = paths.DOCS / "groups.md"
+Sequences = dict[str, list[Frame]]  # by name
 FRAME_S = 1.0  # one annotated frame a second, as the live protocol holds them
 WIDER = 1.5  # the training's wider room: the same people this much farther apart
 METRES = ScaleParams(min_m=1.0, max_m=1.0)  # lengths in metres: the room not learnt
@@ -77,11 +78,38 @@ def run(
     out = []
     for k, f in enumerate(frames):
         unit = room.observe(f.positions, k * FRAME_S)
-        positions = np.vstack([f.positions, [[0.0, 0.0]]])
-        labels = detect(positions, np.append(f.headings, 0.0), p, unit)
-        people = [[f.ids[i] for i in g if i < len(f.ids)] for g in groups(labels)]
-        out.append([frozenset(g) for g in people if len(g) > 1])  # the robot is no person
+        out.append(people_grouped(f, detect(*with_robot(f), p, unit)))
     return out
+
+
+def with_robot(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
+    """A frame's positions and headings with the robot last: at the origin, facing +x."""
+    return np.vstack([frame.positions, [[0.0, 0.0]]]), np.append(frame.headings, 0.0)
+
+
+def people_grouped(frame: Frame, labels: np.ndarray) -> list[frozenset[int]]:
+    """The groups of two people or more among ``with_robot``'s labels, by person id (the
+    robot is no person of the data)."""
+    people = [[frame.ids[i] for i in g if i < len(frame.ids)] for g in groups(labels)]
+    return [frozenset(g) for g in people if len(g) > 1]
+
+
+def recorded_and_wider(root: Path = SHARED) -> tuple[Sequences, Sequences]:
+    """Every shared sequence as recorded, and those with the same people ``WIDER`` apart
+    beside them (``name + '*'``): what a set is chosen on."""
+    recorded = {s: load(s, root) for s in SEQUENCES}
+    wider = {s + "*": [f.wider(WIDER) for f in frames] for s, frames in recorded.items()}
+    return recorded, recorded | wider
+
+
+def training(held: Callable[[str], bool]) -> list[str]:
+    """The sequences a set is chosen on (each as recorded and wider), ``held`` ones out."""
+    return [t for o in SEQUENCES if not held(o) for t in (o, o + "*")]
+
+
+def without_dataset(sequence: str) -> list[str]:
+    """``training`` with ``sequence``'s whole dataset held out."""
+    return training(lambda o: SEQUENCES[o] == SEQUENCES[sequence])
 
 
 def candidates() -> list[Candidate]:
@@ -138,17 +166,13 @@ def evaluate(root: Path = SHARED, progress: bool = False) -> dict[str, Any]:
     """Every candidate on every sequence (and its wider room); per rule, the set chosen
     without each dataset and without each sequence, judged on what was held out; the
     shipped default (the room rule chosen on everything) on each sequence."""
-    recorded = {s: load(s, root) for s in SEQUENCES}
-    data = recorded | {s + "*": [f.wider(WIDER) for f in frames] for s, frames in recorded.items()}
+    recorded, data = recorded_and_wider(root)
     options = candidates()
     table = score_all(
         data, options, lambda i: progress and i % 20 == 0 and print(f"{i}/{len(options)}")
     )
     rng = random.Random(41)
     by_rule = {r: [i for i, c in enumerate(options) if c.rule == r] for r in RULES}
-
-    def training(held: Callable[[str], bool]) -> list[str]:
-        return [t for o in SEQUENCES if not held(o) for t in (o, o + "*")]
 
     out: dict[str, Any] = {"rules": RULES, "sequences": {}, "default": {}}
     for s, frames in recorded.items():
@@ -161,11 +185,10 @@ def evaluate(root: Path = SHARED, progress: bool = False) -> dict[str, Any]:
             "gcff_median_port": f1(frames, run(frames, gcff_params(*GCFF_MEDIAN)), 2 / 3),
         }
         chosen: dict[str, dict[str, int]] = {}
-        without_dataset = training(lambda o, s=s: SEQUENCES[o] == SEQUENCES[s])
         without_sequence = training(lambda o, s=s: o == s)
         for rule, indices in by_rule.items():
             chosen[rule] = {
-                "dataset": choose(table, indices, without_dataset),
+                "dataset": choose(table, indices, without_dataset(s)),
                 "sequence": choose(table, indices, without_sequence),
             }
             row[rule] = {
