@@ -226,3 +226,46 @@ def test_the_dominant_sets_page_is_the_results():
     assert dominant.main(["--page", "--check"]) == 0, (
         "regenerate: python -m benchmarks.groups.dominant --page"
     )
+
+
+def test_gcffs_own_run_reads_the_frames_in_its_units_and_refuses_an_unfinished_run():
+    """benchmarks.groups.gcff_own hands GCFF's Octave code the frames in centimetres and
+    reads one labelling per frame back, only from a run that wrote its last line."""
+    from benchmarks.groups.gcff_own import frames_text, labels_read
+    from benchmarks.groups.sequence_frame import Frame
+
+    frames = [
+        Frame((3, 7), np.array([[0.1234567891, -2.5], [1.0, 0.3]]), np.array([0.5, -3.0]), ()),
+        Frame((), np.zeros((0, 2)), np.zeros(0), ()),
+    ]
+    lines = frames_text(frames, 40.0, 6000.0).splitlines()
+    assert lines[0] == "40.0 6000.0 2" and lines[3] == "40.0 6000.0 0"
+    row = [float(x) for x in lines[1].split()]
+    assert row[0] == 3 and row[3] == 0.5
+    assert np.allclose(row[1:3], [12.34567891, -250.0], rtol=1e-15)
+    assert [lab.tolist() for lab in labels_read("0 0 \n\nEND\n", frames)] == [[0, 0], []]
+    with pytest.raises(SystemExit, match="after 2 of 2 frames"):
+        labels_read("0 0 \n\n", frames)
+    with pytest.raises(SystemExit, match="every person"):
+        labels_read("0 \n\nEND\n", frames)
+
+
+def test_gcffs_own_run_refuses_a_folder_that_is_not_gcff(tmp_path, capsys):
+    from benchmarks.groups.gcff_own import main
+
+    with pytest.raises(SystemExit):
+        main(["--gcff", str(tmp_path)])
+    assert f"--gcff {tmp_path}: not a GCFF checkout" in capsys.readouterr().err
+
+
+def test_the_page_says_the_energies_gcffs_own_run_reached():
+    """The committed run reproduced GCFF's published figures (so it was GCFF's code that
+    ran), and docs/groups.md says its counts."""
+    results = json.loads((RESULTS.parent / "groups_gcff_own.json").read_text())["sequences"]
+    for r in results.values():
+        assert abs(r["f1"]["gcff"] - r["f1"]["gcff_published"]) <= 0.01, r  # (published to 0.01)
+    total = {k: sum(r[k] for r in results.values()) for k in ("lower", "same", "higher")}
+    frames = sum(r["frames"] for r in results.values())
+    page = " ".join((RESULTS.parents[2] / "docs/groups.md").read_text().split())
+    assert (f"same energy on {total['same']} of {frames} frames, lower on {total['lower']} "
+            f"and higher on {total['higher']}") in page  # fmt: skip
