@@ -14,7 +14,7 @@ from benchmarks.engagement.recordings import RESULTS
 from facing_service.config.settings import Settings
 
 # every candidate on every recording: about 90 s; they read ../shared/data
-pytestmark = [pytest.mark.slow, pytest.mark.shared_data]
+pytestmark = [pytest.mark.slow, pytest.mark.figures, pytest.mark.shared_data]
 
 PERSONS = ["aqfwx", "dndaq", "eloek", "ghfbv", "rorql"]
 #: The one row held out farther below the rule than criteria.BELOW_RULE (measured 14

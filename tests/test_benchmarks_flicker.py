@@ -13,7 +13,7 @@ import pytest
 from benchmarks.engagement.flicker import RESULTS, TARGET_DELAY_S, evaluate, name
 from facing_service.config.settings import Settings
 
-pytestmark = [pytest.mark.slow, pytest.mark.shared_data]
+pytestmark = [pytest.mark.slow, pytest.mark.figures, pytest.mark.shared_data]
 
 
 @pytest.fixture(scope="module")

@@ -42,6 +42,7 @@ def test_the_shipped_parameters_are_the_ones_chosen_and_the_page_is_the_results(
 
 
 @pytest.mark.slow
+@pytest.mark.figures
 @pytest.mark.shared_data
 def test_a_fresh_run_holds_the_committed_figures():
     """About a minute: every case of the six sequences, every candidate, the robot at ten

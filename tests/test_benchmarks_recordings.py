@@ -16,7 +16,7 @@ from benchmarks.engagement.recordings import (
 )
 
 # processes, recordings or seconds-long scenarios; they read ../shared/data
-pytestmark = [pytest.mark.slow, pytest.mark.shared_data]
+pytestmark = [pytest.mark.slow, pytest.mark.figures, pytest.mark.shared_data]
 
 
 @pytest.fixture(scope="module")

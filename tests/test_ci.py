@@ -62,3 +62,18 @@ def test_a_missing_system_package_skips_its_test_on_a_clone_and_fails_it_in_ci(
     monkeypatch.setenv(system_packages.REQUIRE_SYSTEM_PACKAGES, "1")
     with pytest.raises(pytest.fail.Exception, match="CI runs every test"):
         system_packages.require("chromium")
+
+
+def test_the_test_commands_lines_together_run_every_test_once():
+    """The README's test command runs the benchmarks' figures beside the rest, each line in
+    an environment of its own (they run at once in CI): one line deselects exactly what
+    another selects, and no two lines share an environment."""
+    readme = (CI_RUN.parents[1] / "README.md").read_text()
+    block = readme.split("<!-- test-command", 1)[1].split("```bash\n", 1)[1].split("```", 1)[0]
+    lines = block.strip().splitlines()
+    assert sum(line.endswith('pytest -m "not figures"') for line in lines) == 1, lines
+    assert sum(line.endswith("pytest -m figures") for line in lines) == 1, lines
+    venvs = [line.split()[3] for line in lines]  # python3 -m venv <env> && ...
+    assert len(set(venvs)) == len(lines), venvs
+    for venv, line in zip(venvs, lines, strict=True):
+        assert f"{venv}/bin/python -m pytest" in line, line
