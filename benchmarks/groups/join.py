@@ -4,6 +4,7 @@
     python -m benchmarks.groups.join          # choose held out by dataset, print tables
     python -m benchmarks.groups.join --out F  # ... written as JSON (the page's source)
     python -m benchmarks.groups.join --live N --out F  # ... and N cases through the service
+    python -m benchmarks.groups.join --replayed N --out F  # ... through its scene alone
     python -m benchmarks.groups.join --page   # docs/groups.md's join tables from it
 
 Leave one member out of a real group (three or more, as annotated in the shared F-formation
@@ -33,8 +34,8 @@ import itertools
 import math
 import random
 import statistics
-from collections.abc import Iterator, Sequence
-from dataclasses import asdict, dataclass
+from collections.abc import Sequence
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -44,14 +45,16 @@ from facing_service.core.social.join import JoinParams, chosen, offered
 
 from .. import paths, results_file
 from ..sections import generate
+from .join_cases import BOOTSTRAP, Case, Place, cases, centroid, naive_slot
+from .join_live import evaluate_live
 from .join_page import tables
+from .live import live_said
 from .pair_ring import ring_error
-from .sequence_frame import Frame
+from .replay import said_with_places
 from .sequences import SEQUENCES, SHARED, load
 
 RESULTS = paths.RESULTS / "join.json"
 PAGE = paths.DOCS / "groups.md"
-BOOTSTRAP = 1000
 FOUND_AT_LEAST = 0.8
 ROBOT = (0.0, 0.0)  # the robot at the frame's origin, as the service has it
 #: Where the robot stands, from the remaining members' centroid (m): four directions at 2
@@ -62,56 +65,6 @@ ROBOTS = tuple(
 )
 #: Issue 53's rule and parameters: the free arc nearest the robot.
 BEFORE = JoinParams(tie=0.0, min_radius_m=0.0)
-
-
-@dataclass(frozen=True)
-class Case:
-    """One member left out of one annotated group."""
-
-    members: np.ndarray  # (n, 2) the remaining members
-    headings: np.ndarray  # (n,)
-    others: np.ndarray  # (m, 2) everyone else in the frame
-    truth: np.ndarray  # (2,) where the left-out member stood
-    truth_heading: float
-
-
-def cases(frames: Sequence[Frame]) -> Iterator[Case]:
-    for f in frames:
-        index = {pid: i for i, pid in enumerate(f.ids)}
-        for group in f.truth:
-            if len(group) < 3:
-                continue
-            for out in sorted(group):
-                rest = [index[m] for m in sorted(group) if m != out and m in index]
-                if out not in index or len(rest) < 2:
-                    continue
-                others = [i for i in range(len(f.ids)) if i != index[out] and i not in rest]
-                yield Case(
-                    f.positions[rest],
-                    f.headings[rest],
-                    f.positions[others],
-                    f.positions[index[out]],
-                    float(f.headings[index[out]]),
-                )
-
-
-Place = tuple[float, float, float] | None  # (x, y, yaw), None: no place given
-
-
-def centroid(case: Case) -> Place:
-    c = case.members.mean(axis=0)
-    return float(c[0]), float(c[1]), 0.0  # no heading: it says where, not which way
-
-
-def naive_slot(case: Case) -> Place:
-    c = case.members.mean(axis=0)
-    radius = float(np.hypot(*(case.members - c).T).mean())
-    angles = np.sort(np.mod(np.arctan2(*(case.members - c)[:, ::-1].T), 2 * math.pi))
-    gaps = np.diff(np.append(angles, angles[0] + 2 * math.pi))
-    k = int(np.argmax(gaps))
-    middle = angles[k] + gaps[k] / 2
-    x, y = c[0] + radius * math.cos(middle), c[1] + radius * math.sin(middle)
-    return float(x), float(y), math.atan2(c[1] - y, c[0] - x)
 
 
 def core(case: Case, p: JoinParams) -> list[Place]:
@@ -297,138 +250,28 @@ def page(check: bool) -> int:
     )
 
 
-def live_cases(
-    frames: Sequence[Frame], most: int
-) -> list[tuple[Frame, Frame, Case, frozenset[int]]]:
-    """At most ``most`` leave-one-out cases, evenly spread: each with its whole frame, the
-    frame minus the member left out, and the remaining members' ids."""
-    every = []
-    for f in frames:
-        for case, (out, rest) in zip(cases([f]), _left_out(f), strict=True):
-            keep = [i for i, pid in enumerate(f.ids) if pid != out]
-            shown = Frame(tuple(f.ids[i] for i in keep), f.positions[keep], f.headings[keep], ())
-            every.append((f, shown, case, rest))
-    step = max(1, len(every) // most)
-    return every[::step][:most]
-
-
-def _left_out(f: Frame) -> Iterator[tuple[int, frozenset[int]]]:
-    """The member each of ``cases([f])`` leaves out, and the others, in the same order."""
-    present = set(f.ids)
-    for group in f.truth:
-        if len(group) < 3:
-            continue
-        for out in sorted(group):
-            rest = frozenset(m for m in group if m != out and m in present)
-            if out in present and len(rest) >= 2:
-                yield out, rest
-
-
-#: The robot's places for the live runs (m from the remaining members' centroid).
-LIVE_ROBOTS = ((3.0, 0.0), (0.0, 3.0), (-3.0, 0.0), (0.0, -3.0), (30.0, 30.0))
-#: People of different cases never share a name (a group of one case is never taken for
-#: another's by the service, nor a place left in one for the next's).
-RENAME = 1000
-
-
-def _placed(frame: Frame, at: np.ndarray, n: int) -> Frame:
-    """``frame`` moved so the robot (the origin) stands at ``at`` from it, its people named
-    apart from other cases' (``n``)."""
-    return Frame(tuple(RENAME * n + i for i in frame.ids), frame.positions - at,
-                 frame.headings, ())  # fmt: skip
-
-
-def evaluate_live(most: int, root: Path = SHARED) -> dict[str, Any]:
-    """The shipped join through the live service, both protocols, the robot at each of
-    ``LIVE_ROBOTS``: how far from where the member stood, and how far the median moves
-    with where the robot stands."""
-    from .live import live_said
-
-    out: dict[str, Any] = {}
-    for s in SEQUENCES:
-        picked = live_cases(load(s, root), most)
-        runs: dict[str, list[list[float | None]]] = {"stays": [], "walks_away": []}
-        for r, (dx, dy) in enumerate(LIVE_ROBOTS):
-            asked = [
-                (
-                    case,
-                    rest,
-                    case.members.mean(axis=0) + np.array([dx, dy]),
-                    2 * (r * len(picked) + k),
-                )
-                for k, (_, _, case, rest) in enumerate(picked)
-            ]
-            stays = [_placed(shown, at, n) for (_, shown, _, _), (_, _, at, n) in zip(
-                picked, asked, strict=True)]  # fmt: skip
-            walks = [
-                frame
-                for (whole, shown, _, _), (_, _, at, n) in zip(picked, asked, strict=True)
-                for frame in (_placed(whole, at, n + 1), _placed(shown, at, n + 1))
-            ]
-            said = {"stays": live_said(stays, 0.6),  # the whole frame, then the member gone
-                    "walks_away": live_said(walks, 0.6)[1::2]}  # fmt: skip
-            for name, offset in (("stays", 0), ("walks_away", 1)):
-                runs[name].append(
-                    [
-                        _distance(groups, case, rest, at, RENAME * (n + offset))
-                        for (case, rest, at, n), groups in zip(asked, said[name], strict=True)
-                    ]
-                )
-        out[s] = {
-            "cases": len(picked),
-            "robots": LIVE_ROBOTS,
-            **{name: _live_figures(per_robot) for name, per_robot in runs.items()},
-            "centroid_median_m": _median_to_truth(centroid, picked),
-            "naive_slot_median_m": _median_to_truth(naive_slot, picked),
-        }
-    return out
-
-
-def _distance(
-    groups: list[dict], case: Case, rest: frozenset[int], at: np.ndarray, renamed: int
-) -> float | None:
-    """How far the service's place for the group holding the remaining members is from
-    where the left-out member stood (None: no such group, or no place)."""
-    names = {f"p{renamed + m}" for m in rest}
-    group = next((g for g in groups if names <= set(g["members"])), None)
-    if group is None or group["join"] is None:
-        return None
-    truth = case.truth - at
-    return math.hypot(group["join"]["x"] - truth[0], group["join"]["y"] - truth[1])
-
-
-def _live_figures(per_robot: list[list[float | None]]) -> dict[str, Any]:
-    every = [d for run in per_robot for d in run if d is not None]
-    medians = [float(np.median(found)) for run in per_robot
-               if (found := [d for d in run if d is not None])]  # fmt: skip
-    return {
-        "placed": len(every) / sum(len(run) for run in per_robot),
-        "median_m": float(np.median(every)) if every else None,
-        "robot_spread_m": max(medians) - min(medians) if medians else None,
-    }
-
-
-def _median_to_truth(baseline: Any, picked: Sequence[tuple[Frame, Frame, Case, Any]]) -> float:
-    return float(np.median([math.hypot(*(np.array(baseline(case)[:2]) - case.truth))
-                            for _, _, case, _ in picked]))  # fmt: skip
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, help="write the results as JSON")
     parser.add_argument(
         "--live", type=int, metavar="N", help="also N cases a sequence through the live service"
     )
+    parser.add_argument(
+        "--replayed", type=int, metavar="N", help="also N cases a sequence through its scene"
+    )
     parser.add_argument("--page", action="store_true", help="rewrite docs/groups.md's join table")
     parser.add_argument("--check", action="store_true", help="with --page: exit 1 if stale")
     args = parser.parse_args(argv)
     if args.page:
         return page(args.check)
-    if args.live is not None and not 1 <= args.live <= 1000:
-        parser.error(f"--live must be a number of cases from 1 to 1000, got {args.live}")
+    for flag, most in (("live", 1000), ("replayed", 100_000)):
+        if getattr(args, flag) is not None and not 1 <= getattr(args, flag) <= most:
+            parser.error(f"--{flag} must be a number of cases from 1 to {most}, got "
+                         f"{getattr(args, flag)}")  # fmt: skip
     results = evaluate()
-    if args.live:
-        results["live"] = evaluate_live(args.live)
+    for flag, through in (("live", live_said), ("replayed", said_with_places)):
+        if getattr(args, flag):
+            results[flag] = evaluate_live(getattr(args, flag), through)
     command = "python -m benchmarks.groups.join"
     return results_file.report(tables(results), results, args.out, command, vars(args))
 

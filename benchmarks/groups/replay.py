@@ -9,7 +9,7 @@ The core alone (no zenoh); ``live.live_said`` feeds the same frames to a running
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import replace
 
 from facing_service.config.profiles import scene_params
@@ -22,6 +22,7 @@ from facing_service.core.social.scene import ROBOT, FrameScene, Person, ScenePar
 from .sequence_frame import Frame
 
 Said = list[frozenset[int]]  # the groups of two people or more, by person id
+FRAME = "replay"
 
 
 def shipped(memory: MemoryParams | None = None) -> SceneParams:
@@ -39,14 +40,13 @@ def people(frame: Frame) -> list[Person]:
     ]  # fmt: skip
 
 
-def replay(
+def held(
     frames: Sequence[Frame], spacing_s: float, params: SceneParams, before_s: float = 0.0
-) -> list[Said]:
-    """The groups said at the end of each frame's ``spacing_s`` hold; the first frame's
-    people stood as they are for ``before_s`` before it (a made scene's people were there
-    before it starts: its first frames are not the service's first sight of them)."""
-    scene = FrameScene("replay", params)
-    now, out = 0.0, []
+) -> Iterator[FrameScene]:
+    """The scene at the end of each frame's ``spacing_s`` hold, worked out at the
+    service's rate; the first frame's people stood as they are for ``before_s`` before it."""
+    scene = FrameScene(FRAME, params)
+    now = 0.0
     for k, frame in enumerate(frames):
         standing = people(frame)
         hold = spacing_s + (before_s if k == 0 else 0.0)
@@ -54,7 +54,30 @@ def replay(
         for _ in range(ticks):
             scene.update(standing, Time.from_seconds(now), now)
             now += hold / ticks
-        out.append(said(scene))
+        yield scene
+
+
+def replay(
+    frames: Sequence[Frame], spacing_s: float, params: SceneParams, before_s: float = 0.0
+) -> list[Said]:
+    """The groups said at the end of each frame's ``spacing_s`` hold; the first frame's
+    people stood as they are for ``before_s`` before it (a made scene's people were there
+    before it starts: its first frames are not the service's first sight of them)."""
+    return [said(scene) for scene in held(frames, spacing_s, params, before_s)]
+
+
+def said_with_places(frames: Sequence[Frame], hold_s: float) -> list[list[dict]]:
+    """``live.live_said``'s answer from the service's scene alone: each frame held
+    ``hold_s``, the groups of two people or more said at its end as the service publishes
+    them (members ``p<id>``, the robot left out; where to join, or None)."""
+    out = []
+    for scene in held(frames, hold_s, shipped()):
+        out.append([
+            {"members": sorted(persons), "join": None if g.join is None else
+             {"x": g.join.x, "y": g.join.y, "yaw": g.join.yaw}}
+            for g in scene.snapshot().groups
+            if len(persons := [m for m in g.members if m != ROBOT]) > 1
+        ])  # fmt: skip
     return out
 
 
