@@ -28,7 +28,8 @@ import argparse
 import shutil
 import subprocess
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -80,12 +81,14 @@ def frames_text(frames: Sequence[Frame], stride_cm: float, mdl_cm2: float) -> st
     return "\n".join(lines) + "\n"
 
 
-def labels_read(text: str, frames: Sequence[Frame]) -> list[np.ndarray]:
-    """One labelling per frame from the driver's output, checked against the frames."""
+def labels_read(text: str, frames: Sequence[Frame], why: str = "") -> list[np.ndarray]:
+    """One labelling per frame from the driver's output, checked against the frames;
+    ``why``: what Octave printed, said when the run ended early."""
     rows = text.split("\n")
     if rows[len(frames) : len(frames) + 1] != ["END"]:
+        said = f": {why.strip()[-400:]}" if why.strip() else ""
         raise SystemExit(
-            f"gcff_own: GCFF's run ended after {len(rows) - 1} of {len(frames)} frames"
+            f"gcff_own: GCFF's run ended after {len(rows) - 1} of {len(frames)} frames{said}"
         )
     out = [np.array(row.split(), dtype=np.int64) for row in rows[: len(frames)]]
     if any(len(lab) != len(f.ids) for lab, f in zip(out, frames, strict=True)):
@@ -93,8 +96,10 @@ def labels_read(text: str, frames: Sequence[Frame]) -> list[np.ndarray]:
     return out
 
 
-def gcff_labels(gcff: Path, frames: Sequence[Frame], stride_cm: float, mdl_cm2: float) -> list:
-    """GCFF's own labels of every frame: its mex compiled, its ``gc`` run under Octave."""
+@contextmanager
+def compiled(gcff: Path) -> Iterator[Path]:
+    """A temporary folder holding GCFF's alpha-expansion mex, compiled once from the
+    checkout's sources (nothing is written into the checkout)."""
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         for source in (gcff / "graphopt").iterdir():
@@ -102,23 +107,29 @@ def gcff_labels(gcff: Path, frames: Sequence[Frame], stride_cm: float, mdl_cm2: 
                 shutil.copy(source, work)
         subprocess.run(["mkoctfile", "--mex", "-O3", "expand.cpp", "-o", "expand.mex"],
                        cwd=work, check=True, capture_output=True)  # fmt: skip
-        (work / "in.txt").write_text(frames_text(frames, stride_cm, mdl_cm2))
-        script = DRIVER.format(inp=work / "in.txt", out=work / "out.txt")
-        setup = f"pkg load statistics; addpath('{gcff}'); addpath('{work}');"
-        run = subprocess.run(["octave", "--no-gui", "--quiet", "--eval", setup + script],
-                             cwd=work, capture_output=True, text=True)  # fmt: skip
-        out = work / "out.txt"
-        if not out.read_text().endswith("END\n"):
-            raise SystemExit(f"gcff_own: GCFF's run failed: {run.stderr.strip()[-400:]}")
-        return labels_read(out.read_text(), frames)
+        yield work
 
 
-def compared(sequence: str, gcff: Path) -> dict[str, Any]:
+def gcff_labels(
+    gcff: Path, mex: Path, frames: Sequence[Frame], stride_cm: float, mdl_cm2: float
+) -> list[np.ndarray]:
+    """GCFF's own labels of every frame: its ``gc`` run under Octave, the mex from ``mex``."""
+    (mex / "in.txt").write_text(frames_text(frames, stride_cm, mdl_cm2))
+    out = mex / "out.txt"
+    out.unlink(missing_ok=True)  # the last sequence's
+    script = DRIVER.format(inp=mex / "in.txt", out=out)
+    setup = f"pkg load statistics; addpath('{gcff}'); addpath('{mex}');"
+    run = subprocess.run(["octave", "--no-gui", "--quiet", "--eval", setup + script],
+                         cwd=mex, capture_output=True, text=True)  # fmt: skip
+    return labels_read(out.read_text() if out.is_file() else "", frames, run.stderr)
+
+
+def compared(sequence: str, gcff: Path, mex: Path) -> dict[str, Any]:
     """GCFF's run and the service's on one sequence, at the sequence's tuned parameters."""
     frames = load(sequence)
     stride_cm, mdl_cm2 = tuned(sequence)
     p: GroupParams = gcff_params(stride_cm * CM, mdl_cm2 * CM2)
-    theirs = gcff_labels(gcff, frames, stride_cm, mdl_cm2)
+    theirs = gcff_labels(gcff, mex, frames, stride_cm, mdl_cm2)
     ours = [detect(f.positions, f.headings, p) for f in frames]
     e_theirs = np.array([energy(f, lab, p) for f, lab in zip(frames, theirs, strict=True)])
     e_ours = np.array([energy(f, lab, p) for f, lab in zip(frames, ours, strict=True)])
@@ -172,10 +183,12 @@ def main(argv: list[str] | None = None) -> int:
             parser.error(f"--gcff needs {tool} (Debian: octave liboctave-dev octave-statistics)")
     commit = subprocess.run(["git", "-C", str(args.gcff), "rev-parse", "HEAD"],
                             capture_output=True, text=True).stdout.strip()  # fmt: skip
-    results = {
-        "gcff_commit": commit or None,  # None: not a git checkout
-        "sequences": {s: compared(s, args.gcff.resolve()) for s in SEQUENCES},
-    }
+    gcff = args.gcff.resolve()
+    with compiled(gcff) as mex:
+        results = {
+            "gcff_commit": commit or None,  # None: not a git checkout
+            "sequences": {s: compared(s, gcff, mex) for s in SEQUENCES},
+        }
     command = "python -m benchmarks.groups.gcff_own"
     return results_file.report(tables(results), results, args.out, command, vars(args))
 

@@ -53,7 +53,7 @@ def tables(results: dict[str, Any]) -> list[str]:
         f"Overall median (the set chosen on all six): {results['overall_median_m']:.2f} m."
         f" The shipped set: stride {d['stride_k']:g}x the members' spacing, clearance"
         f" {d['clearance_k']:g}x their nearest spacing and at least {d['min_clearance_m']:g} m,"
-        f" the ring at least {d.get('min_radius_m', 0.0):g} m,"
+        f" the ring at least {d['min_radius_m']:g} m,"
         + (
             " the widest free arc, the robot breaking exact ties."
             if d["tie"] == 1
@@ -100,13 +100,13 @@ def _live_table(live: dict[str, Any], intro: str) -> list[str]:
 
 
 def _share(run: dict[str, Any]) -> str:
-    lo, hi = run.get("placed_interval", (None, None))
-    return f"{run['placed']:.0%}" + ("" if lo is None else f" [{lo:.0%}, {hi:.0%}]")
+    lo, hi = run["placed_interval"]
+    return f"{run['placed']:.0%} [{lo:.0%}, {hi:.0%}]"
 
 
 def _median(run: dict[str, Any]) -> str:
-    lo, hi = run.get("median_m_interval", (None, None))
-    return _m(run["median_m"]) + ("" if lo is None else f" [{_m(lo)}, {_m(hi)}]")
+    lo, hi = run["median_m_interval"]
+    return f"{_m(run['median_m'])} [{_m(lo)}, {_m(hi)}]"
 
 
 def _pair_table(results: dict[str, Any]) -> list[str]:
