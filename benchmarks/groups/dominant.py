@@ -27,14 +27,12 @@ wider), beside the shipped rule chosen the same way (``groups.json``), with the 
 
 from __future__ import annotations
 
-import argparse
 import functools
 import itertools
 import json
 import random
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -43,8 +41,8 @@ from scipy.stats import beta
 
 from facing_service.core.social.groups import GroupParams
 
-from .. import paths, results_file
-from ..sections import generate
+from .. import paths
+from ..sections import measured_or_page
 from .held_out import RESULTS as GROUPS_RESULTS
 from .held_out import people_grouped, recorded_and_wider, run, with_robot, without_dataset
 from .scoring import Scores, choose, difference, f1_of, interval, scores
@@ -204,17 +202,9 @@ def tables(results: dict[str, Any]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, help="write the results as JSON")
-    parser.add_argument("--page", action="store_true", help="rewrite docs/groups.md's table")
-    parser.add_argument("--check", action="store_true", help="with --page: exit 1 if stale")
-    args = parser.parse_args(argv)
-    if args.page:
-        return generate(paths.DOCS / "groups.md", RESULTS, BEGIN, END, tables, args.check,
-                        "python -m benchmarks.groups.dominant --page")  # fmt: skip
-    results = evaluate()
-    command = "python -m benchmarks.groups.dominant"
-    return results_file.report(tables(results), results, args.out, command, vars(args))
+    section = (paths.DOCS / "groups.md", RESULTS, BEGIN, END)
+    return measured_or_page(argv, __doc__.split("\n\n")[0], "benchmarks.groups.dominant",
+                            section, tables, evaluate)  # fmt: skip
 
 
 if __name__ == "__main__":
