@@ -107,7 +107,7 @@ def test_the_rule_catches_a_climb(here, source, wrong):
 MAX_MODULE_LINES = 450
 
 
-#: The benchmarks keep the package's caps (issue 70: modules of 604 and 606 lines, a
+#: The benchmarks keep the package's caps (modules of 604 and 606 lines, a
 #: ``main`` of 136 that did an hour's work inline).
 BENCHMARK_MODULES = sorted((PACKAGE.parent / "benchmarks").rglob("*.py"))
 
@@ -162,7 +162,7 @@ def circles(graph: dict[tuple[str, ...], set[tuple[str, ...]]]) -> list[list[str
 
 
 def test_no_import_circles():
-    """Issue 43: config.session and config.settings imported each other."""
+    """A defect found: config.session and config.settings imported each other."""
     assert circles(module_graph()) == []
 
 
@@ -185,7 +185,7 @@ def test_importing_the_client_loads_no_ros2_and_no_tf():
     assert [m for m in loaded if m.split(".")[0] in ("rosbags", "numpy")] == []
 
 
-#: The layers whose every module has a test file of its own beside its twin (issue 54).
+#: The layers whose every module has a test file of its own beside its twin.
 MIRRORED = ("contract", "core", "ros2", "config", "shell")
 
 
@@ -218,7 +218,7 @@ def defined_names(path: Path) -> set[str]:
 
 
 def test_the_layer_diagram_names_every_module():
-    """Issue 63, defect 8: the diagram of docs/architecture.md named 4 fewer modules of
+    """A defect found: the diagram of docs/architecture.md named 4 fewer modules of
     core/ than there are (and core/__init__ named 4 of 13): a reader's map with holes."""
     (diagram,) = [b for b in _BLOCKS if "contract/" in b and "imports nothing" in b]
     named = set(re.findall(r"[a-z_0-9]+", diagram))
@@ -268,7 +268,7 @@ def steps_named(block: str) -> list[tuple[str, str, str]]:
 def test_the_pipelines_name_functions_that_exist():
     """The ways through the folders name each step as module and function: each function
     is defined in the module named (``hand_over`` stayed there after its rename to
-    ``to_outbox``: issue 63, defect 8)."""
+    ``to_outbox``)."""
     wrong = []
     for layer, module, name in (s for block in _BLOCKS for s in steps_named(block)):
         path = PACKAGE / layer / f"{module}.py"
@@ -279,7 +279,7 @@ def test_the_pipelines_name_functions_that_exist():
 
 
 #: The composition root and what runs it: the only modules of the shell that read the
-#: settings (issue 63); config/ makes the core's parameters from them, the commands (cli,
+#: settings; config/ makes the core's parameters from them, the commands (cli,
 #: tools, camera) and the client read their own flags.
 SETTINGS_READERS = {("shell", "compose"), ("shell", "service"), ("shell", "run")}
 
@@ -315,7 +315,7 @@ MAX_FUNCTION_LINES = 60
 
 
 def test_no_function_is_over_60_lines():
-    """Issue 63: a function a reader holds in their head at once."""
+    """A function a reader holds in their head at once."""
     long = []
     for path in MODULES + BENCHMARK_MODULES:
         module = path.with_suffix("").name
@@ -365,7 +365,7 @@ def benchmark_graph() -> dict[str, set[str]]:
 
 
 def test_benchmarks_have_no_import_circle():
-    """Issue 63: crossval <-> recordings and groups <-> group_scenes were circles dodged by
+    """A defect found: crossval <-> recordings and groups <-> group_scenes were circles dodged by
     imports inside functions; what both needed has a module of its own now."""
     graph = benchmark_graph()
     circles = []
@@ -388,7 +388,7 @@ OF_BENCHMARKS = re.compile(r"test_benchmarks(_\w+)?\.py|test_docs\.py")
 
 
 def test_the_package_tests_import_nothing_from_benchmarks():
-    """Issue 63: six of the package's tests imported benchmarks (a bag reader, the hot
+    """A defect found: six of the package's tests imported benchmarks (a bag reader, the hot
     path's harness, a memory reading, GCFF's parameters): a change to a measurement
     script could break or bend a unit test. They use tests/support or build their own."""
     importing = []
@@ -410,7 +410,7 @@ SHARED_BY_AREAS = {"paths", "sections", "results_file"}
 
 
 def test_each_benchmark_area_imports_only_itself_and_what_all_share():
-    """Issue 63: benchmarks/ measures three unrelated things; each lives in its folder
+    """Benchmarks/ measures three unrelated things; each lives in its folder
     (perf/, engagement/, groups/) and reaches no other (only ``paths``, ``sections`` and
     ``results_file``, shared, and the top ``pages``, which gathers every page, reach across)."""
     across = {
@@ -422,7 +422,7 @@ def test_each_benchmark_area_imports_only_itself_and_what_all_share():
 
 
 def test_every_results_file_is_written_with_its_provenance():
-    """Issue 63: provenance (version, machine, date, command, parameters) was in two
+    """A defect found: provenance (version, machine, date, command, parameters) was in two
     results files of seven. Every benchmark writes its results through
     ``benchmarks.results_file``, which puts it first: no other module writes JSON."""
     writers = []

@@ -99,7 +99,7 @@ def test_the_churn_benchmark_runs_and_says_every_outage(tmp_path):
 
 
 def test_nothing_measured_is_no_target_met():
-    """Issue 63, defect 6: the verdicts were ``all()`` over lists that may be empty, so a
+    """A defect found: the verdicts were ``all()`` over lists that may be empty, so a
     report that measured nothing met every target."""
     from benchmarks.perf.report import TARGETS, verdicts
 
@@ -114,14 +114,14 @@ def test_nothing_measured_is_no_target_met():
 
 
 def test_every_generated_page_is_its_results_files():
-    """One command checks every measured section of the docs (issue 63)."""
+    """One command checks every measured section of the docs."""
     from benchmarks import pages
 
     assert pages.main(["--check"]) == 0, "regenerate: python -m benchmarks.pages"
 
 
 def test_the_people_benchmark_streams_the_robots_it_says():
-    """benchmarks.perf.people (issue 75): bodies alone are bodies; persons with a face and a
+    """benchmarks.perf.people: bodies alone are bodies; persons with a face and a
     body are one participant each, every message of theirs measured."""
     from benchmarks.perf.people import per_message_us, robot
 
@@ -134,7 +134,7 @@ def test_the_people_benchmark_streams_the_robots_it_says():
 
 
 def test_the_participants_benchmark_calls_one_head_said_twice_a_self_group():
-    """benchmarks.engagement.participants (issue 75): a group of two members at one place
+    """benchmarks.engagement.participants: a group of two members at one place
     is one human said twice; two people a conversation apart are not."""
     from benchmarks.engagement.participants import self_grouped
     from facing_service.contract.poses import Stamp

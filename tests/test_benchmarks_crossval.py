@@ -1,4 +1,4 @@
-"""Engagement chosen by cross-validation by person (issue 31): the offline evaluation is
+"""Engagement chosen by cross-validation by person: the offline evaluation is
 the real path's, the shipped defaults are what the procedure picks, and the by-person
 cross-validated figures hold the issue's targets. The table:
 `python -m benchmarks.engagement.crossval`."""
@@ -54,7 +54,7 @@ def test_the_shipped_defaults_are_what_cross_validation_prefers(results):
 
 
 def test_the_by_person_figures_hold_the_targets(results):
-    """Issue 52's targets, on people each fold was not chosen on, without the ceiling
+    """The targets, on people each fold was not chosen on, without the ceiling
     row: the costlier error (a DISENGAGED person called ENGAGED) on average and for the
     worst person-recording, the level, the first ENGAGED; and hri_engagement's rule (the
     committed real-path run) as the anchor: ENGAGED-or-not above its mean, person by
@@ -75,7 +75,7 @@ def test_the_by_person_figures_hold_the_targets(results):
         assert row["engaged_or_not"] >= rule[key] - below, (row, rule[key])
     assert cv["first_engaged_s"] is not None, cv
     assert cv["first_engaged_s"] <= targets["first_engaged_s"], cv
-    # Issue 52's 1.5 s for the first ENGAGING is missed (2.2 s by person: the 20-degree
+    # The 1.5 s asked for the first ENGAGING is missed (2.2 s by person: the 20-degree
     # cone, docs/engagement.md); held here: never after the first ENGAGED.
     assert cv["first_engaging_s"] is not None, cv
     assert cv["first_engaging_s"] <= cv["first_engaged_s"], cv
@@ -160,7 +160,7 @@ def test_cross_validation_catches_a_fit(results):
 
 
 def test_the_rules_mode_is_the_evaluations_rule_on_every_row():
-    """Issue 61: `--engagement rule` through the service's own ROS 2 adapter and tracker
+    """`--engagement rule` through the service's own ROS 2 adapter and tracker
     (offline) stays within 2 points of the evaluation's rule (hri_engagement as its node
     runs it: a timer over TF lookups of the gaze frame) on every row, ceiling included;
     the real path's committed run too (docs/engagement.md's table)."""

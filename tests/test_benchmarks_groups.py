@@ -1,4 +1,4 @@
-"""F-formations scored as GCFF scores them (benchmarks/groups/held_out.py, issue 33): the port of
+"""F-formations scored as GCFF scores them (benchmarks/groups/held_out.py): the port of
 GCFF's ff_evalgroups on its own edge cases, and the method on the shared sequences with
 GCFF's own per-scene parameters, where it must give GCFF's figures."""
 
@@ -38,16 +38,16 @@ def test_evalgroups_is_gcffs_on_its_edge_cases():
         ("GDet/S1", 0.93),
         # GCFF's code breaks ties in the order its data lists people, and GDet lists each
         # group together: the port with index ties gave 0.927 as listed and 0.920 listed
-        # the other way round; order-free, 0.920 (issue 77). Within 2.5 points here.
+        # the other way round; order-free, 0.920. Within 2.5 points here.
         ("GDet/S2", 0.94),
-        ("SALSA/CocktailParty", 0.82),  # every third frame, as GCFF's figure (issue 51)
+        ("SALSA/CocktailParty", 0.82),  # every third frame, as GCFF's figure
     ],
 )
 @pytest.mark.shared_data
 def test_the_port_gives_gcffs_figures_with_gcffs_parameters(sequence, gcff):
     """GCFF's own per-scene parameters, read from the sequence's settings_gc.mat (stride
     in cm, MDL in cm², converted to metres): F1 (T = 2/3) within two points of GCFF's
-    code run unchanged (issue 33's table); GDet S2 within 2.5 (its comment above)."""
+    code run unchanged (its authors' table); GDet S2 within 2.5 (its comment above)."""
     from scipy.io import loadmat
 
     tuned = loadmat(SHARED / sequence / "settings_gc.mat")
@@ -73,8 +73,8 @@ def test_the_shipped_defaults_are_the_set_chosen_on_all_six_sequences():
 
 
 def test_the_shipped_rule_is_in_metres_eligible_and_beaten_by_none_that_may_ship():
-    """Issue 60: the rule that ships is chosen by its worst sequence held out by dataset
-    (not the mean), among those that fail no made scene another rule passes; issue 77:
+    """The rule that ships is chosen by its worst sequence held out by dataset
+    (not the mean), among those that fail no made scene another rule passes;
     only a rule in metres may ship. (Frame by frame with the order-free assignment, GCFF's
     one stride in metres is better at its worst, 0.69 against 0.66 on CoffeeBreak Seq1,
     and fails the wide circle: docs/groups.md.)"""
@@ -122,7 +122,7 @@ def test_the_scenes_made_for_the_failures_are_what_they_say():
 
 
 def test_the_order_harness_counts_frames_grouped_otherwise_and_groups_listed_together():
-    """benchmarks.groups.order (issue 77): a frame whose grouping follows the order its
+    """benchmarks.groups.order: a frame whose grouping follows the order its
     people are listed in is counted; one that does not is not; a true group listed
     consecutively is counted as such."""
     from benchmarks.groups.order import changed, first_look_f1, listed_together

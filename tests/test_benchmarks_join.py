@@ -1,4 +1,4 @@
-"""Where to stand, judged on where people stood (benchmarks/groups/join.py, issue 53): the
+"""Where to stand, judged on where people stood (benchmarks/groups/join.py): the
 baselines do what they say, the shipped parameters are the ones chosen, the page's table
 is the committed results', and a fresh run on the shared sequences still holds them."""
 
@@ -49,7 +49,7 @@ def test_a_fresh_run_holds_the_committed_figures():
     places. A place for at least 80 % of every sequence's cases; below both baselines but
     on GDet (whose headings do not tell a pair's two sides apart: docs/groups.md); where
     the robot stands moves no place of a group with one clear gap, and the median less
-    than issue 53's rule did; the committed figures reproduced."""
+    than the first rule did; the committed figures reproduced."""
     fresh = join.evaluate()
     committed = json.loads(join.RESULTS.read_text())
     for sequence, row in fresh["sequences"].items():
@@ -61,7 +61,7 @@ def test_a_fresh_run_holds_the_committed_figures():
         row = fresh["sequences"][sequence]
         baselines = min(row["centroid"]["median_m"], row["naive_slot"]["median_m"])
         assert row["join"]["median_m"] < baselines, (sequence, row)
-    for sequence, row in fresh["sequences"].items():  # issue 68: the group's place, not the
+    for sequence, row in fresh["sequences"].items():  # the group's place, not the
         assert row["join"]["one_gap_robot_spread_m"] <= 0.1, (sequence, row)  # robot's
         assert row["join"]["robot_spread_m"] <= row["before"]["robot_spread_m"], (sequence, row)
 

@@ -39,10 +39,10 @@ def test_the_rule_is_reproduced_faithfully(results):
 
 
 def test_the_service_beats_the_rule(results):
-    """On both folders, without the ceiling row: the costlier error within issue 52's
+    """On both folders, without the ceiling row: the costlier error within the
     bounds (5 % on average, 15 % for the worst person), more often right, and ENGAGED in
     half the rule's delay. ENGAGING comes no later than ENGAGED (2.2 s median with the
-    20-degree cone, not issue 52's 1.5 s: docs/engagement.md says why)."""
+    20-degree cone, not the 1.5 s asked for: docs/engagement.md says why)."""
     ours = results["service"]["summary"]["without_ceiling"]
     rule = results["rule"]["summary"]["without_ceiling"]
     assert ours["false_engaged"] <= 0.05, ours

@@ -1,4 +1,4 @@
-"""Groups from the stream, as benchmarks/groups/stream.py judges them (issue 70): the
+"""Groups from the stream, as benchmarks/groups/stream.py judges them: the
 memory the service ships is the one chosen held out, the made streams say what they
 claim and the memory passes them, and a stream with the memory off is frame by frame."""
 

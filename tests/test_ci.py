@@ -1,6 +1,6 @@
 """What makes a test fail in the project's CI where a contributor's clone skips it (the shared
 data, a system package): the project's own variables, set by .ci/run, never the ``CI=true``
-hosted CIs set for every fork (issue 67: a user's fork on GitHub Actions failed on data it
+hosted CIs set for every fork (a user's fork on GitHub Actions failed on data it
 cannot have)."""
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def test_the_variable_is_no_setting_a_command_would_say_is_misspelt():
 
 
 def test_every_system_package_a_test_needs_is_in_the_readme_and_installed_by_ci():
-    """Issue 74: the packages were listed only inside .ci/run, and a fresh clone's test
+    """A defect found: the packages were listed only inside .ci/run, and a fresh clone's test
     command failed on them. The README's install line, CI's installs and the tests' list
     are one set; CI makes a missing one fail, a contributor's clone skips its tests."""
     from system_packages import PACKAGES, REQUIRE_SYSTEM_PACKAGES

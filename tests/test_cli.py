@@ -69,7 +69,7 @@ def test_signal_stops_the_real_process_cleanly(net, signum):
     [
         (["--threshold-deg", "500"], {}, 2, "--threshold-deg=500.0: "),  # our settings
         (["--cfg", "no/such/key:1"], {}, 2, "--cfg no/such/key:<redacted>: unknown zenoh config"),
-        # issue 74: named --cfg though no flag was given
+        # a defect found: named --cfg though no flag was given
         ([], {"FACING_CFG": "no/such/key:1"}, 2, "FACING_CFG no/such/key:<redacted>: unknown"),
     ],
     ids=["invalid-setting", "bad-zenoh-config", "bad-zenoh-config-variable"],
@@ -133,13 +133,13 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
         (["demo", "--rate-hz", "0"], "argument --rate-hz: must be a number > 0, got 0"),
         (["camera", "--reach-m", "0.1"], "argument --reach-m: must be a number >= 0.5, got 0.1"),
         (["camera", "--reach-m", "50"], "argument --reach-m: must be a number <= 20, got 50"),
-        # issue 67: the rule named the fields, not the flags
+        # a defect found: the rule named the fields, not the flags
         (
             ["run", "--disengage-below", "0.7", "--engage-above", "0.6"],
             "--disengage-below (FACING_DISENGAGE_BELOW, 0.7) must be below --engage-above "
             "(FACING_ENGAGE_ABOVE, 0.6)",
         ),
-        # issue 67: the camera's flags were ignored by a demo of simulated people
+        # a defect found: the camera's flags were ignored by a demo of simulated people
         (["demo", "--calibration", "ci.yaml"], "demo: --calibration only with --camera"),
         (["demo", "--fov-deg", "90", "--max-faces", "2"], "--fov-deg and --max-faces only with"),
         (["simulate", "--people", "-1"], "argument --people: must be a number >= 1, got -1"),
@@ -155,9 +155,9 @@ def test_sigterm_while_still_waiting_for_a_router_exits_cleanly():
         (["run", "-c", "/no/such.json5"], "--config '/no/such.json5': no such file"),
         (["run", "-c", "/tmp"], "--config '/tmp': not a file"),
         (["run", "--threshold", "30"], "unrecognized arguments: --threshold 30 (did you mean "),
-        # issue 59: a misspelt flag gets the nearest, as a misspelt FACING_ variable does
+        # a misspelt flag gets the nearest, as a misspelt FACING_ variable does
         (["run", "--treshold-deg", "30"], "--treshold-deg 30 (did you mean --threshold-deg?)"),
-        # issue 59: nan was said as "Input should be less than 180"
+        # a defect found: nan was said as "Input should be less than 180"
         (["run", "--threshold-deg", "nan"], "--threshold-deg=nan: Input should be a finite"),
         (["run", "--stale-after-s", "inf"], "--stale-after-s=inf: Input should be a finite"),
     ],
@@ -174,7 +174,7 @@ def test_every_number_path_and_endpoint_is_checked_in_one_line(args, message):
 @pytest.mark.slow
 def test_simulate_says_what_it_publishes(net):
     service, ep = net.service()
-    for _ in range(2):  # issue 74: a second run was refused as out_of_order (a fixed clock)
+    for _ in range(2):  # a defect found: a second run was refused as out_of_order (a fixed clock)
         _simulate_once(ep)
     assert service.status().rejected["out_of_order"] == 0
     assert service.status().counters["clock_restarts"] == 0
@@ -208,7 +208,7 @@ def _simulate_once(ep: str) -> None:
 
 @pytest.mark.slow
 def test_simulate_to_nowhere_says_nobody_heard_and_fails():
-    """Issue 59: publishing to an endpoint nobody listens on said "published 900 poses"
+    """A defect found: publishing to an endpoint nobody listens on said "published 900 poses"
     and exited 0; zenoh's matching status says nobody heard them."""
     ep = endpoint(free_port())
     proc = subprocess.run(
@@ -223,7 +223,7 @@ def test_simulate_to_nowhere_says_nobody_heard_and_fails():
 
 
 def test_a_peer_says_at_once_that_its_endpoints_are_unreachable(caplog):
-    """Issue 46: a peer told to connect to an endpoint nobody listens on was silent for
+    """A defect found: a peer told to connect to an endpoint nobody listens on was silent for
     10 s; the service's link watch says so within about a second, and the status shows
     how long it has had nobody."""
     import logging
@@ -243,7 +243,7 @@ def test_a_peer_says_at_once_that_its_endpoints_are_unreachable(caplog):
 
 @pytest.mark.slow
 def test_run_in_client_mode_waits_for_its_router_and_says_so(tmp_path):
-    """Issue 46: `run -m client` exited at once when the router was not up yet, so a robot
+    """A defect found: `run -m client` exited at once when the router was not up yet, so a robot
     booting in any order needed a restart. It now waits, says so within a second (and how
     to exit instead), and answers once the router comes up."""
     port = free_port()
@@ -271,7 +271,7 @@ def test_run_in_client_mode_waits_for_its_router_and_says_so(tmp_path):
 @pytest.mark.slow
 @pytest.mark.parametrize("viewer", [("watch",), ("view", "--port", "0")])
 def test_a_live_viewer_waits_for_its_router_like_run(viewer, tmp_path):
-    """Issue 55: watch and view in client mode exited 1 when the router was not up yet,
+    """A defect found: watch and view in client mode exited 1 when the router was not up yet,
     while run waited; a live viewer now waits too, says so, and opens once it answers.
     The router starts once the viewer has said it waits (a fixed 2 s was too short for a
     loaded machine's start: the router was up before the viewer first looked, seen in CI)."""
@@ -313,7 +313,7 @@ def test_watch_once_says_at_once_that_no_router_answers():
 
 @pytest.mark.slow
 def test_a_wrong_namespace_is_said_as_such_not_blamed_on_the_router(net):
-    """Issue 59: with the router (here the service itself) up, a viewer of another
+    """A defect found: with the router (here the service itself) up, a viewer of another
     namespace said "still waiting for a router at …"; it names the namespace now, and
     those that answer. One shot exits 1; a live view goes on waiting for results."""
     port = free_port()
@@ -336,7 +336,7 @@ def test_a_wrong_namespace_is_said_as_such_not_blamed_on_the_router(net):
 
 @pytest.mark.slow
 def test_watch_once_on_a_wrong_port_in_peer_mode_is_one_line_and_fails():
-    """Issue 59: a peer's session opens with nobody there; one shot drew an empty map,
+    """A defect found: a peer's session opens with nobody there; one shot drew an empty map,
     blamed the router, spoke of a cache filling, and exited 0."""
     ep = endpoint(free_port())
     with running_cli("watch", "--once", "-e", ep, "--no-multicast-scouting") as proc:
@@ -350,7 +350,7 @@ def test_watch_once_on_a_wrong_port_in_peer_mode_is_one_line_and_fails():
 
 @pytest.mark.slow
 def test_ctrl_c_while_the_command_still_imports_is_quiet():
-    """Issue 59: Ctrl-C in the first ~0.3 s of `run` printed 15 lines of importlib's
+    """A defect found: Ctrl-C in the first ~0.3 s of `run` printed 15 lines of importlib's
     traceback; the entry point now imports the command's modules where it catches it.
     (The interpreter's own start-up, before any of our code, stays Python's.)"""
     for after_s in (0.15, 0.3, 0.5):
@@ -417,7 +417,7 @@ def test_a_bad_flag_is_said_by_its_command_with_its_usage(capsys):
         err = capsys.readouterr().err.strip()
         assert err.startswith(f"facing-service {command}: unrecognized arguments: ")
         assert err.endswith(f"(see facing-service {command} --help)")
-    # issue 74: the hint came between the flag and its value ("--threshold (did you mean
+    # a defect found: the hint came between the flag and its value ("--threshold (did you mean
     # --threshold-deg?) 30")
     with pytest.raises(SystemExit):
         main(["run", "--threshold", "30", "--bogus-flag", "--verbos", "x", "y"])
@@ -567,7 +567,7 @@ def test_view_says_a_port_in_use_in_one_line(net):
 
 
 def test_the_camera_publishes_in_the_frame_the_views_and_the_service_default_to():
-    """Issue 67: camera published in camera_link, view and watch defaulted to base_link:
+    """A defect found: camera published in camera_link, view and watch defaulted to base_link:
     following docs/camera.md gave an empty radar."""
     from facing_service.arguments import build_parser
 
@@ -577,7 +577,7 @@ def test_the_camera_publishes_in_the_frame_the_views_and_the_service_default_to(
 
 
 def test_the_router_offers_no_flag_it_would_ignore():
-    """Issue 67: router --help offered --exit-without-router (a router waits for none)."""
+    """A defect found: router --help offered --exit-without-router (a router waits for none)."""
     from facing_service.arguments import build_parser
 
     parser = build_parser()

@@ -57,7 +57,7 @@ def test_the_settings_file_is_valid_settings_for_a_robot():
 
 @pytest.mark.parametrize("name", SETTINGS_FILES)
 def test_a_shell_reads_the_settings_file_as_systemd_does(name):
-    """Issue 55: an unquoted `;` made the shipped file fail when sourced (`set -a; .`)."""
+    """A defect found: an unquoted `;` made the shipped file fail when sourced (`set -a; .`)."""
     done = subprocess.run(
         ["bash", "-c", f"set -ae; . {shlex.quote(str(DEPLOY / name))}; env -0"],
         capture_output=True,

@@ -50,7 +50,7 @@ def anchors(page: Path) -> set[str]:
     ids=lambda p: str(p.relative_to(ROOT)),
 )
 def test_relative_links_resolve_anchors_included(doc):
-    """Issue 59: two pages linked an anchor that had changed; a page's link and the
+    """A defect found: two pages linked an anchor that had changed; a page's link and the
     heading it names are checked together."""
     for target in LINK.findall(doc.read_text()):
         if re.match(r"[a-z]+:", target):
@@ -132,7 +132,7 @@ def test_the_readmes_isolated_run_its_health_check_and_its_snippet_work_as_writt
     """The README shows the isolated way first: the service on loopback without
     multicast scouting, the health command that reaches it, and a snippet that connects
     to it alone. Each runs as written, in the README's order (only the port changes),
-    beside another service on this host (issue 59: plain `health` answered for that one):
+    beside another service on this host (plain `health` answered for that one):
     health names our instance and endpoint, the snippet prints the service's result, and
     no command prints a traceback or exits 0 having heard nothing."""
     import signal
@@ -185,7 +185,7 @@ def test_performance_figures_are_stated_once_on_the_performance_page():
 
 
 def test_the_examples_are_run_with_the_venvs_python():
-    """Issue 67: examples/README said `python examples/tracker.py`, a ModuleNotFoundError
+    """A defect found: examples/README said `python examples/tracker.py`, a ModuleNotFoundError
     (zenoh) unless the venv was active."""
     texts = [*ROOT.glob("*.md"), *PAGES, *ROOT.glob("examples/**/*.md"),
              *ROOT.glob("examples/*.py")]  # fmt: skip

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -21,7 +22,7 @@ def test_ruff(args):
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
-#: Every layer is type-clean (issue 54); the pure core and the wire contract strictly so.
+#: Every layer is type-clean; the pure core and the wire contract strictly so.
 STRICT = ["facing_service/contract", "facing_service/core"]
 
 
@@ -60,7 +61,7 @@ def _asserts(node: ast.AST) -> bool:
 
 
 def test_every_test_asserts_something():
-    """A test that cannot fail proves nothing (issue 54): each test function checks
+    """A test that cannot fail proves nothing: each test function checks
     something itself or through a helper that does."""
     empty = []
     for path in sorted((ROOT / "tests").rglob("test_*.py")):
@@ -78,3 +79,24 @@ def test_every_test_asserts_something():
                 if not _asserts(node) and not calls & helpers:
                     empty.append(f"{path.relative_to(ROOT)}::{node.name}")
     assert not empty, f"tests that check nothing: {empty}"
+
+
+#: A reader of the code has its words, not the tracker's history: "issue" and a number.
+ISSUE_NUMBER = re.compile(r"\b[Ii]ssues? #?[0-9]+")
+
+
+def test_no_code_names_an_issue_number():
+    """Docstrings and comments say why in plain words; a number from the issue list means
+    nothing to a newcomer (the pages in docs/ may cite them, the code may not)."""
+    tracked = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True,
+                             check=True).stdout.split()  # fmt: skip
+    code = [p for p in tracked if p.endswith((".py", ".toml", ".sh", ".cfg", "Dockerfile"))
+            or p.startswith(".ci/")]  # fmt: skip
+    found = [
+        f"{path}:{n}: {line.strip()}"
+        for path in code
+        if (ROOT / path).is_file()
+        for n, line in enumerate((ROOT / path).read_text(errors="replace").splitlines(), 1)
+        if ISSUE_NUMBER.search(line)
+    ]
+    assert not found, "\n".join(found)

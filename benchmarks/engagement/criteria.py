@@ -41,7 +41,7 @@ def capped(scored: Sequence[Row]) -> tuple[float, ...]:
 
 #: How far below hri_engagement's rule any one person-recording may fall (its ENGAGED-or-
 #: not, the rule's on the same row): a candidate farther below on anyone is out however
-#: good its mean (issue 52).
+#: good its mean.
 BELOW_RULE = 0.10
 
 Key = tuple[str, str]  # (recording, person)
@@ -61,7 +61,7 @@ def shortfall(scored: Sequence[Row], rule: Mapping[Key, float]) -> float:
 def criteria(rule: Mapping[Key, float]) -> dict[str, Rank]:
     """How a family picks its candidate on the training person-recordings: the costlier
     error capped first, so that within a family it is the incumbent the others must beat
-    beyond their interval; and *beside the rule* (issue 52): no training person-recording
+    beyond their interval; and *beside the rule*: no training person-recording
     far below the rule's figure on its row first, then the costlier error capped."""
 
     def beside_rule(scored: Sequence[Row]) -> tuple[float, ...]:

@@ -1,4 +1,4 @@
-"""Engagement parameters chosen by cross-validation, by person first (issues 22, 31).
+"""Engagement parameters chosen by cross-validation, by person first.
 
     python -m benchmarks.engagement.crossval  # every idea: in-sample and cross-validated
 

@@ -47,7 +47,7 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
         "head_dwell_s": (0.5, 1.0, 1.5, 2.0),
     },
     # Two speeds: ENGAGING as soon as the smoothed score crosses, ENGAGED once the face
-    # has stayed in the cone, every sample, this long (sustained attention, issue 42).
+    # has stayed in the cone, every sample, this long (sustained attention).
     # First with the time fixed by the delay the issue allows ENGAGED (half the rule's
     # 5.2 s: a person facing from the start is ENGAGED at 2.1 s), the cone alone chosen;
     # then the time chosen too.
@@ -75,7 +75,7 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
         "head_engaged_after_s": (1.5, 2.0, 2.5),
         "head_steady_deg": (0.0, 5.0, 8.0, 12.0),
     },
-    # The rule's own evidence, shortened (issue 52): a soft vote, the face within a field
+    # The rule's own evidence, shortened: a soft vote, the face within a field
     # of its own, whose share of recent samples engages a person and holds them however
     # their head roams. The cone is kept (24°, as chosen before) for the quick ENGAGING,
     # and with it the 2 s of sustained attention; the vote's field is searched from inside
@@ -94,7 +94,7 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
         "head_vote_deg": (20.0, 22.0, 24.0, 26.0, 28.0, 30.0, 34.0),
         "head_vote_tau_s": (1.5, 2.5, 4.0),
     },
-    # Soft evidence that accumulates (issue 61): the facing score as a graded vote (+1 in
+    # Soft evidence that accumulates: the facing score as a graded vote (+1 in
     # the cone, -1 past its fall-off), summed over time within a memory, levels by the
     # rule's own thresholds on its share; no gate decides alone. The memory is its one
     # length; the cone (and where the votes turn negative) is the head's.
@@ -125,7 +125,7 @@ FAMILIES: dict[str, dict[str, tuple[Any, ...]]] = {
 BEFORE = {"head_engaged_after_s": (0.0,), "head_vote_deg": (0.0,), "head_model": ("cone",)}
 
 
-#: Research knobs: searched here, never the product's flags (issue 63: no user should
+#: Research knobs: searched here, never the product's flags (no user should
 #: meet a knob that defaults to off and was never chosen): the head's engagement
 #: parameter each sets, and the value that turns it off.
 RESEARCH: dict[str, tuple[str, Any]] = {

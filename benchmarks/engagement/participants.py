@@ -1,4 +1,4 @@
-"""One human, one participant, as a new user sees it (issue 75): each shared recording
+"""One human, one participant, as a new user sees it: each shared recording
 replayed into the real service (``--input ros2``, through a router, as
 ``benchmarks.engagement.recordings`` does), a ``FacingClient`` asked every quarter second
 while it plays.

@@ -212,7 +212,7 @@ def rule_mode_section(results: dict[str, Any]) -> list[str]:
     return _table(head, rows)
 
 
-#: The shipped head rule and the one it replaced (issue 52): (family, criterion) in
+#: The shipped head rule and the one it replaced: (family, criterion) in
 #: the cross-validation's judged choices.
 NOW = ("cone, soft vote", "at worst")
 BEFORE = ("cone, sustained attention 2 s", "false ENGAGED capped")
@@ -239,8 +239,8 @@ def _digest_row(name: str, s: dict[str, Any], rows: list[dict[str, Any]], below:
 
 
 def vote_section(results: dict[str, Any]) -> list[str]:
-    """The soft vote against the sustained attention it replaced and the rule, by person
-    (issue 52): the figures the prose after it quotes, and the paired advantage."""
+    """The soft vote against the sustained attention it replaced and the rule, by person:
+    the figures the prose after it quotes, and the paired advantage."""
     cv = results["crossval"]
     rule = {(r["recording"], r["person"]): r for r in results["rule"]["rows"]}
     lines = []

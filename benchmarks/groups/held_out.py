@@ -116,7 +116,7 @@ def candidates() -> list[Candidate]:
     """The rules compared, each over its grid: the last default's rule in metres (each
     person's stride from the nearest ahead, a fixed cost per group); GCFF's (one stride);
     and both in the room's unit, learnt over the last 10 or 60 s, kept at least 0.5 m or
-    0.7 m (a dense crowd's spacing is not its groups': issue 51)."""
+    0.7 m (a dense crowd's spacing is not its groups')."""
     per_person = [  # the stride as if the nearest ahead stood straight ahead (ring off)
         GroupParams(k, lo, hi, 70.0, mdl, ring=False)
         for k, (lo, hi), mdl in itertools.product(
@@ -128,7 +128,7 @@ def candidates() -> list[Candidate]:
         for stride, mdl in itertools.product((0.2, 0.3, 0.4, 0.5, 0.6), (0.6, 1.0, 1.5, 2.0, 3.0))
     ]
     rooms = [ScaleParams(window_s=w, min_m=m, max_m=1.5) for w in (10.0, 60.0) for m in (0.5, 0.7)]
-    # The ring (issue 60): the o-space centre both stand on, a radius from the people's own
+    # The ring: the o-space centre both stand on, a radius from the people's own
     # spacing and count; bounds in metres from a pair at arm's length to a circle of eight.
     # Chosen again with the exact assignment over a wider grid (its stride's share, two
     # more bounds, one more cost): 56 sets.
@@ -235,8 +235,8 @@ def eligible(results: dict[str, Any]) -> list[str]:
 
 
 #: The rules that may ship: lengths in metres. The room's learnt unit won on the shared
-#: sequences and lost on the rooms kept outside the project (issue 60), and issue 77 keeps
-#: metres: its rules are measured beside, and replace nothing.
+#: sequences and lost on the rooms kept outside the project, and the
+#: order-free assignment keeps metres: its rules are measured beside, and replace nothing.
 IN_METRES = ("gcff", "ring", "metres")
 
 

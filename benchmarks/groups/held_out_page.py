@@ -175,5 +175,5 @@ def _verdict(step: dict[str, Any]) -> str:
     if step["replaces"]:
         return "replaces it"
     if step["difference"][1] > 0:  # better, with its interval above 0, yet not in metres
-        return "kept out: not in metres (lost outside, issue 60)"
+        return "kept out: not in metres (lost outside)"
     return "kept out"

@@ -1,4 +1,4 @@
-"""Ideas for issue 51 measured beside the shipped rule, kept or dropped on their figures:
+"""Ideas for dense rooms measured beside the shipped rule, kept or dropped on their figures:
 each a filter on the groups the core finds, with one parameter, scored on every shared
 sequence and on the scenes made for the failures (``scenes``).
 

@@ -1,5 +1,4 @@
-"""Where the robot should stand to join a group, judged on where people really stood
-(issues 53, 68).
+"""Where the robot should stand to join a group, judged on where people really stood.
 
     python -m benchmarks.groups.join          # choose held out by dataset, print tables
     python -m benchmarks.groups.join --out F  # ... written as JSON (the page's source)
@@ -23,7 +22,7 @@ every case and over the groups with one clear gap.
 The join's parameters are chosen with each dataset held out, as the groups' are: among
 the candidates that give a place in at least 80 % of the cases of every training
 sequence (else the most), the one whose worst training sequence is best, measured as its
-median distance over the better baseline's. "Before" is issue 53's rule (the free arc
+median distance over the better baseline's. "Before" is the first rule (the free arc
 nearest the robot, ``tie`` 0) with its shipped parameters, on the same cases.
 """
 
@@ -63,7 +62,7 @@ ROBOTS = tuple(
     (r * math.cos(math.radians(a)), r * math.sin(math.radians(a)))
     for r, a in [(d, a) for d in (2.0, 4.0) for a in (0, 90, 180, 270)] + [(30, 45), (30, 225)]
 )
-#: Issue 53's rule and parameters: the free arc nearest the robot.
+#: The first rule and its parameters: the free arc nearest the robot.
 BEFORE = JoinParams(tie=0.0, min_radius_m=0.0)
 
 
@@ -165,8 +164,8 @@ def grid() -> list[JoinParams]:
     spacing; never under 0.3 m, a body's width: a fact about people, not searched), and
     what a near-tie is (arcs within a tenth of the widest, or equal widths only), and the
     ring's least radius (none, or 0.4 m: two people face to face 0.8 m apart). The rule
-    itself is not searched: the place is the group's, the robot only breaks ties (issue
-    68); issue 53's rule (every arc a tie, the nearest taken) is the "before" beside it."""
+    itself is not searched: the place is the group's, the robot only breaks ties;
+    the first rule (every arc a tie, the nearest taken) is the "before" beside it."""
     return [
         JoinParams(stride_k=s, clearance_k=c, tie=t, min_radius_m=r)
         for s, c, t, r in itertools.product(

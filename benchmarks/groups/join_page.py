@@ -21,7 +21,7 @@ def tables(results: dict[str, Any]) -> list[str]:
         " third frame), the robot at each of ten places around the remaining members (four"
         " directions at 2 and 4 m, and 30 m away on two sides); the join held out by dataset"
         " (its parameters chosen on the other datasets, among"
-        f" {results['settings_compared']} settings), issue 53's rule (the free arc nearest the"
+        f" {results['settings_compared']} settings), the first rule (the free arc nearest the"
         " robot) before it, and the two baselines on the same cases: share given a place,"
         " median distance to where the member stood [95 % interval], share within 0.5 m,"
         " median heading error, and how far the median moves with where the robot stands"

@@ -1,5 +1,5 @@
 """F-formations through the live service: the shared sequences fed as a tracker would
-feed them, the groups read back from ``hri/groups/<frame>`` (issue 33's protocol).
+feed them, the groups read back from ``hri/groups/<frame>`` (the service's groups query).
 
 Each annotated frame is held still for ``hold_s`` (1 s) at 30 Hz: every person's pose as
 JSON on ``hri/bodies/p<id>/pose/<frame>`` (position in metres, heading as the body

@@ -1,4 +1,4 @@
-"""Groups that do not depend on what people are called (issue 77): each frame of every
+"""Groups that do not depend on what people are called: each frame of every
 shared sequence grouped as listed, then with its people listed in another order and named
 so that their ids sort the other way; the frames grouped otherwise, counted.
 

@@ -1,4 +1,4 @@
-"""A sequence of frames replayed as a stream through the service's own scene (issue 70):
+"""A sequence of frames replayed as a stream through the service's own scene:
 each frame's people held still from its arrival until the next, the scene worked out at
 the service's rate as its loop would (``FrameScene.update``: skipped while nobody moves and
 the memory has settled), the groups said read at the end of each frame's hold.

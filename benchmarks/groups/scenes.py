@@ -1,5 +1,5 @@
 """Scenes made here, each modelled on one way the grouping failed on scenes kept outside the
-project (issues 51 and 60): a dense room of posters, a wide circle of five with 90-degree
+project: a dense room of posters, a wide circle of five with 90-degree
 headings, loners standing near each other; a dense room of large groups (people 0.6 m
 apart, groups of four to six), a circle of five or six 0.8 m apart with headings rounded
 to 45 or 90 degrees, pairs side by side who are not a group. Not data: a rule that wins on

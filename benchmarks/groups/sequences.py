@@ -24,7 +24,7 @@ SEQUENCES = {
 #: Every how many annotated frames a sequence is read (SALSA's 500, 3 s apart: every
 #: third, as GCFF's own figure for it was measured).
 STEP = {"SALSA/CocktailParty": 3}
-#: Seconds between consecutive annotated frames, as a stream is replayed (issue 70). SALSA
+#: Seconds between consecutive annotated frames, as a stream is replayed. SALSA
 #: records seconds (3 s); GDet's stamps are video frame numbers 30 (S1) and 60 (S2) apart,
 #: read at 30 frames a second; CoffeeBreak's and Synth's are frame counts with no rate:
 #: one a second, stated.
@@ -40,9 +40,9 @@ SITUATION_FRAMES = {"Synth": 10}
 #: A situation's people are renamed ``RENAME * situation + id``.
 RENAME = 1000
 CM = 0.01
-#: GCFF's own code, run unchanged and scored by its ff_evalgroups (issues 33 and 41):
+#: GCFF's own code, run unchanged and scored by its ff_evalgroups:
 #: F1 at T = 2/3 tuned per scene, and with one set chosen without that dataset.
-#: SALSA's (issue 51, the data's README): tuned 0.82 (40 cm, 0.6 m²), one set chosen
+#: SALSA's (the data's README): tuned 0.82 (40 cm, 0.6 m²), one set chosen
 #: without SALSA 0.70 (70 cm, 2 m²).
 GCFF_TUNED = {
     "CoffeeBreak/Seq1": 0.77, "CoffeeBreak/Seq2": 0.94, "Synth": 0.97,
@@ -52,7 +52,7 @@ GCFF_ONE_SET = {
     "CoffeeBreak/Seq1": 0.63, "CoffeeBreak/Seq2": 0.86, "Synth": 0.62,
     "GDet/S1": 0.79, "GDet/S2": 0.88, "SALSA/CocktailParty": 0.70,
 }  # fmt: skip
-#: The median of GCFF's own tuned sets over its datasets (issue 41): 45 cm, 3 m².
+#: The median of GCFF's own tuned sets over its datasets: 45 cm, 3 m².
 GCFF_MEDIAN = (0.45, 3.0)
 
 

@@ -1,4 +1,4 @@
-"""Groups from the stream (issue 70): the shared sequences replayed in order through the
+"""Groups from the stream: the shared sequences replayed in order through the
 service's own scene, the memory's two lengths chosen with each dataset held out.
 
     python -m benchmarks.groups.stream --out benchmarks/results/groups_stream.json

@@ -121,8 +121,8 @@ def _live(results: dict[str, Any]) -> list[str]:
             "The shipped memory through the live service (JSON poses at 30 Hz, each frame held"
             " its spacing, `hri/groups/<frame>` asked at its end) beside the core replaying the"
             " same frames (in-sample: it shows the service says what the core decides). The"
-            " service lists people by id, the replay in the data's order; since issue 77 the"
-            " grouping does not depend on either, so a frame said otherwise is timing (the"
+            " service lists people by id, the replay in the data's order; the grouping reads"
+            " neither (its ties go by place), so a frame said otherwise is timing (the"
             " last poses of a hold heard after the ask, the scene's tick against the frame's"
             " change):",
             "",

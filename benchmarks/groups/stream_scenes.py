@@ -1,4 +1,4 @@
-"""Streams made here (issue 70): what a memory of the last seconds must fix, and what it
+"""Streams made here: what a memory of the last seconds must fix, and what it
 must not break. Not data: each is a sequence of frames at a stated spacing, with the true
 groups of every frame, replayed as the shared sequences are (``replay.replay``).
 

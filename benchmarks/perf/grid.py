@@ -1,4 +1,4 @@
-"""The grid (issue 36): what a target costs depends on how the tracker connects (peer,
+"""The grid: what a target costs depends on how the tracker connects (peer,
 client), how it publishes (``Session.put``, declared publishers) and who consumes
 (nobody, the per-body results, everything under the namespace). Every cell measures each
 bare relay and the service, one after the other, each fed by one ``Driver`` whose

@@ -4,7 +4,7 @@ whom it concerns, lookups, the pose) as a robot streams, one transform a message
     python -m benchmarks.perf.people [--people 10] [--seconds 10] [--repeat 5]
 
 Two robots: bodies alone (``body_<id>`` tracked, no persons), and persons linking a face
-and a body each (the face a participant's pose, the body its stance: issue 75), faces
+and a body each (the face a participant's pose, the body its stance), faces
 and bodies at 30 Hz; then a tracked list changing one id a message, at ``--people`` and
 at 10 000. Best of ``--repeat``, microseconds a message. To compare two trees,
 run it in each, alternated (the machine is shared and noisy).

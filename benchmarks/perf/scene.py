@@ -1,5 +1,5 @@
 """A frame's social scene alone: what one computation costs with 20 people, the groups said
-and where to join each (issue 68's target: no slower than about 1.5 ms).
+and where to join each (no slower than about 1.5 ms).
 
     python -m benchmarks.perf.scene [--people 20] [--rounds 200] [--repeat 5]
 

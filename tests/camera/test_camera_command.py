@@ -1,6 +1,6 @@
 """``facing-service camera`` and ``demo --camera`` as a user runs them: a photograph's face
 reaches a real service, which decides it faces the robot; every failure is one line, the
-demo's too (a camera asked for and not had ends it: issue 67)."""
+demo's too (a camera asked for and not had ends it)."""
 
 from __future__ import annotations
 
@@ -57,7 +57,7 @@ def test_a_photographed_face_reaches_the_service_which_says_it_faces(net, photos
 
 @pytest.mark.slow
 def test_a_camera_publishing_to_nobody_says_so_while_it_runs(photos: Path):
-    """Issue 67: ``camera -e tcp/127.0.0.1:1`` printed its faces as if all were well, and
+    """A defect found: ``camera -e tcp/127.0.0.1:1`` printed its faces as if all were well, and
     said nobody heard only at its end (a webcam has none)."""
     nowhere = endpoint(free_port())
     args = ("camera", "--images", str(photos), "--loop", "-e", nowhere, *LOOPBACK_FLAGS)
@@ -73,7 +73,7 @@ def test_a_camera_publishing_to_nobody_says_so_while_it_runs(photos: Path):
 
 @pytest.mark.slow
 def test_a_mounted_camera_says_facing_the_camera_by_the_camera(net, photos: Path):
-    """Issue 67: with --camera-pose, a face looking into the camera was said "not facing
+    """A defect found: with --camera-pose, a face looking into the camera was said "not facing
     the camera (28°)": the angle was the service's, to the robot's origin."""
     _, ep = net.service()
     recorder = net.recorder(net.client(ep), "hri/bodies/*/facing/cam")
@@ -81,7 +81,7 @@ def test_a_mounted_camera_says_facing_the_camera_by_the_camera(net, photos: Path
     proc = run("camera", "--images", str(photos), "--base-frame", "cam", *mount, "-e", ep,
                *LOOPBACK_FLAGS)  # fmt: skip
     assert proc.returncode == 0, proc.stderr
-    # the photograph's own 512 px frame at 65° (issue 74; on a 640x480 frame it read 0.85 m)
+    # the photograph's own 512 px frame at 65° (on a 640x480 frame it read 0.85 m)
     assert "f1 facing the camera (1°, 0.65 m)" in proc.stdout, proc.stdout
     (result,) = recorder.wait_for(lambda r: r.kind == "put", timeout=10)
     assert result.value["facing"] is False  # toward the robot's origin: 28° off
@@ -158,7 +158,7 @@ def video(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_a_calibration_of_another_aspect_is_refused_in_one_line_before_the_first_frame(
     video: Path, tmp_path: Path
 ):
-    """Issue 67: a valid camera_info for 1280x720 with a 640x480 video printed a traceback
+    """A defect found: a valid camera_info for 1280x720 with a 640x480 video printed a traceback
     (camera), or a thread's traceback under the live view and nobody (demo, exit 0)."""
     calibration = tmp_path / "ci_169.yaml"
     calibration.write_text(CAMERA_INFO_1280X720)
@@ -191,7 +191,7 @@ distortion_coefficients: {rows: 1, cols: 5, data: [0.0, 0.0, 0.0, 0.0, 0.0]}
     ],
 )
 def test_demo_with_a_camera_it_cannot_have_says_so_and_ends(args: list[str], code: int, said: str):
-    """Issue 67: a typo (``demo --camera nope.mp4``) ran the simulated people, one line
+    """A defect found: a typo (``demo --camera nope.mp4``) ran the simulated people, one line
     above the live view."""
     proc = run("demo", *args, "--duration-s", "2", "--view-port", "0")
     assert proc.returncode == code, proc.stderr
@@ -234,7 +234,7 @@ distortion_coefficients: {rows: 1, cols: 5, data: [0.0, 0.0, 0.0, 0.0, 0.0]}
 def test_a_folders_calibration_is_judged_against_its_images(
     tmp_path: Path, size: tuple[int, int], calibrated: str, said: str | None
 ):
-    """Issue 74: a folder's images were put on 640x480 frames (--width/--height) and the
+    """A defect found: a folder's images were put on 640x480 frames (--width/--height) and the
     calibration judged against those: the images' own 1280x720 calibration was refused,
     a 640x480 one taken silently for 1280x720 or 450x450 images. Both commands."""
     folder = _folder_of(tmp_path, "images", *size)

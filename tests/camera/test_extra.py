@@ -36,7 +36,7 @@ def test_the_camera_without_its_extra_says_how_to_install_it():
 
 @pytest.mark.skipif(installed, reason="the camera extra is installed here")
 def test_the_demo_asked_for_a_camera_without_the_extra_says_how_to_install_it():
-    """The camera was asked for: the demo says why not and ends (issue 67), rather than
+    """The camera was asked for: the demo says why not and ends, rather than
     showing simulated people one line below a missed message."""
     proc = subprocess.run(
         [sys.executable, "-m", "facing_service", "demo", "--camera", "--duration-s", "2",
@@ -61,7 +61,7 @@ def test_a_python_the_extras_wheels_do_not_exist_for_is_said(monkeypatch):
 
 
 def test_the_pythons_said_are_those_the_package_and_the_wheels_allow():
-    """Issue 67: the line said 3.9-3.12 where the package requires 3.10 or later."""
+    """A defect found: the line said 3.9-3.12 where the package requires 3.10 or later."""
     requires = SpecifierSet(metadata("facing-service")["Requires-Python"])
     low, high = extra.PYTHONS
     assert f"{low[0]}.{low[1]}" in requires and f"{low[0]}.{low[1] - 1}" not in requires
@@ -69,7 +69,7 @@ def test_the_pythons_said_are_those_the_package_and_the_wheels_allow():
 
 
 def test_the_extra_fails_to_install_where_mediapipe_has_no_wheel():
-    """Issue 67: on Python 3.13 ``pip install '.[camera]'`` succeeded without MediaPipe
+    """A defect found: on Python 3.13 ``pip install '.[camera]'`` succeeded without MediaPipe
     and said nothing (a marker left it out). Without one, pip refuses, naming it."""
     wanted = [Requirement(r) for r in requires("facing-service") or []]
     (mediapipe,) = [r for r in wanted if r.name == "mediapipe"]

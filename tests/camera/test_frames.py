@@ -22,7 +22,7 @@ def test_a_folders_images_of_any_size_become_frames_of_one_size(tmp_path: Path, 
     (tmp_path / "c.png").write_bytes(b"not an image")
     (tmp_path / "notes.txt").write_text("ignored: not an image's suffix")
     images = list(frames(Source(images=tmp_path), sleep=lambda _: None))
-    # the first image's own size (issue 74: not 640x480, what a calibration is judged by)
+    # the first image's own size (not 640x480, what a calibration is judged by)
     assert [image.shape for image in images] == [(512, 512, 3)] * 2
     assert capsys.readouterr().err.strip().splitlines() == [
         f"camera: skipped {tmp_path / 'c.png'}: cannot be read as an image",

@@ -1,4 +1,4 @@
-"""The front end lets go of its capture and models however it ends (issue 67: a publish
+"""The front end lets go of its capture and models however it ends (a publish
 failing in ``run``'s end skipped ``close()``; a ``FaceMesh`` failing to load left the
 opened video to the garbage collector)."""
 
@@ -79,7 +79,7 @@ def test_the_first_frame_read_to_check_the_calibration_is_not_lost(capture: Capt
 
 
 def test_the_facing_lines_keep_the_services_hysteresis():
-    """Issue 74: a face at the threshold flickered "facing (19°)", "not facing (20°)",
+    """A defect found: a face at the threshold flickered "facing (19°)", "not facing (20°)",
     "facing (20°)" where the service, with its 5° of hysteresis, said facing throughout."""
     from facing_service.camera.head_pose import HeadPose
     from facing_service.contract.poses import yaw_rotation

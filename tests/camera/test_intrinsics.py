@@ -75,13 +75,13 @@ def test_a_calibration_scales_to_frames_of_the_same_aspect_and_refuses_another()
         (ROS_CAMERA_INFO.replace("322.1", "922.1"), "principal point inside the 640x480"),
         (ROS_CAMERA_INFO.replace("615.2", ".nan"), "finite numbers"),
         (ROS_CAMERA_INFO.replace("plumb_bob", "equidistant"), "'equidistant' is not supported"),
-        (  # issue 74: fx = 5 px (a 178° lens) read every face 9 cm away, silently
+        (  # a defect found: fx = 5 px (a 178° lens) read every face 9 cm away, silently
             ROS_CAMERA_INFO.replace("615.2", "5.0").replace("616.9", "5.0"),
             "fx 5, fy 5 make a 178° x 178° field of view at 640x480: no camera",
         ),
         (ROS_CAMERA_INFO.replace("615.2", "30000"), "make a 1° x 43° field of view"),
         (ROS_CAMERA_INFO.replace("615.2", "1300"), "fx 1300 and fy 616.9 are 2.1 times apart"),
-        (  # issue 67: six coefficients passed the checks and failed at the first face
+        (  # a defect found: six coefficients passed the checks and failed at the first face
             ROS_CAMERA_INFO.replace("[0.11, -0.23, 0.001, -0.002, 0.0]", "[0.1, 0, 0, 0, 0, 0]"),
             "distortion_coefficients has 6 numbers; OpenCV takes 4, 5, 8, 12, 14",
         ),

@@ -1,4 +1,4 @@
-"""fd 2 filtered while the camera runs (issue 67: the filter closed the saved descriptor
+"""fd 2 filtered while the camera runs (the filter closed the saved descriptor
 while its thread could still write, so a file opened next received stderr lines; and a
 filter that died left fd 2 a pipe nobody reads, blocking every writer)."""
 
@@ -102,7 +102,7 @@ def _pass(lines: list[bytes], write, monkeypatch, tmp_path: Path) -> bytes:
 
 
 def test_a_write_that_fails_half_way_passes_the_rest_of_its_line_once(monkeypatch, tmp_path):
-    """Issue 74, by reading: after a partial write failed, the whole line was written
+    """A defect found by reading: after a partial write failed, the whole line was written
     again (its start twice)."""
     real, calls = os.write, [0]
 
@@ -119,7 +119,7 @@ def test_a_write_that_fails_half_way_passes_the_rest_of_its_line_once(monkeypatc
 
 
 def test_a_read_that_fails_writes_no_line_twice(monkeypatch, tmp_path):
-    """Issue 74, by reading: after the read itself failed, the previous line, already
+    """A defect found by reading: after the read itself failed, the previous line, already
     written, was written again."""
 
     class FailsAfterOne:

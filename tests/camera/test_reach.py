@@ -1,4 +1,4 @@
-"""People across the room (issue 69): a frontal face 30 px wide in a 1280x720 frame (5 m
+"""People across the room: a frontal face 30 px wide in a 1280x720 frame (5 m
 for a 65° camera) is found and said facing, a turned one at 3 m found and said not facing,
 once the tiles have had their turn; faces near cost no tile; the tiles cover every frame."""
 
@@ -45,7 +45,7 @@ def at_distance(photo: np.ndarray, crop, face_px: float, metres: float, where) -
 
 def verdicts(frame: np.ndarray, reach_m: float | None, held: int = 8) -> list[bool]:
     """Facing or not, for each face found after ``held`` frames of the same picture
-    (``reach_m`` None: the detector on the whole frame only, as before issue 69)."""
+    (``reach_m`` None: the detector on the whole frame only, as before tiles)."""
     mesh = FaceMesh(5, None if reach_m is None else tile_for(CAMERA, reach_m))
     try:
         for _ in range(held):
@@ -100,13 +100,13 @@ def test_the_command_line_reaches_as_far_as_the_front_end_by_default():
     from facing_service.camera.frames import Source
     from facing_service.camera.frontend import DEFAULT_REACH_M, CameraOptions
 
-    # None: the front end's default, unsaid where the frame cannot give it (issue 74)
+    # None: the front end's default, unsaid where the frame cannot give it
     assert CAMERA_DEFAULTS["reach_m"] is None is CameraOptions(Source()).reach_m
     assert DEFAULT_REACH_M == 5.0
 
 
 def test_a_reach_past_what_the_frame_shows_is_said_with_the_frames_limit():
-    """Issue 74: beyond about 5 m at 640x480 the tiles are the detector's own 192 px, so a
+    """A defect found: beyond about 5 m at 640x480 the tiles are the detector's own 192 px, so a
     longer --reach-m changed nothing and said nothing. The limit is where a face is the
     detector's smallest at that tile; asked past it, the front end says so, once."""
     from facing_service.camera.frontend import _short_reach, farthest_reach_m

@@ -143,7 +143,7 @@ def test_a_slow_callback_does_not_stall_the_cache(deployment):
 
 
 def test_query_tells_nobody_there_from_a_wrong_frame_and_a_closed_client(net):
-    """Issue 46: `query("base_lnk")` returned [] like an empty room. A frame the service
+    """A defect found: `query("base_lnk")` returned [] like an empty room. A frame the service
     does not know raises UnknownFrame naming the frames tracked; a known frame with
     nobody in it is []; a client not open says so by name (it was a bare assert)."""
     from facing_service import ClientNotOpen, FacingError, UnknownFrame
@@ -174,7 +174,7 @@ def test_an_empty_service_is_no_error_for_a_client_of_one_frame(net, caplog):
     with client:
         assert client.live_instances  # it did see the service
         assert client.bodies("base_link") == {} and client.engagement("base_link") == {}
-        # nobody anywhere: a typo cannot be told from the right frame (issue 74)
+        # nobody anywhere: a typo cannot be told from the right frame
         assert client.query("base_lnk") == []
     said = [r for r in caplog.records if r.name.startswith("facing_service.client")]
     assert not [r for r in said if r.exc_info or r.levelno >= logging.WARNING], [
@@ -194,7 +194,7 @@ def test_no_service_is_said_by_a_named_error(net):
 
 
 def test_no_service_says_how_long_it_was_waited_for(net):
-    """Issue 67: NoService after 0.0 s said "within 2 s": zenoh ends a question nothing
+    """A defect found: NoService after 0.0 s said "within 2 s": zenoh ends a question nothing
     reachable can answer at once."""
     nobody = endpoint(free_port())
     with FacingClient(session_config=loopback_config(connect=[nobody]), timeout_s=2) as client:
@@ -234,7 +234,7 @@ def _level(session, body: str) -> str | None:
 
 
 def test_a_misspelt_frame_is_said_against_a_service_with_a_fixed_base_frame(net, caplog):
-    """Issue 59: against `run --base-frame base_link` (as deploy/ ships it),
+    """A defect found: against `run --base-frame base_link` (as deploy/ ships it),
     `query(frame="base_lnk")` returned [] where docs/client.md promises UnknownFrame (the
     service declared its queryables on its own frame only), and a client opened on the
     misspelt frame said nothing."""
@@ -257,7 +257,7 @@ def test_a_misspelt_frame_is_said_against_a_service_with_a_fixed_base_frame(net,
 
 
 def test_a_client_used_before_open_says_so(net):
-    """Issue 59: bodies(), bodies_facing(), groups() returned empty and on_facing
+    """A defect found: bodies(), bodies_facing(), groups() returned empty and on_facing
     registered without complaint on a client never opened; only query() raised."""
     from facing_service import ClientNotOpen
 
@@ -304,7 +304,7 @@ def test_ctrl_c_while_a_client_opens_ends_the_program(tmp_path):
 
 
 def test_a_service_heard_only_after_the_wait_still_seeds_the_groups(net, monkeypatch):
-    """Issue 74: a service token heard in the last moments of open()'s wait, after its last
+    """A defect found: a service token heard in the last moments of open()'s wait, after its last
     look, was marked live but asked no seed; groups and levels, said only on change,
     then stayed missing while the scene held still. Forced here: the wait returns "none
     found" once the token subscriber has heard the service."""
@@ -333,7 +333,7 @@ def test_a_service_heard_only_after_the_wait_still_seeds_the_groups(net, monkeyp
 
 @pytest.mark.parametrize("base_frame", ["cam", "*"])
 def test_a_service_up_before_its_tracker_answers_nobody_not_a_wrong_frame(net, base_frame):
-    """Issue 74: query() on a service with no pose yet raised UnknownFrame, as for a typo;
+    """A defect found: query() on a service with no pose yet raised UnknownFrame, as for a typo;
     a service that reads the frame alone (--base-frame) knows it before anyone is there,
     and one reading any frame that tracks nobody anywhere cannot tell a typo: both []."""
     _, ep = net.service(base_frame=base_frame)

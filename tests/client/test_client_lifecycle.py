@@ -1,4 +1,4 @@
-"""A FacingClient never keeps a program alive, and closes from anywhere (issue 67).
+"""A FacingClient never keeps a program alive, and closes from anywhere.
 
 Each program runs as a subprocess with a deadline, against a real service over loopback:
 it must exit by itself however its own code ends.

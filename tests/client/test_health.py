@@ -89,21 +89,21 @@ def test_health_command_configured_like_a_container(net):
     }
     ok = health(env=env)
     assert ok.returncode == 0, ok.stderr
-    (line,) = ok.stdout.splitlines()  # issue 46: one line on success, not the whole status
+    (line,) = ok.stdout.splitlines()  # a defect found: one line on success, not the whole status
     assert line.startswith("ok: instance robot-9 (facing-service ") and "bodies tracked" in line
-    # issue 59: which instance answered, and where the check reached it
+    # which instance answered, and where the check reached it
     assert f"at tcp/127.0.0.1:{port}, listening on tcp/127.0.0.1:{port}" in line
     whole = health("--json", env=env)
     assert json.loads(whole.stdout.splitlines()[0])["instance"] == "robot-9"
     assert health(env={**env, "FACING_INSTANCE": "robot-9"}).returncode == 0
     other = health(env={**env, "FACING_INSTANCE": "someone-else"})
     assert other.returncode == 1
-    # issue 67: it hinted at the namespace; the instances that are there are named
+    # a defect found: it hinted at the namespace; the instances that are there are named
     assert (
         "no facing service of instance 'someone-else' at tcp/127.0.0.1:"
         f"{port} in namespace 'hri'; instances there: robot-9 (--instance"
     ) in other.stderr, other.stderr
-    # issue 67: "1 bodies", "1 samples"
+    # a defect found: "1 bodies", "1 samples"
     assert re.search(r"\b0 bodies tracked \(0 in cam\), 0 samples refused", line), line
 
 
@@ -124,7 +124,7 @@ def scouting_on_loopback() -> list[str]:
 
 
 def test_health_by_scouting_says_so_and_which_instance_answered():
-    """Issue 59: a plain health found another service on the host by scouting and said
+    """A defect found: a plain health found another service on the host by scouting and said
     only "ok: instance vm-…"; finding none, it gave no hint of -e."""
     cfg = scouting_on_loopback()
     service = FacingService(Settings(instance="elsewhere", cfg=cfg, log_level="WARNING")).start()
@@ -168,7 +168,7 @@ def test_health_finds_a_running_peer_mode_service_every_time(net):
     ids=["plain", "service-waits-for-its-router"],
 )
 def test_health_without_a_service_fails_within_its_timeout(waiting):
-    """Issue 55: under the settings of a service that waits for its router for ever (the
+    """A defect found: under the settings of a service that waits for its router for ever (the
     shipped deploy and compose files set them), health hung until killed: one shot, it
     bounds its own session by --timeout whatever the settings say."""
     started = time.monotonic()
@@ -191,7 +191,7 @@ def test_status_reports_what_the_session_is_connected_to(net):
 
 
 def test_health_through_a_router_with_no_service_names_the_endpoint_and_the_flags(net):
-    """Issue 59: the router answers but no service is behind it: the line names the
+    """A defect found: the router answers but no service is behind it: the line names the
     endpoint reached and the flags that reach a service elsewhere."""
     router = net.router()
     proc = health(
@@ -202,7 +202,7 @@ def test_health_through_a_router_with_no_service_names_the_endpoint_and_the_flag
 
 
 def test_ctrl_c_ends_health_while_its_session_still_connects():
-    """Issue 74: health ignored Ctrl-C while zenoh.open waited for an endpoint that is not
+    """A defect found: health ignored Ctrl-C while zenoh.open waited for an endpoint that is not
     there (15.6 s of a --timeout 15, nothing printed); every other command stops at once.
     Interrupted after a second, it ends as a shell reports Ctrl-C, long before its timeout."""
     args = ["health", "--timeout", "30", "-m", "client", "-e", endpoint(free_port())]
@@ -222,7 +222,7 @@ def test_ctrl_c_ends_health_while_its_session_still_connects():
 
 
 def test_health_says_a_silent_input_and_how_many_it_holds():
-    """Issue 76: the status said ok throughout a stall, and nothing else did."""
+    """A defect found: the status said ok throughout a stall, and nothing else did."""
     from facing_service.client.health import summary
     from facing_service.contract.schemas import InputHealth
 

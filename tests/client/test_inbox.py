@@ -1,5 +1,5 @@
-"""The client's inbox over real zenoh sessions: what it hears never holds zenoh's threads
-(issue 74), keeps the order between its subscriptions, and what it cannot keep is counted."""
+"""The client's inbox over real zenoh sessions: what it hears never holds zenoh's threads,
+keeps the order between its subscriptions, and what it cannot keep is counted."""
 
 from __future__ import annotations
 

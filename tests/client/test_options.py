@@ -1,4 +1,4 @@
-"""What FacingClient takes (issue 54): its own options, each refusal a FacingError naming
+"""What FacingClient takes: its own options, each refusal a FacingError naming
 the option; the frame given once; the status of the live services."""
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ def test_each_bad_option_is_one_facing_error_naming_it(given, said):
 
 
 def test_one_endpoint_or_entry_may_be_given_as_a_string():
-    """Issue 74: ``FacingClient(connect="tcp/…")`` was refused ("Input should be a valid
+    """A defect found: ``FacingClient(connect="tcp/…")`` was refused ("Input should be a valid
     list"); one string is a list of one, never a list of its characters."""
     one = FacingClient(
         connect="tcp/127.0.0.1:7447", listen="tcp/127.0.0.1:0", cfg="scouting/delay:0"

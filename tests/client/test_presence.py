@@ -1,5 +1,5 @@
-"""A publishing command says while it runs that no facing service hears it (issue 67:
-``simulate`` and ``camera`` said so only at their end, and a webcam has no end)."""
+"""A publishing command says while it runs that no facing service hears it
+(``simulate`` and ``camera`` said so only at their end, and a webcam has no end)."""
 
 from __future__ import annotations
 

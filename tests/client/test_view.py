@@ -1,4 +1,4 @@
-"""The live page (issue 34), as a person sees it: Debian's headless chromium loads it
+"""The live page, as a person sees it: Debian's headless chromium loads it
 against a live service fed like a tracker, and reads what is drawn and written."""
 
 from __future__ import annotations
@@ -112,7 +112,7 @@ def test_the_page_draws_the_scene_and_says_when_the_service_is_lost(net, browser
             "document.body.innerText.includes('group') && document.body.innerText"
         )
         assert "ann, bob" in text and "cat and the robot" in text and "connected" in text
-        # where the robot should stand to join ann and bob (issue 53): drawn, and said
+        # where the robot should stand to join ann and bob: drawn, and said
         browser.wait_for("document.querySelectorAll('g.join').length === 1")
         assert browser.wait_for("document.getElementById('groups').innerText.includes('join at (')")
         assert browser.evaluate("document.querySelectorAll('line.gaze').length") >= 2
@@ -171,7 +171,7 @@ def test_ids_are_shown_as_text_and_a_crowd_renders_bounded(browser):
 
 
 def test_labels_of_people_standing_close_do_not_overlap(browser):
-    """Issue 46: two people 10 cm apart had their names drawn over each other."""
+    """A defect found: two people 10 cm apart had their names drawn over each other."""
     person = {"x": 2.0, "y": 0.0, "heading_deg": 180.0, "facing": True, "angle_deg": 0.0,
               "distance_m": 2.0, "threshold_deg": 20.0, "level": "ENGAGED"}  # fmt: skip
     close = [dict(person, id=f"person_long_name_{i}", y=0.05 * i) for i in range(3)]
@@ -197,7 +197,7 @@ def test_labels_of_people_standing_close_do_not_overlap(browser):
 
 
 def test_a_person_close_to_the_robot_is_drawn_apart_from_it_and_their_group(browser):
-    """Issue 67: at 0.6 m (a face in front of a laptop's camera) the robot, the face's
+    """A defect found: at 0.6 m (a face in front of a laptop's camera) the robot, the face's
     label and the group's circle were drawn over each other on a 4 m radar."""
     person = {
         "id": "f1",

@@ -58,7 +58,7 @@ def test_bad_settings_are_refused(flags, env):
 
 
 def test_a_facing_variable_that_names_no_setting_is_said_in_one_line(caplog):
-    """Issue 55: FACING_TRESHOLD_DEG=30 (misspelt) was ignored without a word."""
+    """A defect found: FACING_TRESHOLD_DEG=30 (misspelt) was ignored without a word."""
     environ = {
         "FACING_TRESHOLD_DEG": "30",
         "FACING_THRESHOLD_DEG": "25",

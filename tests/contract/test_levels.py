@@ -24,7 +24,7 @@ def test_each_level_is_numbered_as_hri_msgs_numbers_it():
 
 
 def test_a_level_prints_as_its_name_and_is_made_from_it():
-    """Issue 67: ``str(Level.ENGAGED)`` printed ``3`` on Python 3.11, ``Level("ENGAGED")``
+    """A defect found: ``str(Level.ENGAGED)`` printed ``3`` on Python 3.11, ``Level("ENGAGED")``
     raised."""
     assert str(Level.ENGAGED) == f"{Level.ENGAGED}" == "ENGAGED"
     assert f"{Level.ENGAGING:>10}" == "  ENGAGING"
@@ -39,7 +39,7 @@ def test_a_level_compares_as_its_number_and_still_equals_its_name():
     assert "ENGAGED" == Level.ENGAGED  # noqa: SIM300 (the string on the left, on purpose)
     assert Level.ENGAGED != "DISENGAGED" and Level.ENGAGED != 1
     assert Level.DISENGAGED < Level.ENGAGED
-    # issue 74: it hashed as its number, so the string code it keeps the meaning of failed
+    # a defect found: it hashed as its number, so the string code it keeps the meaning of failed
     assert Level.ENGAGED in {"ENGAGED", "ENGAGING"} and Level.ENGAGED not in {"DISENGAGED"}
     assert {"ENGAGED": "x"}.get(Level.ENGAGED) == "x" and {Level.ENGAGED: "x"}["ENGAGED"] == "x"
     assert {Level.ENGAGED: "x"}[Level(3)] == "x" and {3: "x"}[int(Level.ENGAGED)] == "x"
@@ -47,7 +47,7 @@ def test_a_level_compares_as_its_number_and_still_equals_its_name():
 
 
 def test_a_wire_model_reads_the_name_and_hands_out_a_level():
-    """Issue 67: in ``on_engaged``, ``event.level == Level.ENGAGED`` was False (a str)."""
+    """A defect found: in ``on_engaged``, ``event.level == Level.ENGAGED`` was False (a str)."""
     said = {
         "body_id": "anna", "frame_id": "base_link", "stamp": {"sec": 1, "nanosec": 0},
         "previous": "ENGAGING", "level": "ENGAGED", "level_value": 3, "score": 0.9,

@@ -91,7 +91,7 @@ def test_hand_written_facing_state_json_matches_the_model(
 
 
 def test_no_negative_zero_is_said():
-    """Issue 46: a body at z = 0 gave `"z": -0.0` (from -Rᵀt): correct, and confusing."""
+    """A defect found: a body at z = 0 gave `"z": -0.0` (from -Rᵀt): correct, and confusing."""
     fast = facing_state_json(
         "a", "cam", Time.of(1), True, 10.0, 2.0, (2.0, -0.0, -0.0), 20.0, (-0.0, 0.0, -0.0), -0.0
     )
@@ -100,7 +100,7 @@ def test_no_negative_zero_is_said():
 
 
 def test_groups_and_gazing_name_their_frame_as_results_do():
-    """Issue 67: results said frame_id, groups and gazing said frame; both now say
+    """A defect found: results said frame_id, groups and gazing said frame; both now say
     frame_id, and frame for the consumers that read it; a payload of either name reads."""
     from facing_service.contract.schemas import FrameGazing, FrameGroups
 

@@ -30,5 +30,5 @@ def test_stamps_are_numbers():
     a, b = Time.of(1, 500_000_000), Time.from_seconds(2.0)
     assert ZERO < a < b and b - a == NS_PER_S // 2 and sorted([b, a]) == [a, b]
     assert repr(a) == "Time.of(1, 500000000)"
-    # issue 74: a log line said the repr; a person reads seconds (a number format: the ns)
+    # a defect found: a log line said the repr; a person reads seconds (a number format: the ns)
     assert str(a) == f"{a}" == "1.500000000 s" and f"{a:d}" == "1500000000"

@@ -169,7 +169,7 @@ def test_a_head_sweeping_through_the_cone_never_engages_with_steadiness():
 
 
 def test_two_speeds_engaging_at_once_engaged_only_after_sustained_attention():
-    """Issue 42: ENGAGING is the quick signal, ENGAGED (what a robot greets on) needs the
+    """ENGAGING is the quick signal, ENGAGED (what a robot greets on) needs the
     face in the cone for every sample of ``sustain_s``: a glance, or glances repeated with
     gaps between them, make a body ENGAGING and never ENGAGED; steady attention does."""
     two = replace(P, sustain_s=2.0, tau_s=0.25, engage_dwell_s=0.5)
@@ -203,12 +203,12 @@ def _angles(angles_deg: list[float], p: EngagementParams, dt: float = 0.1) -> li
     return seen
 
 
-#: The head's shipped parameters, with the soft vote at 36 degrees over 1.5 s (issue 52).
+#: The head's shipped parameters, with the soft vote at 36 degrees over 1.5 s.
 VOTING = replace(head_profile(Settings()).engagement, vote_deg=36.0, vote_tau_s=1.5)
 
 
 def test_the_soft_vote_engages_a_head_that_roams_around_the_cone():
-    """Issue 52: an engaged person whose head roams in and out of the cone (here 16-32
+    """An engaged person whose head roams in and out of the cone (here 16-32
     degrees, 24 the cone) was never ENGAGED by sustained attention alone; voting within a
     wider field, they are ENGAGED within a few seconds and stay so while they attend."""
     roaming = [24.0 + 8.0 * math.sin(i / 4.0) for i in range(150)]  # 15 s at 10 Hz

@@ -1,4 +1,4 @@
-"""Soft evidence that accumulates (core.evidence, issue 61): the facing score as a graded
+"""Soft evidence that accumulates (core.evidence): the facing score as a graded
 vote, summed within a memory, levels by hri_engagement's own thresholds on its share."""
 
 from __future__ import annotations

@@ -74,7 +74,7 @@ def test_the_robot_is_a_participant_like_any_other():
     ],
 )
 def test_the_robot_is_in_a_group_only_on_its_ring(people, with_robot):
-    """Issue 41's lenient default let the robot into a conversation it faced from 2 m
+    """A lenient default once let the robot into a conversation it faced from 2 m
     (tests/ros2/test_interactions.py), and into one with a back turned to it within 2.2 m:
     a robot acting on "the robot joined" would interrupt. It stays in a group only within
     RING times the farthest member's distance of the others' o-space centre."""
@@ -163,7 +163,7 @@ def test_one_parameter_set_groups_pairs_at_any_spacing_where_gcffs_stride_cannot
 
 
 def test_the_room_unit_makes_the_same_groups_wider_or_tighter_where_metres_do_not():
-    """Issue 41's learnt unit (measured by benchmarks.groups.held_out, not shipped since issue 60):
+    """The learnt unit (measured by benchmarks.groups.held_out, not shipped):
     the same people standing wider or tighter make the same groups in the room's unit,
     the centres scaled. In metres (shipped), lengths are people's: a pair 3 m face to face
     (Hall's far social distance) still votes within a group's cost of one centre; 6 m
@@ -222,7 +222,7 @@ def ring_of(count: int, spacing: float, centre=(3.0, 0.0)) -> tuple[np.ndarray, 
 def test_the_rings_stride_lands_every_vote_on_the_centre_whatever_its_size_and_count(
     count, spacing
 ):
-    """Issue 60: the o-space's radius follows from the people's own spacing and count.
+    """The o-space's radius follows from the people's own spacing and count.
     A person votes for the point of their heading as far from the nearest person ahead
     as from themselves: on a ring facing its centre, that point is the centre (a pair
     face to face: the middle). The stride from the nearest person ahead alone (k * d)
@@ -250,7 +250,7 @@ rooms = st.lists(
 @settings(max_examples=300, deadline=None)
 @given(rooms, st.randoms(use_true_random=False))
 def test_the_same_room_is_grouped_alike_whatever_order_its_people_come_in(room, rng):
-    """Issue 77: the greedy assignment broke ties in listing order, so the same room was
+    """A defect found: the greedy assignment broke ties in listing order, so the same room was
     grouped otherwise when its people were listed (or, through the service, named)
     otherwise."""
     positions, headings = scene(*((0.3 * x, 0.3 * y, h) for x, y, h in room))

@@ -1,4 +1,4 @@
-"""Where the robot should stand to join a group, or to greet a person (issue 53): pure."""
+"""Where the robot should stand to join a group, or to greet a person: pure."""
 
 from __future__ import annotations
 
@@ -47,7 +47,7 @@ def test_of_several_free_places_the_one_nearest_the_robot():
 
 
 def test_someone_standing_in_the_gap_takes_the_room():
-    """The gap was the only room: with someone in it there is none. (Issue 63, defect 7:
+    """The gap was the only room: with someone in it there is none. (a defect found:
     this test passed whenever join_pose returned None, and so could not fail on it; a
     join_pose blind to outsiders now fails it, and the place beside one is checked.)"""
     members, headings = ring(4, 0.8, skip={2})
@@ -91,7 +91,7 @@ GAP_AND_SLIVER = _around((3.0, 0.0), 1.0, (0, 80, 180))
 
 
 def test_the_group_says_where_to_stand_not_where_the_robot_is():
-    """Issue 68: the free arc nearest the robot won, so a robot behind the group, by the
+    """A defect found: the free arc nearest the robot won, so a robot behind the group, by the
     sliver, was sent to the sliver; a person joining takes the room the group leaves."""
     members, headings = GAP_AND_SLIVER
     behind = (3.0 + 4 * math.cos(math.radians(130)), 4 * math.sin(math.radians(130)))
@@ -103,7 +103,7 @@ def test_the_group_says_where_to_stand_not_where_the_robot_is():
 
 
 def test_a_group_with_one_clear_gap_is_joined_there_from_anywhere():
-    """Issue 68's target: the place moves no more than 0.1 m with where the robot stands
+    """The target: the place moves no more than 0.1 m with where the robot stands
     (four directions at 2 and 4 m, and far away); it does not move at all."""
     members, headings = GAP_AND_SLIVER
     robots = [

@@ -1,4 +1,4 @@
-"""What the last seconds say about a frame's people (core.social.memory, issue 70): a
+"""What the last seconds say about a frame's people (core.social.memory): a
 heading is the fading mean of its readings, a pair's being together accumulates and
 decays, and the groups are the people whose pairs are on average together."""
 
@@ -125,7 +125,7 @@ def test_average_linkage_joins_a_group_whole_and_does_not_chain():
 
 @pytest.mark.parametrize("seed", range(5))
 def test_the_groups_said_do_not_depend_on_the_order_or_the_names_of_people(seed):
-    """Issue 77: the linkage's ties went by id, so a room was grouped otherwise when its
+    """A defect found: the linkage's ties went by id, so a room was grouped otherwise when its
     people were called otherwise."""
     rng = np.random.default_rng(seed)
     places = rng.uniform(-3, 3, (8, 2))
@@ -158,7 +158,7 @@ def test_of_two_pairs_as_sure_the_nearer_is_said_whatever_the_names(names):
 
 @pytest.mark.parametrize("rate_hz", [10.0, 2.0, 1.0, 0.25])
 def test_a_pair_is_said_after_half_the_memory_at_any_rate_the_scene_is_worked_out(rate_hz):
-    """Issue 74: each step was capped at 0.5 s, so below 2 Hz the memory ran slow: a 4 s
+    """A defect found: each step was capped at 0.5 s, so below 2 Hz the memory ran slow: a 4 s
     memory said a pair after 2 s at 10 or 2 Hz, 4 s at 1 Hz, 16 s at 0.25 Hz. Now within
     one period of half the memory (the first reading counts from the next computation)."""
     period = 1.0 / rate_hz

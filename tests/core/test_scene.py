@@ -111,7 +111,7 @@ def test_scenes_work_a_frame_out_at_most_once_a_period_and_forget_it_when_empty(
 
 
 def test_a_group_dissolving_after_standing_still_is_said_at_its_last_pose_not_its_first():
-    """Issue 46: the `groups: []` said when people left carried the stamp of the last
+    """A defect found: the `groups: []` said when people left carried the stamp of the last
     change (their first poses), however long they had stood still since."""
     scene = FrameScene("map", PARAMS)
     people = [person("a", 3.0, 2.0, 0), person("b", 4.2, 2.0, 180)]
@@ -128,7 +128,7 @@ def test_a_group_dissolving_after_standing_still_is_said_at_its_last_pose_not_it
 
 
 def test_a_group_the_robot_is_not_in_says_where_to_join_it_and_follows_its_people():
-    """Issue 53: a pair talking 3 m ahead; the robot should stand on their ring, on its
+    """A pair talking 3 m ahead; the robot should stand on their ring, on its
     own side, facing into the group; when they move, the place moves with them (not a
     change of its own: nothing is said until the grouping changes, and a snapshot has it)."""
     scene = FrameScene("map", PARAMS)
@@ -174,7 +174,7 @@ def test_a_person_engaging_alone_is_greeted_in_front_of_them_facing_them():
 
 
 def test_a_person_in_a_group_held_with_the_robot_is_not_greeted_while_it_is_said():
-    """Issue 59: the group {alice, robot} is said until a new grouping has held; alice,
+    """The group {alice, robot} is said until a new grouping has held; alice,
     turned away but still engaging, is in that group meanwhile and must not be greeted."""
     scene = FrameScene("base_link", PARAMS)
     facing = Person("alice", (1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0), engaging=True)
@@ -195,7 +195,7 @@ def test_a_person_in_a_group_held_with_the_robot_is_not_greeted_while_it_is_said
 
 @pytest.mark.slow
 def test_over_a_long_simulated_run_nobody_greeted_is_in_a_group_said_beside():
-    """Issue 59, over five simulated minutes of eight people: every update and every
+    """Over five simulated minutes of eight people: every update and every
     read of the scene says each person engaging either in a group or to greet, never both."""
     from facing_service.client.sim import Crowd
 
@@ -222,7 +222,7 @@ def test_over_a_long_simulated_run_nobody_greeted_is_in_a_group_said_beside():
 
 
 def test_a_member_who_walks_away_leaves_the_place_the_robot_should_take():
-    """Issue 68: with one member gone, the pair's two sides look alike and the place was
+    """A defect found: with one member gone, the pair's two sides look alike and the place was
     the robot's side; the member who just walked away left their place: the join is there,
     facing in, while it stays clear; someone stepping into it takes it back."""
     scene = FrameScene("map", replace(PARAMS, max_people=8))
@@ -285,7 +285,7 @@ def test_with_the_memory_a_heading_flickering_for_one_reading_moves_no_group():
 
 
 def test_a_participant_looks_with_their_face_and_stands_with_their_body():
-    """Issue 75: where a person has both, the face says who they look at and the body how
+    """Where a person has both, the face says who they look at and the body how
     they stand. a and b stand face to face (a group); a's face turns to the robot: a faces
     the robot, not b, and the group holds (bodies did not move)."""
     scene = FrameScene("map", PARAMS)
@@ -314,7 +314,7 @@ def test_a_turned_face_alone_is_said_though_nobody_moved_where_they_stand():
 
 @pytest.mark.parametrize("seed", range(6))
 def test_the_groups_said_do_not_depend_on_what_people_are_called(seed):
-    """Issue 77: a room's people heard in another order and named so that their ids sort
+    """A room's people heard in another order and named so that their ids sort
     the other way are grouped alike, at first sight and over a stream of turning heads."""
     rng = random.Random(seed)
     spots = rng.sample([(x, y) for x in range(-6, 7) for y in range(-6, 7)], 10)

@@ -34,7 +34,7 @@ def test_people_are_the_frames_poses_and_their_newest_stamp():
 
 
 def test_a_pose_with_a_stance_is_a_person_standing_there_looking_from_the_pose():
-    """Issue 75: a ROS4HRI person's pose is its face; its body, where it stands, comes as
+    """A ROS4HRI person's pose is its face; its body, where it stands, comes as
     the pose's stance: the scene stands them there and lets them look from the face."""
     from dataclasses import replace
 

@@ -107,7 +107,7 @@ def test_lose_removes_the_body_and_updates_the_frame():
 
 
 def test_a_loss_says_when_it_happened():
-    """Issue 63, defect 4: ``lose`` defaulted ``now`` to 0.0; on a monotonic clock (hours
+    """A defect found: ``lose`` defaulted ``now`` to 0.0; on a monotonic clock (hours
     since boot) a tombstone stamped at 0 had expired before it was made, and a late pose
     brought back the body its tracker had just deleted. The time is the caller's to say."""
     t = tracker()
@@ -346,7 +346,7 @@ def test_keeping_a_frame_shares_its_lists_until_they_change():
 
 
 def test_a_tracker_whose_clock_starts_over_is_followed_after_three_poses_in_a_row():
-    """Issue 45: a tracker restarts and reuses its ids, its stamps starting over. Three
+    """A tracker restarts and reuses its ids, its stamps starting over. Three
     poses in a row, each more than RESTART_GAP_S older than the body's last and newer
     than the one before, are its new clock: the caller gets them back as ``restarted``
     (it loses the body, then ingests them anew)."""

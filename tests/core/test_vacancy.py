@@ -1,4 +1,4 @@
-"""The place a member just left (issue 68): kept while clear and by the group, forgotten
+"""The place a member just left: kept while clear and by the group, forgotten
 once taken, and with the group."""
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def test_a_group_gone_takes_its_places_with_it():
 
 
 def test_two_leaving_at_once_leave_the_place_nearest_the_robot_whatever_their_names():
-    """Issue 74, by reading: the largest id was taken as "the last to leave" when several
+    """A defect found by reading: the largest id was taken as "the last to leave" when several
     left in one update: the place kept depended on what people were called."""
     places = {}
     for near, far in (("x", "y"), ("y", "x")):

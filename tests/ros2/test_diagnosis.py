@@ -377,7 +377,7 @@ def test_inspect_exits_0_on_a_robot_publishing_a_1500_link_chain(net, site, caps
 
 
 def test_inspect_pointed_at_a_router_suggests_the_isolated_way_to_join_it():
-    """Issue 46: `inspect -e tcp/localhost:7447` suggested a plain peer, which scouts by
+    """A defect found: `inspect -e tcp/localhost:7447` suggested a plain peer, which scouts by
     multicast and listens everywhere, against the README's isolation advice."""
     from facing_service.config.settings import Settings
     from facing_service.tools.inspect import session_flags

@@ -162,7 +162,7 @@ def test_an_error_while_saying_a_loss_leaves_no_ghost(net, monkeypatch):
     from facing_service.shell import outputs as service_module
 
     # the robot says nothing after the list: without --hold-silent-s 0 a silent input,
-    # held (issue 76); staleness itself is what this checks
+    # held; staleness itself is what this checks
     _, service, robot, consumer = start(net, stale_after_s=1.0, hold_silent_s=0.0)
     results = net.recorder(consumer, "hri/bodies/body_a/facing/base_link")
     frames = net.recorder(consumer, "hri/facing/base_link")

@@ -259,7 +259,7 @@ def test_persons_engage_through_their_face(net, robot_site):
         lambda i: i.value["body_id"] == "person_p1" and i.value["level"] == "ENGAGED"
     )
     # ENGAGING at once, ENGAGED once ENGAGING held 1 s with the face in the cone
-    # (--head-dwell-s; issue 52's defaults: sustained attention off, the soft vote on)
+    # (--head-dwell-s; the defaults: sustained attention off, the soft vote on)
     assert json.loads(event.payload)["stamp"]["sec"] == 2
 
 

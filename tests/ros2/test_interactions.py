@@ -1,4 +1,4 @@
-"""REP 155's interaction topics on a robot (issue 33): two people talking beside the robot,
+"""REP 155's interaction topics on a robot: two people talking beside the robot,
 streamed as a robot streams them (/tf, /humans/bodies/tracked); /humans/interactions/groups
 and /humans/interactions/gazing as the robot's own subscriptions receive them
 (``rmw_zenoh.Subscription``, written from rmw_zenoh's and the bridge's sources, keys with
@@ -71,7 +71,7 @@ def test_two_people_talking_are_a_group_and_face_each_other_on_the_robots_topics
         }
         assert {("b1", "b2"), ("b2", "b1")} <= pairs, pairs
         assert groups.dropped == gazing.dropped == markers.dropped == 0
-        # RViz's view of it (issue 34): both people and their group, as rosbags decodes it
+        # RViz's view of it: both people and their group, as rosbags decodes it
         group_ns = f"group/{said[-1].group_id}"
         deadline = time.monotonic() + 5
         while time.monotonic() < deadline:

@@ -1,4 +1,4 @@
-"""RViz markers (issue 34): a MarkerArray of two people and their group, encoded by the
+"""RViz markers: a MarkerArray of two people and their group, encoded by the
 service and decoded by rosbags' own CDR (arrays of several markers: alignment inside a
 sequence of structs is where encoders go wrong), against the upstream type hash."""
 
@@ -88,7 +88,7 @@ BLOBS = {
     (JAZZY, "std_msgs/msg/Header.msg"): "6966bb98863c237131a2bd2822298df9511ce948",
     (JAZZY, "std_msgs/msg/ColorRGBA.msg"): "182dbc8349abec122d95436cb840906503f569f2",
     (JAZZY, "geometry_msgs/msg/Pose.msg"): "277e2f0179a64cd3e17e31502e3d8a074ace7064",
-    # the same blob at 4.2.4 (Humble): where the robot should stand (issue 53)
+    # the same blob at 4.2.4 (Humble): where the robot should stand
     (JAZZY, "geometry_msgs/msg/PoseStamped.msg"): "2b43935ed33b384937142aaf3aae085cdcb9ea5e",
     (JAZZY, "geometry_msgs/msg/Point.msg"): "f1d3a71a853c668f066de795ba5e0f4458f3f1c0",
     (JAZZY, "geometry_msgs/msg/Quaternion.msg"): "96d392779a286cc3f4c83d80962236f5ea42c884",
@@ -134,7 +134,7 @@ def test_humble_and_jazzy_marker_arrays_hash_as_the_type_we_send(release):
 
 
 def test_the_place_to_stand_hashes_as_upstreams_pose_stamped():
-    """geometry_msgs/PoseStamped (the join and greet places, issue 53): zenoh-ros2-sdk's
+    """geometry_msgs/PoseStamped (the join and greet places): zenoh-ros2-sdk's
     RIHS01 from upstream's text is the hash of the type rosbags encodes for us."""
     from zenoh_ros2_sdk.utils import compute_type_hash_from_msg
 

@@ -308,7 +308,7 @@ def test_a_recording_written_as_mcap_replays(net, tmp_path):
 
 
 def test_where_to_stand_goes_out_as_pose_stamped_and_its_topic_goes_with_it():
-    """Issue 53 on a ROS 2 robot: the place to join a group the robot is not in, as a
+    """Where to stand, on a ROS 2 robot: the place to join a group the robot is not in, as a
     geometry_msgs/PoseStamped in the base frame (a navigation goal as it is), every period
     while the group has room; its publisher undeclared once the group is gone."""
     from facing_service.config.profiles import scene_params, tracker_for

@@ -163,7 +163,7 @@ def test_cloned_person_ids_pointing_at_a_real_face_make_one_stream_of_results():
     assert [p.body_id for p in poses] == ["person_real"]
 
 
-# -- one human, one participant (issue 75) ------------------------------------------------
+# -- one human, one participant ------------------------------------------------
 
 
 def _person_with_face_and_body(people: People, sec: float = 1) -> list:
@@ -270,7 +270,7 @@ def test_a_person_whose_face_is_lost_is_seen_through_its_body():
 
 
 def test_a_persons_face_found_again_under_a_new_id_keeps_its_engagement():
-    """Issue 75: a face lost and found again under a new id (the person manager relinks
+    """A face lost and found again under a new id (the person manager relinks
     the person to it) must not reset what was built up about the person: ENGAGED carries
     over, and the new face never becomes a second participant once linked."""
     from facing_service.contract.keys import BodyRef

@@ -95,7 +95,7 @@ def test_every_output_reaches_the_robots_own_subscribers(net, release: Release):
                 ("/humans/persons/facing", IDS),
             ]
         }
-        # f1 is p1's face: one human, said as the person (issue 75), never as the face
+        # f1 is p1's face: one human, said as the person, never as the face
         faces = Subscription.open(listener, release, "/humans/faces/facing", IDS, ns="bot1")
         time.sleep(0.5)  # the subscriptions reach the service's publishers
         # The face 1.5 m ahead of the camera, 0.3 m above it, looking at the robot's origin.

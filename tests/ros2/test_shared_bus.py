@@ -1,4 +1,4 @@
-"""A peer on the robot's bus cannot silence, flap or flood the service (issue 32). Each
+"""A peer on the robot's bus cannot silence, flap or flood the service. Each
 attack runs beside a real recorded person (hri_engagement's ``1p_AA_eng_1``, streamed at
 its recorded pace by a Jazzy robot), and a legitimate Jazzy subscriber of that person's
 ``engagement_status`` says what got through."""

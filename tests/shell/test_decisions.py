@@ -52,7 +52,7 @@ def test_a_bug_on_one_pose_loses_that_pose_alone(caplog):
     results = [p.key for p in said if p.kind is Kind.RESULT]
     assert results == ["hri/bodies/ann/facing/cam", "hri/bodies/cat/facing/cam"]
     assert ledger.rejected[Rejection.INTERNAL_ERROR] == 1 and faults.failing
-    # one bug met, one error (issue 63, defect 3: the batch's failure and bob's alone
+    # one bug met, one error (a defect found: the batch's failure and bob's alone
     # counted it twice)
     assert ledger.decided["worker_errors"] == 1
     frames = [p for p in said if p.kind is Kind.FRAME]
@@ -101,7 +101,7 @@ class FailsOnAsNewClock(JsonOutput):
 
 
 def test_a_bug_in_a_restart_counts_the_rest_of_the_batch_once():
-    """Issue 67: the restart's part ran after the batch's first part was counted and
+    """A defect found: the restart's part ran after the batch's first part was counted and
     kept; a bug in it had every pose go again, so ``b`` was counted accepted and then
     refused as out of order. The whole is one transaction now."""
     from facing_service.core.tracker import RESTART_EVIDENCE

@@ -1,4 +1,4 @@
-"""Groups and who faces whom through the live service (issue 33): published on change,
+"""Groups and who faces whom through the live service: published on change,
 one key per group with a DELETE when it dissolves, answered as queryables; the robot a
 participant. Real zenoh sessions on loopback."""
 
@@ -131,7 +131,7 @@ def test_the_client_says_groups_formed_changed_dissolved_and_the_robot_joining_a
 
 @pytest.mark.parametrize("base_frame", ["*", "cam"])
 def test_a_query_naming_a_frame_always_answers_even_after_the_room_emptied(net, base_frame):
-    """Issue 41: after everyone left and people came back, a query on the frame's groups
+    """A defect found: after everyone left and people came back, a query on the frame's groups
     got no reply at all. A frame the service knows answers with its empty lists; a frame
     it does not know answers with an error naming the frames tracked; a wildcard that
     matches nothing stays unanswered (every queryable would refuse it)."""
@@ -154,7 +154,7 @@ def test_a_query_naming_a_frame_always_answers_even_after_the_room_emptied(net, 
         assert key == f"{NAMESPACE}/facing/cam" and facing["bodies_tracked"] == []
         ((kind, error),) = get(client, f"{NAMESPACE}/bodies/*/facing/cam")
         assert (kind, error["error"]) == ("error", "empty_frame")
-    # A wrong frame is answered as such, with one --base-frame too (issue 59: it stayed
+    # A wrong frame is answered as such, with one --base-frame too (it stayed
     # silent, and a typo looked like an empty room)
     ((kind, error),) = get(client, f"{NAMESPACE}/groups/cma")
     assert (kind, error["error"]) == ("error", "unknown_frame") and "'cma'" in error["detail"]
@@ -162,7 +162,7 @@ def test_a_query_naming_a_frame_always_answers_even_after_the_room_emptied(net, 
 
 
 def test_where_to_stand_goes_out_with_the_groups(scene):
-    """Issue 53 on the wire: a pair talking ahead carries where the robot should join them;
+    """Where to stand, on the wire: a pair talking ahead carries where the robot should join them;
     a person engaging from 2.4 m away, in no group, where to greet them; both queryable."""
     _, client, groups, _ = scene
     send(client, pose_key("ann"), pose_json("ann", "cam", x=3.0, y=0.6, yaw_deg=-90.0))

@@ -24,7 +24,7 @@ def is_put(key):
 
 
 def test_mistyped_pose_keys_are_counted_and_logged_not_lost_in_silence(rig, caplog):
-    """Issue 55: a tracker's poses on a mistyped key reached no subscription of the
+    """A defect found: a tracker's poses on a mistyped key reached no subscription of the
     service, and nothing said so; they are now refused as invalid keys, counted in the
     status and named in the rejections' log line, and good poses still all come through."""
     service, client, rec = rig()
@@ -55,7 +55,7 @@ def test_mistyped_pose_keys_are_counted_and_logged_not_lost_in_silence(rig, capl
 
 
 def test_poses_in_another_frame_than_a_fixed_base_frame_are_counted_and_said(net, caplog):
-    """Issue 67: ``run --base-frame base_lnk`` with poses in base_link: nothing printed,
+    """A defect found: ``run --base-frame base_lnk`` with poses in base_link: nothing printed,
     nothing logged, 0 accepted and every rejection counter 0. Now each is refused as
     other_frame, the frames are said once, and health's line says it; the watch ends at
     the first pose in the frame read."""

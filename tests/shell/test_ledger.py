@@ -108,7 +108,7 @@ def test_rejections_are_summarized_at_most_once_per_period(caplog):
     assert caplog.records[-1].getMessage() == (
         "rejected 1 sample in the last 1 s: capacity=1 (first: hri/bodies/z/pose/cam: full)"
     )
-    # issue 74: "in the last 255 s" was the time since the last summary, not since the
+    # a defect found: "in the last 255 s" was the time since the last summary, not since the
     # first rejection it counts
     clock.now += 250.0
     ledger.reject(Rejection.CAPACITY, "hri/bodies/z/pose/cam", "full")

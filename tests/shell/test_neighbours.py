@@ -47,7 +47,7 @@ def test_a_second_service_of_another_instance_name_is_said_at_once(net, caplog):
 
 
 def test_services_sharded_by_frame_judge_each_other_and_warn_of_nothing(net, caplog):
-    """Each judged the other (issue 74: the test passed had no question ever been asked),
+    """Each judged the other (the test passed had no question ever been asked),
     and neither warned."""
     caplog.set_level(logging.INFO, logger="facing_service")
     # two instance names: each learns of the other from its token at once (one name in

@@ -72,7 +72,7 @@ def test_the_re_say_leaves_out_results_said_since_the_subscriber_appeared():
 
 
 def test_a_subscriber_gone_and_another_come_before_the_re_say_misses_nothing():
-    """Issue 67: the bodies said after the first appearance were left out of the re-say
+    """A defect found: the bodies said after the first appearance were left out of the re-say
     for a second subscriber that came after the first had gone: it never heard them."""
     output = JsonOutput("hri", "test", 100)
     t = tracker()
@@ -88,7 +88,7 @@ def test_a_subscriber_gone_and_another_come_before_the_re_say_misses_nothing():
 
 
 def test_an_appearance_between_the_workers_check_and_its_clear_is_kept():
-    """Issue 67: ``if joined: ... joined = False`` on the worker's thread could clear a
+    """A defect found: ``if joined: ... joined = False`` on the worker's thread could clear a
     join zenoh's thread set in between. Taking the due appearance is one step now: one
     made after it is due at the next turn."""
     output = JsonOutput("hri", "test", 100)

@@ -157,7 +157,7 @@ def test_threshold_parameter_refusals_say_why(parameters, message):
 
 
 def test_a_groups_members_are_said_in_natural_order():
-    """Issue 59: members were sorted as text (p12, p13, p4)."""
+    """A defect found: members were sorted as text (p12, p13, p4)."""
     from facing_service.contract.stamps import Time
     from facing_service.core.social.groups import Group
     from facing_service.core.social.scene import ROBOT

@@ -78,7 +78,7 @@ def test_a_query_on_a_body_not_tracked_beside_others_says_so(rig):
 
 
 def test_a_what_if_cone_on_engagement_is_refused_not_ignored(rig):
-    """Issue 63, defect 1: ``threshold_deg`` on an engagement query was parsed, a
+    """A defect found: ``threshold_deg`` on an engagement query was parsed, a
     re-decision computed and thrown away: the levels answered as if it were not there.
     Engagement is worked out over time (a score, dwell), not re-decided per query: the
     parameter is refused there, as on groups and who faces whom."""

@@ -194,7 +194,7 @@ def test_a_lost_body_that_comes_back_is_said_again_through_client_declared_publi
 
 
 def test_closing_gives_the_threads_one_budget_together(net):
-    """Issue 55: each thread had 0.7 s to stop, one after the other (2.1 s in all, over
+    """A defect found: each thread had 0.7 s to stop, one after the other (2.1 s in all, over
     the 2 s SIGTERM promises); they now share CLOSE_JOIN_S. The first thread is joined
     through a stand-in that stays stuck for all the time it is given; the others (real)
     are then given nothing more."""
@@ -227,7 +227,7 @@ def test_closing_gives_the_threads_one_budget_together(net):
 
 @pytest.mark.filterwarnings("ignore::pytest.PytestUnhandledThreadExceptionWarning")
 def test_the_alarm_thread_dying_is_a_failed_status(net, monkeypatch):
-    """Issue 63, defect 2: the alarm thread ``Intake`` starts (timed expiry on a quiet
+    """A defect found: the alarm thread ``Intake`` starts (timed expiry on a quiet
     input) was not among the threads the status watches: if it died, staleness stopped and
     the status still said ok."""
     from facing_service.shell import intake

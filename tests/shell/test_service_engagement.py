@@ -92,7 +92,7 @@ def test_evaluation_runs_at_small_size(tmp_path):
 
 
 def test_hri_engagements_rule_as_a_mode_levels_as_robots_run_them(net):
-    """Issue 61: `--engagement rule` is hri_engagement 2.0.1's rule on the JSON path (the
+    """`--engagement rule` is hri_engagement 2.0.1's rule on the JSON path (the
     ROS 2 path: test_benchmarks_crossval): no level until half its 10 s window has votes,
     then DISENGAGED, ENGAGING, and ENGAGED only once three quarters of the window voted
     engaged; our levels, events and keys."""

@@ -154,7 +154,7 @@ def fast_client(net, ep: str):
 def test_a_router_outage_is_said_when_it_starts_and_ends_and_results_resume(
     net, caplog, monkeypatch
 ):
-    """Issue 45/46: the router killed, back after 3 s (rmw_zenohd restarted). The loss is
+    """The router killed, back after 3 s (rmw_zenohd restarted). The loss is
     logged and shown in the status (outage_s; "no router" past its bound), the return is
     logged with how long it lasted, and results flow again soon (zenoh's default backoff
     left them stopped 4 s after the router was back; printed, not asserted: no timing
@@ -197,7 +197,7 @@ def test_a_router_outage_is_said_when_it_starts_and_ends_and_results_resume(
 
 
 def test_the_ros2_path_recovers_after_the_robots_router_restarts(net, caplog):
-    """Issue 45: rmw_zenohd restarted (killed, back after 3 s). /tf_static comes back from
+    """Rmw_zenohd restarted (killed, back after 3 s). /tf_static comes back from
     the robot's transient-local cache, the tracked lists and /tf stream again, and the
     service answers on the robot's topics: results for poses stamped after the restart."""
     import logging
@@ -265,7 +265,7 @@ def test_the_ros2_path_recovers_after_the_robots_router_restarts(net, caplog):
 
 
 def test_a_tracker_that_restarts_and_reuses_its_ids_is_followed(net):
-    """Issue 45. A tracker crashes and restarts, its clock starting over: its first poses
+    """A tracker crashes and restarts, its clock starting over: its first poses
     are older than the body's last, refused as late until three in a row (each newer than
     the one before) show a new clock; then the body is lost (DELETE) and followed anew.
     A tracker that stopped cleanly (DELETE) and restarts with newer stamps is back at once."""

@@ -1,4 +1,4 @@
-"""Issue 45: under 5 % loss and 50 ms jitter between tracker and service, every result is
+"""Under 5 % loss and 50 ms jitter between tracker and service, every result is
 correct and in order, and 100 people at 30 Hz still get through. The link is made by the
 test (tests/lossy_link.py: a network namespace and a veth pair; netem, or nftables and a
 jitter proxy where the kernel has no netem); skipped, with the reason, where it cannot."""

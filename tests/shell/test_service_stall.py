@@ -1,4 +1,4 @@
-"""The service off the robot, over a link that stalls and is cut (issue 76): a stall is
+"""The service off the robot, over a link that stalls and is cut: a stall is
 not everyone leaving, and the service says what it hears. The service and a consumer in
 processes of their own, the robot through a userspace TCP proxy (stalled_link.py)."""
 

@@ -33,7 +33,7 @@ def shared_data_missing() -> str | None:
 
 #: Set by .ci/run: a test of the shared data fails without it instead of skipping. Not
 #: ``CI``: GitHub Actions and GitLab set ``CI=true`` themselves, and a user's fork has no
-#: ../shared (issue 67).
+#: ../shared.
 REQUIRE_SHARED_DATA = "FACING_TEST_REQUIRE_SHARED_DATA"
 
 

@@ -1,4 +1,4 @@
-"""A robot over a link that stalls and is cut (issue 76), as a judge plays it: the service
+"""A robot over a link that stalls and is cut, as a judge plays it: the service
 and a consumer in processes of their own, the robot's session through a userspace TCP
 proxy in this one (``lossy_link.JitterProxy``: a delay of 0-60 ms, stall, resume, reset),
 three people at 30 Hz.

@@ -2,7 +2,7 @@
 browser, a real terminal, systemd's verifier, openssl's certificates, a network namespace.
 A contributor's clone without one: its tests skip, naming the package to install (the
 README's install line has them all); the project's CI installs them (.ci/run) and sets
-``FACING_TEST_REQUIRE_SYSTEM_PACKAGES=1``, so that there a missing one fails (issue 74: a
+``FACING_TEST_REQUIRE_SYSTEM_PACKAGES=1``, so that there a missing one fails (a
 fresh machine failed the README's test command with "chromium is not installed")."""
 
 from __future__ import annotations

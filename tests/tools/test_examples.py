@@ -62,7 +62,7 @@ def test_a_tracker_a_subscriber_a_get_and_a_status_read(net):
 
 
 def test_with_no_service_each_example_says_so_and_fails():
-    """Issue 59: publishing to nowhere said "published", a query and a subscriber nobody
+    """A defect found: publishing to nowhere said "published", a query and a subscriber nobody
     answered printed nothing; each exited 0."""
     port = free_port()  # nothing listens there
     runs = {
@@ -97,7 +97,7 @@ def loading_zenoh(proc: subprocess.Popen[str]) -> None:
 
 
 def test_ctrl_c_ends_every_example_quietly_and_the_tracker_deletes_its_people(net):
-    """Issue 59: Ctrl-C printed a traceback (during the imports too), and the tracker then
+    """A defect found: Ctrl-C printed a traceback (during the imports too), and the tracker then
     never sent the DELETEs its docs promise."""
     port = free_port()
     net.service(listen=[endpoint(port)], base_frame="base_link")
@@ -141,9 +141,9 @@ def test_a_ctrl_c_pending_from_the_imports_ends_an_example_quietly():
 
 
 def test_the_subscriber_prints_a_body_straight_below_the_robot(net):
-    """Issue 63, defect 5: ``distance_m`` is null when the robot is straight above a
+    """A defect found: ``distance_m`` is null when the robot is straight above a
     person (the README says so) and subscribe.py formatted it with ``:.1f``: a traceback
-    on the first such result. (Fixed with issue 59; this is its test.)"""
+    on the first such result. (This is its test.)"""
     port = free_port()
     net.service(listen=[endpoint(port)], base_frame="base_link")
     subscriber = example("subscribe.py", port, "--duration-s", "4")
@@ -162,7 +162,7 @@ def test_the_subscriber_prints_a_body_straight_below_the_robot(net):
 
 
 def test_a_subscriber_piped_into_head_ends_quietly_when_head_has_its_lines(net):
-    """Issue 74: ``examples/subscribe.py | head`` flooded the terminal with BrokenPipeError
+    """A defect found: ``examples/subscribe.py | head`` flooded the terminal with BrokenPipeError
     tracebacks, one from each result's callback after head ended."""
     port = free_port()
     net.service(listen=[endpoint(port)], base_frame="base_link")
@@ -186,7 +186,7 @@ def test_a_subscriber_piped_into_head_ends_quietly_when_head_has_its_lines(net):
 
 
 def test_a_get_before_any_pose_says_nobody_is_there_and_succeeds(net):
-    """Issue 74: two services in a namespace, neither with a pose yet: query.py printed
+    """A defect found: two services in a namespace, neither with a pose yet: query.py printed
     "refused: empty_frame" and "refused: unknown_frame" and exited 0. A room with nobody
     in it yet is no refusal; a frame no service knows while others are tracked still is."""
     port = free_port()

@@ -189,7 +189,7 @@ def test_engagement_reaches_consumers_under_the_policy(deployment, tracker_and_c
     )
     try:
         client.open()
-        client.on_engaged(lambda event: engaged.set())  # on an open client (issue 59)
+        client.on_engaged(lambda event: engaged.set())  # on an open client
         for i in range(90):  # facing from 1.2 m for up to 3 s at 30 Hz
             pose = pose_json("bob", "cam", x=1.2, sec=1 + i // 30, nanosec=(i % 30) * 33_000_000)
             send(tracker, "hri/bodies/bob/pose/cam", pose)

@@ -2,7 +2,7 @@
 user/password, access control), the real service CLI reading and answering the robot's
 own topics with its own identity, a Jazzy robot (tests/rmw_zenoh.py) with its identity,
 and a stranger with a valid certificate of its own who may neither publish on /tf or
-/humans/* nor read the answers (issue 32)."""
+/humans/* nor read the answers."""
 
 from __future__ import annotations
 

@@ -100,7 +100,7 @@ def test_watch_once_shows_a_known_scene(net):
 
 
 def test_watch_into_a_pipe_writes_frames_as_it_goes(net):
-    """Issue 74: ``watch > file`` (rich's live display, no terminal) wrote nothing until it
+    """A defect found: ``watch > file`` (rich's live display, no terminal) wrote nothing until it
     exited. Into a pipe, its frames come while it runs, each whole."""
     port = free_port()
     net.service(listen=[endpoint(port)], base_frame="base_link")
@@ -227,7 +227,7 @@ def test_watch_lists_what_the_service_says_on_ros2_input(net):
 
 
 def test_held_is_at_least_only_for_people_there_before_the_view(net):
-    """Issue 67: "≥" (already so when the view started) was said of people who appeared
+    """A defect found: "≥" (already so when the view started) was said of people who appeared
     after the view started too: their first result is when their decision began."""
     from facing_service.client.client import FacingClient
     from facing_service.client.watch import Watcher
@@ -254,7 +254,7 @@ def test_held_is_at_least_only_for_people_there_before_the_view(net):
 
 
 def test_where_to_stand_prints_the_places_to_join_and_to_greet(net):
-    """Issue 53's example: a pair talking 3 m ahead, a person engaging 2.4 m behind: where
+    """The example of the docs: a pair talking 3 m ahead, a person engaging 2.4 m behind: where
     to join the pair, where to greet the person."""
     port = free_port()
     net.service(listen=[endpoint(port)], base_frame="base_link", group_hold_s=0.2)
@@ -283,7 +283,7 @@ def test_where_to_stand_prints_the_places_to_join_and_to_greet(net):
 
 
 def test_the_demo_fits_an_80x24_terminal_as_a_person_sees_it(tmp_path):
-    """Issue 67: on 80x24 the demo showed the radar and only the table's header, then
+    """A defect found: on 80x24 the demo showed the radar and only the table's header, then
     "...". Run in a real terminal (tmux) of that size: every person's row is on screen."""
     require("tmux")
     session = f"facing-demo-{os.getpid()}"
@@ -333,7 +333,7 @@ def test_the_view_fits_the_terminal_with_every_row(columns: int, lines: int):
     [("rule", "engagement is hri_engagement's rule"), ("service", "needs more than facing")],
 )
 def test_the_legend_explains_the_engagement_mode_the_service_runs(net, mode: str, said: str):
-    """Issue 67: with --engagement rule, watch's footer still explained the default mode."""
+    """A defect found: with --engagement rule, watch's footer still explained the default mode."""
     from facing_service.client.client import FacingClient
     from facing_service.client.watch import Watcher
     from facing_service.tools.loopback import loopback_config
