@@ -11,15 +11,18 @@ or more left out in turn), each grouped frame by frame as ``held_out.run`` group
 and absent (the frame without them). For the shipped set, for the shipped set with each
 cost per group of ``COSTS`` (the one parameter that trades merging for splitting), and
 for GCFF with each sequence's own tuned parameters (chosen on that sequence: the best
-its family does there, in-sample). Each with its F1 frame by frame (T = 2/3) on the
+its family does there, in-sample), and for the dominant sets (``dominant``, their
+setting chosen with the dataset held out). Each with its F1 frame by frame (T = 2/3) on the
 sequence's annotated frames, and 95 % bootstrap intervals of the shares over cases.
 """
 
 from __future__ import annotations
 
+import functools
+import json
 import random
-from collections.abc import Sequence
-from dataclasses import replace
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +30,9 @@ from facing_service.core.social.groups import GroupParams
 
 from .. import paths
 from ..sections import measured_or_page
+from . import dominant
+from .dominant import RESULTS as DOMINANT
+from .dominant import DominantParams
 from .gcff_own import CM2, tuned
 from .held_out import gcff_params, run
 from .join_cases import BOOTSTRAP
@@ -41,13 +47,14 @@ END = "<!-- end of the join's bound -->"
 COSTS = (1.0, 1.5, 2.0, 3.0, 5.0)  # m², the shipped 1.5 among them
 TARGET = 0.8  # the share of cases given a place the join is asked for
 EVERY = 10**9  # cases asked of ``live_cases``: every one
+Grouping = Callable[[Sequence[Frame]], list[list[frozenset[int]]]]  # each frame's groups
 Picked = tuple[Frame, Frame, Any, frozenset[int]]  # ``live_cases``'s: whole, shown, case, rest
 
 
 def held_together(frames: Sequence[Frame], rests: Sequence[frozenset[int]],
-                  p: GroupParams) -> list[bool]:  # fmt: skip
+                  grouping: Grouping) -> list[bool]:  # fmt: skip
     """Per frame: whether one group found in it holds all of its ``rests``."""
-    found = run(frames, p)
+    found = grouping(frames)
     return [any(rest <= g for g in gs) for rest, gs in zip(rests, found, strict=True)]
 
 
@@ -59,16 +66,29 @@ def share(hits: Sequence[bool], rng: random.Random) -> dict[str, Any]:
     return {"share": sum(hits) / n, "interval": (lo, hi)}
 
 
-def row(frames: Sequence[Frame], picked: Sequence[Picked], p: GroupParams,
+def row(frames: Sequence[Frame], picked: Sequence[Picked], grouping: Grouping,
         rng: random.Random) -> dict[str, Any]:  # fmt: skip
-    """One parameter set on one sequence: F1 frame by frame, and the remaining members
-    of each case ``picked`` held together with the member present and absent."""
+    """One grouping on one sequence: F1 frame by frame, and the remaining members of each
+    case ``picked`` held together with the member present and absent."""
     rests = [rest for *_, rest in picked]
+    whole, shown = [w for w, *_ in picked], [sh for _, sh, *_ in picked]
     return {
-        "f1": f1(frames, run(frames, p), 2 / 3),
-        "present": share(held_together([whole for whole, *_ in picked], rests, p), rng),
-        "absent": share(held_together([shown for _, shown, *_ in picked], rests, p), rng),
+        "f1": f1(frames, grouping(frames), 2 / 3),
+        "present": share(held_together(whole, rests, grouping), rng),
+        "absent": share(held_together(shown, rests, grouping), rng),
     }
+
+
+def gcff_family(p: GroupParams) -> Grouping:
+    return functools.partial(run, p=p)
+
+
+def dominant_sets(sequence: str) -> tuple[DominantParams, Grouping]:
+    """The dominant sets' setting chosen with the sequence's dataset held out (the
+    committed ``groups_dominant.json``), and its grouping."""
+    chosen = json.loads(DOMINANT.read_text())["sequences"][sequence]["chosen"]
+    p = DominantParams(chosen["length_m"], chosen["sigma"])
+    return p, functools.partial(dominant.found, p=p)
 
 
 def evaluate(root: Path = SHARED, sequences: Sequence[str] = tuple(SEQUENCES)) -> dict[str, Any]:
@@ -78,14 +98,17 @@ def evaluate(root: Path = SHARED, sequences: Sequence[str] = tuple(SEQUENCES)) -
         picked = live_cases(frames, EVERY)
         rng = random.Random(84)
         stride_cm, mdl_cm2 = tuned(s, root)
-        costs = {f"{c:g}": row(frames, picked, replace(GroupParams(), mdl=c), rng) for c in COSTS}
-        gcff = gcff_params(stride_cm * CM, mdl_cm2 * CM2)
+        costs = {f"{c:g}": row(frames, picked, gcff_family(replace(GroupParams(), mdl=c)), rng)
+                 for c in COSTS}  # fmt: skip
+        gcff = gcff_family(gcff_params(stride_cm * CM, mdl_cm2 * CM2))
+        dominant_p, dominant_grouping = dominant_sets(s)
         out["sequences"][s] = {
             "cases": len(picked),
             "gcff_one_set_f1": GCFF_ONE_SET[s],
             "costs": costs,
             "gcff_tuned": {"stride_m": stride_cm * CM, "mdl_m2": mdl_cm2 * CM2,
                            **row(frames, picked, gcff, rng)},
+            "dominant": {**asdict(dominant_p), **row(frames, picked, dominant_grouping, rng)},
         }  # fmt: skip
     return out
 
@@ -100,20 +123,20 @@ def tables(results: dict[str, Any]) -> list[str]:
     lines = [
         "The remaining members held together by the frame's grouping (frame by frame, no"
         " memory) with the left-out member present and absent [95 % intervals over cases],"
-        " for the shipped set and for GCFF tuned on each sequence itself (in-sample: the"
-        " best its family does there), beside F1 frame by frame:",
+        " for the shipped set, for GCFF tuned on each sequence itself (in-sample: the"
+        " best its family does there) and for the dominant sets (held out by dataset, as"
+        " measured above), beside F1 frame by frame:",
         "",
         "| sequence | cases | shipped: present | absent | F1 | GCFF tuned here: present"
-        " | absent | F1 | GCFF's one set F1 |",
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+        " | absent | F1 | dominant sets: present | absent | F1 | GCFF's one set F1 |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
     for s, r in results["sequences"].items():
-        ours, gcff = r["costs"][shipped], r["gcff_tuned"]
-        lines.append(
-            f"| {s} | {r['cases']} | {_cell(ours, 'present')} | {_cell(ours, 'absent')}"
-            f" | {ours['f1']:.2f} | {_cell(gcff, 'present')} | {_cell(gcff, 'absent')}"
-            f" | {gcff['f1']:.2f} | {r['gcff_one_set_f1']:.2f} |"
-        )
+        cells = [
+            f"{_cell(got, 'present')} | {_cell(got, 'absent')} | {got['f1']:.2f}"
+            for got in (r["costs"][shipped], r["gcff_tuned"], r["dominant"])
+        ]
+        lines.append(f"| {s} | {r['cases']} | {' | '.join(cells)} | {r['gcff_one_set_f1']:.2f} |")
     names = list(results["sequences"])
     lines += [
         "",
