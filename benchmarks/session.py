@@ -110,6 +110,8 @@ def _said(path: Path) -> dict[str, Any]:
     with path.open("rb") as stream:
         for schema, channel, message in make_reader(stream).iter_messages(log_time_order=True):
             m = json.loads(message.data)
+            if schema is None:  # the recorder gives every channel its schema
+                continue
             if schema.name == "pose":
                 poses.append(message.data)
             elif schema.name == "facing_state":

@@ -28,15 +28,16 @@ def main() -> int:
         replies = list(session.get(selector, timeout=2.0))
         refused = empty = 0
         for reply in replies:
-            if reply.ok is None:  # an error reply: nobody there, or a refusal
-                error = json.loads(reply.err.payload.to_bytes())
+            answer = reply.result  # a sample, or an error: nobody there, or a refusal
+            if isinstance(answer, zenoh.ReplyError):
+                error = json.loads(answer.payload.to_bytes())
                 if nobody_there(error):
                     empty += 1
                 else:
                     refused += 1
                     print(f"refused: {error['error']}: {error['detail']}", file=sys.stderr)
                 continue
-            result = json.loads(reply.ok.payload.to_bytes())
+            result = json.loads(answer.payload.to_bytes())
             angle = result["angle_deg"]  # null when the robot is straight above the body
             say(f"{result['body_id']}: facing={result['facing']} "
                 f"angle={'-' if angle is None else f'{angle:.0f}°'}")  # fmt: skip

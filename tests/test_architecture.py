@@ -101,8 +101,8 @@ def test_the_rule_catches_a_climb(here, source, wrong):
     assert climbs(here, source) == wrong
 
 
-#: docs/architecture.md: one responsibility per module, none over this many lines. (Issue
-#: 43: 400 split modules by size rather than by what they do; a cohesive 420 lines beats
+#: docs/architecture.md: one responsibility per module, none over this many lines. (A
+#: cap of 400 split modules by size rather than by what they do; a cohesive 420 lines beats
 #: two halves that call each other.)
 MAX_MODULE_LINES = 450
 

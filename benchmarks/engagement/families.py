@@ -16,7 +16,7 @@ from facing_service.core.tracker import Tracker
 from .scoring import BASE_FRAME
 
 #: The settings every candidate shares: the service as the recordings evaluation runs it.
-BASE = {"input": "ros2", "base_frame": BASE_FRAME}
+BASE: dict[str, Any] = {"input": "ros2", "base_frame": BASE_FRAME}
 CONES = (20.0, 22.0, 24.0, 26.0, 28.0, 30.0, 32.0)
 
 #: Each idea, as the settings it searches (everything else: the shipped defaults), from

@@ -62,10 +62,10 @@ def labelled_track(
             if t < burst_until or rng.random() < dropout:
                 continue
             toward = math.degrees(math.atan2(-y, -x))
-            yaw = {"robot": toward, "away": toward + 180.0, "path": path}.get(
-                segment.yaw,
-                segment.yaw,  # type: ignore[arg-type]
-            )
+            yaw = (
+                {"robot": toward, "away": toward + 180.0, "path": path}[segment.yaw]
+                if isinstance(segment.yaw, str) else segment.yaw
+            )  # fmt: skip
             samples.append(
                 LabelledSample(
                     t,

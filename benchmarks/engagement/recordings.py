@@ -35,7 +35,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import zenoh
 
@@ -67,13 +67,17 @@ from .scoring import (
 )
 
 RESULTS = paths.RESULTS / "recordings.json"
-#: The rule's figures on the first shared folder as measured outside the project (issue
-#: 22), which its re-implementation must reproduce there.
+#: The rule's figures on the first shared folder as measured outside the
+#: project, which its re-implementation must reproduce there.
 REFERENCE_FIGURES = {"level": 0.32, "engaged_or_not": 0.71, "final": 4, "first_engaged_s": 5.2}
 
 
 def service_timelines(
-    bag: Path, persons: list[str], rate: float, ros_format: RosFormat, engagement: str = "service"
+    bag: Path,
+    persons: list[str],
+    rate: float,
+    ros_format: RosFormat,
+    engagement: Literal["service", "rule"] = "service",
 ) -> dict[str, Timeline]:
     """The real path: bag -> replay -> zenoh router -> service -> engagement events (the
     service's own machines, or ``engagement="rule"``: hri_engagement's as its mode)."""

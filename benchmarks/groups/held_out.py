@@ -28,7 +28,9 @@ difference above 0.
 from __future__ import annotations
 
 import argparse
+import functools
 import itertools
+import operator
 import random
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
@@ -168,9 +170,12 @@ def evaluate(root: Path = SHARED, progress: bool = False) -> dict[str, Any]:
     shipped default (the room rule chosen on everything) on each sequence."""
     recorded, data = recorded_and_wider(root)
     options = candidates()
-    table = score_all(
-        data, options, lambda i: progress and i % 20 == 0 and print(f"{i}/{len(options)}")
-    )
+
+    def counted(i: int) -> None:
+        if progress and i % 20 == 0:
+            print(f"{i}/{len(options)}")
+
+    table = score_all(data, options, counted)
     rng = random.Random(41)
     by_rule = {r: [i for i, c in enumerate(options) if c.rule == r] for r in RULES}
 
@@ -185,7 +190,7 @@ def evaluate(root: Path = SHARED, progress: bool = False) -> dict[str, Any]:
             "gcff_median_port": f1(frames, run(frames, gcff_params(*GCFF_MEDIAN)), 2 / 3),
         }
         chosen: dict[str, dict[str, int]] = {}
-        without_sequence = training(lambda o, s=s: o == s)
+        without_sequence = training(functools.partial(operator.eq, s))
         for rule, indices in by_rule.items():
             chosen[rule] = {
                 "dataset": choose(table, indices, without_dataset(s)),

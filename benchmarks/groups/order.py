@@ -48,7 +48,7 @@ def by_scene(ids: list[str], frame: Frame, order: np.ndarray) -> frozenset[froze
     people new), listed as the service lists them: by id."""
     scene = FrameScene("frame", shipped())
     people = [
-        Person(ids[i], (*map(float, frame.positions[i]), 0.0),
+        Person(ids[i], (float(frame.positions[i][0]), float(frame.positions[i][1]), 0.0),
                yaw_rotation(float(np.degrees(frame.headings[i]))))
         for i in order
     ]  # fmt: skip

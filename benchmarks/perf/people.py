@@ -53,6 +53,7 @@ def per_message_us(people: int, persons: bool, seconds: float) -> float:
         shift = Time.from_seconds(float(r))
         for message in messages:
             t = message[0]
+            assert t.stamp is not None  # _message stamps every one
             subject.on_tf([TfInput(t.parent, t.child, Time(t.stamp + shift), t.transform)],
                           static=False)  # fmt: skip
     return (time.perf_counter() - started) / (rounds * len(messages)) * 1e6

@@ -11,6 +11,7 @@ a test fails when the two disagree.
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import sys
 from collections.abc import Callable
@@ -53,7 +54,7 @@ def _lost(run: dict[str, Any]) -> int | None:
     return run["burst"]["lost"] + sum(soaks)
 
 
-def _met(name: str, value: float, limit: float) -> bool:
+def _met(name: str, value: float, *, limit: float) -> bool:
     return value >= limit if name in AT_LEAST else value <= limit
 
 
@@ -68,7 +69,7 @@ def verdicts(report: dict[str, Any]) -> dict[str, bool]:
     met: dict[str, bool] = {}
     for name, (limit, _goal) in TARGETS.items():
         values = [c["ratios"][name] for c in cells if c["ratios"][name] is not None]
-        met[name] = _every(values, lambda v, n=name, x=limit: _met(n, v, x))
+        met[name] = _every(values, functools.partial(_met, name, limit=limit))
     services = [c["targets"]["service"] for c in cells]
     losses = [lost for s in services if (lost := _lost(s)) is not None]
     met["zero_loss"] = _every(losses, lambda lost: lost == 0)
@@ -76,7 +77,7 @@ def verdicts(report: dict[str, Any]) -> dict[str, bool]:
         services, lambda s: s["burst"].get("service_results_superseded", 0) == 0
     )
     for name, (limit, _goal) in ROS_TARGETS.items():
-        met[name] = _met(name, report["ros_ratios"][name], limit)
+        met[name] = _met(name, report["ros_ratios"][name], limit=limit)
     met["ros_zero_loss"] = _lost(report["service_ros"]) == 0
     big = [row for row in report["core"] if row["n"] >= 10_000]
     met["core_speedup"] = _every(big, lambda row: row["speedup"] >= CORE_SPEEDUP_MIN)

@@ -17,7 +17,6 @@ benchmarks/results/latest.json.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from .. import paths, results_file
@@ -89,4 +88,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

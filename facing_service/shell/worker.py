@@ -17,7 +17,7 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import zenoh
 
@@ -83,7 +83,7 @@ class Worker:
             self.turn(batch)
         self._ledger.rejection_log.maybe_log(force=True)
 
-    def turn(self, batch: list[object]) -> None:
+    def turn(self, batch: Sequence[object]) -> None:
         """One turn of the loop over what was taken (also driven alone by
         benchmarks.perf.hot_path, to measure it without the network)."""
         try:
@@ -200,7 +200,7 @@ class Worker:
             if (due := output.next_due()) is not None and due <= now:
                 self._decisions.add(output.tick(now, snapshot))
 
-    def _handle(self, batch: list[object]) -> None:
+    def _handle(self, batch: Sequence[object]) -> None:
         """Handle the items in order; consecutive poses go to the core together. An item
         that meets a bug is counted and skipped: the others are handled. Past
         BATCH_BUDGET_S the rest waits for the next turn (see ``_next_batch``)."""
@@ -212,7 +212,7 @@ class Worker:
             if self._closing.is_set():  # SIGTERM under a flood: the backlog is abandoned
                 return
             if i and time.monotonic() > deadline:
-                self._carried = batch[i:]
+                self._carried = list(batch[i:])
                 break
             try:
                 self._handle_one(item, poses)

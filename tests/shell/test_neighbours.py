@@ -1,5 +1,5 @@
-"""A second service reading the same poses in one namespace is said in both logs (issue
-67: every result arrived twice and neither log said anything); one sharded by frame is
+"""A second service reading the same poses in one namespace is said in both logs
+(every result arrived twice and neither log said anything); one sharded by frame is
 not."""
 
 from __future__ import annotations
