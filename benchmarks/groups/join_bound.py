@@ -80,6 +80,7 @@ def row(frames: Sequence[Frame], picked: Sequence[Picked], grouping: Grouping,
 
 
 def gcff_family(p: GroupParams) -> Grouping:
+    """GCFF's energy with ``p`` (the shipped grouping's family), as ``held_out`` runs it."""
     return functools.partial(run, p=p)
 
 
