@@ -7,7 +7,7 @@ On one core (the process pinned to CPU 0, MediaPipe's threads with it). **Speed*
 of 640x480 and 1280x720 with 1, 3 and 5 faces (scikit-image's astronaut, tiled, moved a
 pixel a frame so no frame repeats) through the front end's whole per-frame work (detector
 on the frame and its tiles, mesh, fit, ids), frames a second and CPU per frame, at the
-default reach (5 m) and at 2 m (the whole frame only, as before tiles); each face's
+default reach (5 m) and at 2 m (the whole frame only, as before the tiling); each face's
 first result after its first frame, from a fresh front end. **Reach**: a frontal face (the
 astronaut) and a turned one (the cameraman, three-quarter view), each also mirrored, scaled
 to a 15 cm face at 1 to 8 m for a 65° camera and pasted at six places of a frame (a
@@ -84,7 +84,7 @@ def per_frame(mesh: FaceMesh, frame: np.ndarray, ids: FaceIds, now: float) -> in
 
 def front_end(size: tuple[int, int], reach_m: float | None, faces: int = 5) -> FaceMesh:
     """The front end's face finder for a camera of ``size`` (65°) and a reach (None: the
-    whole frame only, as before tiles)."""
+    whole frame only, as before the tiling)."""
     tile = None if reach_m is None else tile_for(from_field_of_view(*size), reach_m)
     return FaceMesh(faces, tile)
 

@@ -240,8 +240,8 @@ def eligible(results: dict[str, Any]) -> list[str]:
 
 
 #: The rules that may ship: lengths in metres. The room's learnt unit won on the shared
-#: sequences and lost on the rooms kept outside the project, and the
-#: order-free assignment keeps metres: its rules are measured beside, and replace nothing.
+#: sequences and lost on the rooms kept outside the project; its rules are measured
+#: beside, and replace nothing.
 IN_METRES = ("gcff", "ring", "metres")
 
 

@@ -45,7 +45,7 @@ def at_distance(photo: np.ndarray, crop, face_px: float, metres: float, where) -
 
 def verdicts(frame: np.ndarray, reach_m: float | None, held: int = 8) -> list[bool]:
     """Facing or not, for each face found after ``held`` frames of the same picture
-    (``reach_m`` None: the detector on the whole frame only, as before tiles)."""
+    (``reach_m`` None: the detector on the whole frame only, as before the tiling)."""
     mesh = FaceMesh(5, None if reach_m is None else tile_for(CAMERA, reach_m))
     try:
         for _ in range(held):
