@@ -218,7 +218,8 @@ class Settings(SessionChecks):
     )
     group_hold_s: float = flag(
         0.3,
-        "a new grouping is said once it has held this long (no flicker)",
+        "a new grouping is said once it has held this long (no flicker); a member gone "
+        "leaves at once",
         GROUPS,
         ge=0.0,
     )

@@ -273,3 +273,24 @@ def test_an_even_split_keeps_the_id_by_place_not_by_the_order_people_are_listed(
         tracker.update(listed, 1.0)
         ids.append({g.id: "".join(sorted(g.members)) for g in tracker.groups.values()})
     assert ids[0] == ids[1] == {1: "cd", 2: "ab"}  # cd stands nearer where the group was
+
+
+def test_a_member_gone_is_said_at_once_while_a_regrouping_of_those_there_waits_its_hold():
+    from facing_service.core.social.groups import GroupTracker
+
+    tracker = GroupTracker(hold_s=0.3)
+    abcd = [(frozenset("abcd"), (1.0, 0.0)), (frozenset({"", "e"}), (4.0, 0.0))]
+    tracker.update(abcd, 0.0, set("abcde") | {""})
+    (group, robots), _ = tracker.update(abcd, 0.4, set("abcde") | {""})
+    # d is lost and, in the same reading, c looks away: d leaves at once, c waits
+    reading = [(frozenset("ab"), (1.0, 0.0)), (frozenset("c"), (2.0, 0.0)),
+               (frozenset({"", "e"}), (4.0, 0.0))]  # fmt: skip
+    changed, gone = tracker.update(reading, 0.5, set("abce") | {""})
+    assert [(g.id, g.members) for g in changed] == [(group.id, frozenset("abc"))] and gone == []
+    changed, gone = tracker.update(reading, 0.9, set("abce") | {""})  # held: said
+    assert [(g.id, g.members) for g in changed] == [(group.id, frozenset("ab"))]
+    # e is lost: the robot alone is no group
+    changed, gone = tracker.update(reading[:2], 1.0, set("abc") | {""})
+    assert changed == [] and gone == [robots.id]
+    # nobody said gone (present unknown): the hold as before
+    assert tracker.update([], 1.1) == ([], [])

@@ -8,6 +8,8 @@ import random
 from dataclasses import replace
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from facing_service.contract.stamps import ZERO, Time
 from facing_service.core.social.groups import GroupParams, ScaleParams
@@ -102,10 +104,9 @@ def test_scenes_work_a_frame_out_at_most_once_a_period_and_forget_it_when_empty(
     (held,) = scenes.tick(0.4, people_of)  # the grouping has held: said
     assert [sorted(g.members) for g in held.groups] == [["a", "b"]]
     assert [u.groups for u in scenes.current()] == [held.groups]
-    people["map"] = []  # everyone left
+    people["map"] = []  # everyone left: said at once (a loss is no flicker to wait out)
     scenes.touch({"map"})
-    scenes.tick(0.5, people_of)
-    (gone,) = scenes.tick(0.9, people_of)
+    (gone,) = scenes.tick(0.5, people_of)
     assert gone.groups == () and gone.dissolved == (held.groups[0].id,)
     assert scenes.current() == [] and scenes.next_due() is None
 
@@ -121,8 +122,7 @@ def test_a_group_dissolving_after_standing_still_is_said_at_its_last_pose_not_it
     for k in range(10):  # standing still for 5 s of pose time: nothing to say
         stamp = Time.of(2 + k // 2, (k % 2) * 500_000_000)
         assert scene.update(people, stamp, 0.5 + 0.1 * k) is None
-    scene.update([], ZERO, 2.0)  # both left (a DELETE carries no stamp)
-    gone = scene.update([], ZERO, 2.4)
+    gone = scene.update([], ZERO, 2.0)  # both left (a DELETE carries no stamp): said at once
     assert gone is not None and gone.groups == () and gone.dissolved
     assert gone.stamp == Time.of(6, 500_000_000)  # the last pose seen, not (1, 5e8)
 
@@ -333,3 +333,46 @@ def test_the_groups_said_do_not_depend_on_what_people_are_called(seed):
                          for g in scene.tracker.groups.values()})  # fmt: skip
         said.append(seen)
     assert said[0] == said[1]
+
+
+def test_a_member_lost_leaves_the_group_said_at_once_and_the_group_keeps_its_id():
+    """Someone the service has said gone is in no group said after: a trio that loses a
+    member is said a pair at once, under its id (not after the hold: a loss is no
+    flicker), with the place the member left to join it; the pair losing one more is
+    said dissolved at once."""
+    scene = FrameScene("map", STREAM)
+    trio = [person("a", 2.0, 0.0, 90), person("b", 2.0, 1.2, -90), person("c", 2.6, 0.6, 180)]
+    for k in range(30):
+        scene.update(trio, Time.of(1 + k), 0.1 * k)
+    (group,) = scene.snapshot().groups
+    assert group.members == frozenset("abc")
+    lost_c = scene.update(trio[:2], Time.of(40), 3.0)
+    assert lost_c is not None and [(g.id, g.members) for g in lost_c.groups] == [
+        (group.id, frozenset("ab"))
+    ]
+    (pair,) = lost_c.groups  # the place c stood in is where to join them
+    assert pair.join is not None and (pair.join.x, pair.join.y) == pytest.approx((2.6, 0.6))
+    lost_b = scene.update(trio[:1], Time.of(41), 3.1)
+    assert lost_b is not None and lost_b.groups == () and lost_b.dissolved == (group.id,)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from("abcdef"), st.integers(1, 8)), min_size=1, max_size=25))
+def test_over_any_comings_and_goings_no_group_said_holds_someone_gone(steps):
+    """Sequences of what a tracker sends: people of a room (two conversations and a
+    passer-by) lost and back in any order, time going on between. Against the simplest
+    model of who is there (the people given to the last update), every update and every
+    read says groups only of them and the robot."""
+    room = [person("a", 2.0, 0.0, 90), person("b", 2.0, 1.2, -90), person("c", 2.6, 0.6, 180),
+            person("d", 5.0, 3.0, 0), person("e", 6.2, 3.0, 180),
+            person("f", 4.0, -2.0, 45)]  # fmt: skip
+    scene = FrameScene("map", replace(STREAM, max_people=8))
+    here, now = set("abcdef"), 0.0
+    for name, ticks in steps:
+        here ^= {name}  # lost, or back
+        for _ in range(ticks):
+            now += 0.1
+            update = scene.update([p for p in room if p.id in here], Time.from_seconds(now), now)
+            for said in (update, scene.snapshot()):
+                for g in said.groups if said is not None else ():
+                    assert g.members <= here | {ROBOT}, (now, sorted(here), g)

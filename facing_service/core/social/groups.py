@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
 
 import numpy as np
@@ -293,7 +294,10 @@ class GroupTracker:
     does not make groups flicker (as hysteresis keeps facing calm). A group that keeps at
     least half of its members keeps its id; a new one gets the next id; a group gone is
     said dissolved. Singletons are not groups; the robot (``ROBOT``) is a member like any
-    other, and a group with it says ``robot``."""
+    other, and a group with it says ``robot``. A member who is no longer there at all
+    (lost: deleted, or silent too long) leaves every said group at once, the group keeping
+    its id (dissolved when one member is left): a loss is no flicker, and a group said
+    with someone already said gone is a ghost."""
 
     ROBOT = ""  # REP 155: the robot's id in hri_msgs/Gaze and Group is the empty string
 
@@ -311,17 +315,40 @@ class GroupTracker:
         return self._candidate is not None and self._candidate != self._announced
 
     def update(
-        self, found: list[tuple[frozenset[str], tuple[float, float]]], now: float
+        self,
+        found: list[tuple[frozenset[str], tuple[float, float]]],
+        now: float,
+        present: AbstractSet[str] | None = None,
     ) -> tuple[list[Group], list[int]]:
-        """The groups ``detect`` found now (members, centre); what changed: the groups
-        formed or changed, and the ids dissolved (both empty while nothing changed)."""
+        """The groups ``detect`` found now (members, centre), and everyone ``present``
+        (None: nobody is known gone); what changed: the groups formed or changed, and the
+        ids dissolved (both empty while nothing changed)."""
         partition = frozenset(members for members, _ in found if len(members) > 1)
         if partition != self._candidate:
             self._candidate, self._since = partition, now
-        if partition == self._announced or now - self._since < self.hold_s:
-            self._recentre(found)
-            return [], []
-        return self._adopt(found)
+        if partition != self._announced and now - self._since >= self.hold_s:
+            return self._adopt(found)
+        if present is not None and any(not g.members <= present for g in self.groups.values()):
+            return self._without_the_gone(present)
+        self._recentre(found)
+        return [], []
+
+    def _without_the_gone(self, present: AbstractSet[str]) -> tuple[list[Group], list[int]]:
+        """The said groups less whoever is no longer there, ids kept; a change among those
+        still there waits its hold as any other."""
+        changed, dissolved, now_said = [], [], {}
+        for gid, group in self.groups.items():  # a new dict: callers compare it to the old
+            stay = group.members & present
+            if len(stay) < 2:
+                dissolved.append(gid)
+            elif stay == group.members:
+                now_said[gid] = group
+            else:
+                now_said[gid] = kept = Group(gid, frozenset(stay), self.ROBOT in stay, group.centre)
+                changed.append(kept)
+        self.groups = now_said
+        self._announced = frozenset(g.members for g in now_said.values())
+        return changed, sorted(dissolved)
 
     def _recentre(self, found: list[tuple[frozenset[str], tuple[float, float]]]) -> None:
         by_members = dict(found)

@@ -172,6 +172,7 @@ class FrameScene:
     def update(self, people: Sequence[Person], stamp: Time, now: float) -> SceneUpdate | None:
         """The scene of ``people`` now; an update when anything said changed."""
         p = self.params
+        everyone = people
         people, left_out = nearest(people, p.max_people)
         ids = [person.id for person in people] + [ROBOT]
         t = np.array([person.translation for person in people] + [_ROBOT_POSE[0]])
@@ -201,7 +202,9 @@ class FrameScene:
             self._worked = LastComputation(ids, *where, engaging, heading, found, greetings)
             self._joins = {}
         before = self.tracker.groups
-        changed, dissolved = self.tracker.update(found, now)  # a grouping held long enough
+        # a grouping held long enough, or someone said gone (everyone here, the cut too)
+        present = {person.id for person in everyone} | {ROBOT}
+        changed, dissolved = self.tracker.update(found, now, present)
         if moved or changed or dissolved:  # where the said groups' members stand, who left
             self._seen_seated(before, found)
         # A greeting is for a person in no group *as said*: the groups said lag this
