@@ -51,11 +51,19 @@ Grouping = Callable[[Sequence[Frame]], list[list[frozenset[int]]]]  # each frame
 Picked = tuple[Frame, Frame, Any, frozenset[int]]  # ``live_cases``'s: whole, shown, case, rest
 
 
-def held_together(frames: Sequence[Frame], rests: Sequence[frozenset[int]],
-                  grouping: Grouping) -> list[bool]:  # fmt: skip
-    """Per frame: whether one group found in it holds all of its ``rests``."""
-    found = grouping(frames)
-    return [any(rest <= g for g in gs) for rest, gs in zip(rests, found, strict=True)]
+def held_together(
+    frames: Sequence[Frame], rests: Sequence[frozenset[int]], found: dict[int, list[frozenset[int]]]
+) -> list[bool]:
+    """Per case: whether one group ``found`` in its frame (by the frame's ``id``) holds all
+    of its ``rests``."""
+    return [any(rest <= g for g in found[id(f)]) for f, rest in zip(frames, rests, strict=True)]
+
+
+def grouped(frames: Sequence[Frame], grouping: Grouping) -> dict[int, list[frozenset[int]]]:
+    """``grouping``'s groups of each frame, by the frame's ``id``, each frame grouped once
+    (a frame's cases share it)."""
+    distinct = list({id(f): f for f in frames}.values())
+    return {id(f): g for f, g in zip(distinct, grouping(distinct), strict=True)}
 
 
 def share(hits: Sequence[bool], rng: random.Random) -> dict[str, Any]:
@@ -72,10 +80,11 @@ def row(frames: Sequence[Frame], picked: Sequence[Picked], grouping: Grouping,
     case ``picked`` held together with the member present and absent."""
     rests = [rest for *_, rest in picked]
     whole, shown = [w for w, *_ in picked], [sh for _, sh, *_ in picked]
+    every = grouped(frames, grouping)  # the cases' whole frames are the sequence's own
     return {
-        "f1": f1(frames, grouping(frames), 2 / 3),
-        "present": share(held_together(whole, rests, grouping), rng),
-        "absent": share(held_together(shown, rests, grouping), rng),
+        "f1": f1(frames, [every[id(f)] for f in frames], 2 / 3),
+        "present": share(held_together(whole, rests, every), rng),
+        "absent": share(held_together(shown, rests, grouped(shown, grouping)), rng),
     }
 
 
