@@ -172,7 +172,8 @@ class FrameScene:
     def update(self, people: Sequence[Person], stamp: Time, now: float) -> SceneUpdate | None:
         """The scene of ``people`` now; an update when anything said changed."""
         p = self.params
-        everyone = people
+        # everyone here, the crowd's cut too: a member not among them was said gone
+        present = {person.id for person in people} | {ROBOT}
         people, left_out = nearest(people, p.max_people)
         ids = [person.id for person in people] + [ROBOT]
         t = np.array([person.translation for person in people] + [_ROBOT_POSE[0]])
@@ -202,8 +203,7 @@ class FrameScene:
             self._worked = LastComputation(ids, *where, engaging, heading, found, greetings)
             self._joins = {}
         before = self.tracker.groups
-        # a grouping held long enough, or someone said gone (everyone here, the cut too)
-        present = {person.id for person in everyone} | {ROBOT}
+        # a grouping held long enough, or someone said gone
         changed, dissolved = self.tracker.update(found, now, present)
         if moved or changed or dissolved:  # where the said groups' members stand, who left
             self._seen_seated(before, found)
